@@ -1,0 +1,34 @@
+#pragma once
+// What every motionlod command shares: exit codes, error printing, importing a file.
+
+#include "core/asset.h"
+#include "io/import_options.h"
+
+#include <optional>
+#include <string>
+
+namespace CLI { class App; }
+
+namespace mlod::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;  // something other than the input went wrong
+inline constexpr int kExitBadInput = 2; // the input (file or arguments) is bad
+
+// Prints "error: FILE: reason" on stderr.
+void printError(const std::string& file, const std::string& reason);
+
+// Import options as the commands take them.
+struct ImportArguments {
+  std::string unitScale;        // "" = the file's own; a number or a preset name
+  double fps = 30.0;
+  double timeoutSeconds = 120.0;
+};
+
+// Adds --unit-scale, --fps and --import-timeout to a command.
+void addImportOptions(CLI::App& command, ImportArguments& import);
+
+// Imports `file` in a sandboxed worker; prints the error and returns nothing on failure.
+std::optional<Asset> importForCommand(const std::string& file, const ImportArguments& arguments);
+
+} // namespace mlod::cli

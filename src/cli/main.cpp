@@ -1,0 +1,47 @@
+// motionlod: the batch command line (DESIGN.md section 6).
+
+#include "cli/info_command.h"
+#include "core/version.h"
+
+#include <CLI/CLI.hpp>
+#include <QCoreApplication>
+#include <assimp/version.h>
+
+#include <iostream>
+
+namespace {
+std::string versionText() {
+  return std::string("motionlod ") + mlod::kVersion + " (Assimp " + std::to_string(aiGetVersionMajor()) + "." +
+         std::to_string(aiGetVersionMinor()) + "." + std::to_string(aiGetVersionPatch()) + ", Qt " + qVersion() + ")";
+}
+} // namespace
+
+int main(int argc, char** argv) {
+  QCoreApplication application(argc, argv);
+  QCoreApplication::setApplicationName("motionlod");
+  QCoreApplication::setApplicationVersion(mlod::kVersion);
+
+  CLI::App app{"Motion LOD Studio command line: motion level-of-detail for crowds", "motionlod"};
+  app.set_version_flag("--version", versionText());
+  app.require_subcommand(1);
+  mlod::cli::InfoCommand info;
+  info.attach(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return mlod::cli::kExitBadInput;
+  }
+  try {
+    if (app.got_subcommand("info"))
+      return info.run();
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << std::endl;
+    return mlod::cli::kExitFailure;
+  }
+  return mlod::cli::kExitFailure;
+}

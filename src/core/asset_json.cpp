@@ -1,0 +1,41 @@
+#include "core/asset.h"
+
+#include <nlohmann/json.hpp>
+
+namespace mlod {
+
+std::string describeAssetJson(const Asset& asset, int indent) {
+  using nlohmann::json;
+  json doc;
+  doc["file"] = asset.sourcePath;
+  doc["format"] = asset.format;
+  doc["unit_scale"] = asset.unitScale;
+  doc["unit_source"] = asset.unitSource;
+  json joints = json::array();
+  for (const Joint& joint : asset.skeleton.joints)
+    joints.push_back({{"name", joint.name},
+                      {"parent", joint.parent >= 0 ? json(asset.skeleton.joints[std::size_t(joint.parent)].name)
+                                                   : json(nullptr)},
+                      {"bound", joint.inverseBind.has_value()}});
+  doc["joints"] = std::move(joints);
+  json clips = json::array();
+  for (const Clip& clip : asset.clips)
+    clips.push_back({{"name", clip.name},
+                     {"frames", clip.frameCount},
+                     {"fps", clip.fps},
+                     {"duration", clip.durationSeconds()},
+                     {"rotation_channels", clip.rotationChannelCount()}});
+  doc["clips"] = std::move(clips);
+  json meshes = json::array();
+  for (const SkinnedMesh& mesh : asset.meshes)
+    meshes.push_back({{"name", mesh.name},
+                      {"vertices", mesh.vertexCount()},
+                      {"triangles", mesh.triangleCount()},
+                      {"bones", mesh.boneCount()},
+                      {"parts", mesh.parts.size()}});
+  doc["meshes"] = std::move(meshes);
+  doc["warnings"] = asset.warnings;
+  return doc.dump(indent);
+}
+
+} // namespace mlod

@@ -1,0 +1,119 @@
+#include "core/skinned_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <set>
+
+namespace mlod {
+
+namespace {
+float floatSum(const glm::vec4& w) { return ((w.x + w.y) + w.z) + w.w; }
+} // namespace
+
+bool normalizeInfluences(const int* joints, const float* weights, int count, glm::u16vec4& out_joints,
+                         glm::vec4& out_weights) {
+  std::vector<int> order(static_cast<std::size_t>(count));
+  std::iota(order.begin(), order.end(), 0);
+  // Stable, so equal weights keep the source's order and the result is deterministic.
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weights[a] > weights[b]; });
+  const int kept = std::min(count, kMaxInfluences);
+  double total = 0.0;
+  for (int i = 0; i < kept; ++i)
+    total += std::max(0.0f, weights[order[static_cast<std::size_t>(i)]]);
+  out_joints = glm::u16vec4(0);
+  out_weights = glm::vec4(0.0f);
+  if (!(total > 0.0) || !std::isfinite(total))
+    return false;
+  for (int i = 0; i < kept; ++i) {
+    const int k = order[static_cast<std::size_t>(i)];
+    const float w = std::max(0.0f, weights[k]);
+    if (w == 0.0f)
+      break;
+    out_joints[i] = static_cast<std::uint16_t>(joints[k]);
+    out_weights[i] = static_cast<float>(w / total);
+  }
+  // note: rounding each weight to float leaves a residual of a few ulps; it goes into
+  // the largest weight, where it matters least, stepping it an ulp at a time until the
+  // float sum is exactly 1. With ties (three weights of 1/3) the largest can end an ulp
+  // below the next one: then the two swap places and the new first one takes the residual.
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    bool exact = false;
+    out_weights.x = 1.0f - ((out_weights.y + out_weights.z) + out_weights.w);
+    for (int step = 0; step < 64 && !exact; ++step) {
+      const float sum = floatSum(out_weights);
+      exact = sum == 1.0f;
+      if (!exact)
+        out_weights.x = std::nextafter(out_weights.x, sum > 1.0f ? 0.0f : 2.0f);
+    }
+    if (exact && out_weights.x >= out_weights.y)
+      break;
+    if (!exact) {
+      // No value of the first weight lands on 1 exactly: nudge the smallest one.
+      for (int i = kMaxInfluences - 1; i > 0; --i)
+        if (out_weights[i] > 0.0f) {
+          out_weights[i] = std::nextafter(out_weights[i], 0.0f);
+          break;
+        }
+    } else {
+      std::swap(out_weights.x, out_weights.y);
+      std::swap(out_joints.x, out_joints.y);
+    }
+  }
+  return true;
+}
+
+int SkinnedMesh::boneCount() const {
+  std::set<std::uint16_t> used;
+  for (std::size_t v = 0; v < joints.size(); ++v)
+    for (int i = 0; i < kMaxInfluences; ++i)
+      if (weights[v][i] > 0.0f)
+        used.insert(joints[v][i]);
+  return static_cast<int>(used.size());
+}
+
+Error SkinnedMesh::validate(int jointCount) const {
+  const std::string where = "mesh '" + name + "'";
+  const std::size_t n = positions.size();
+  if (n == 0 || indices.empty())
+    return Error(where + " has no vertices or no triangles");
+  if (indices.size() % 3 != 0)
+    return Error(where + " has an index count that is not a multiple of 3");
+  for (std::uint32_t index : indices)
+    if (index >= n)
+      return Error(where + " has a vertex index " + std::to_string(index) + " out of range (" +
+                   std::to_string(n) + " vertices)");
+  if ((!normals.empty() && normals.size() != n) || (!uvs.empty() && uvs.size() != n))
+    return Error(where + " has normals or uvs that do not match its vertex count");
+  for (const glm::vec3& p : positions)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      return Error(where + " has a non-finite vertex position");
+  for (const glm::vec3& p : normals)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      return Error(where + " has a non-finite normal");
+  for (const glm::vec2& p : uvs)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y))
+      return Error(where + " has a non-finite texture coordinate");
+  if (joints.size() != weights.size() || (!weights.empty() && weights.size() != n))
+    return Error(where + " has skin influences that do not match its vertex count");
+  for (std::size_t v = 0; v < weights.size(); ++v) {
+    const glm::vec4& w = weights[v];
+    for (int i = 0; i < kMaxInfluences; ++i) {
+      if (!std::isfinite(w[i]) || w[i] < 0.0f)
+        return Error(where + " has an invalid skin weight at vertex " + std::to_string(v));
+      if (joints[v][i] >= jointCount)
+        return Error(where + " binds vertex " + std::to_string(v) + " to joint " + std::to_string(joints[v][i]) +
+                     ", which does not exist");
+      if (i > 0 && w[i] > w[i - 1])
+        return Error(where + " has influences not sorted by weight at vertex " + std::to_string(v));
+    }
+    if (floatSum(w) != 1.0f)
+      return Error(where + " has skin weights that do not sum to 1 at vertex " + std::to_string(v));
+  }
+  for (const MeshPart& part : parts)
+    if (part.indexCount % 3 != 0 || std::size_t{part.firstIndex} + part.indexCount > indices.size())
+      return Error(where + " has a part '" + part.name + "' outside its index range");
+  return {};
+}
+
+} // namespace mlod

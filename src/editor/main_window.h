@@ -1,0 +1,55 @@
+#pragma once
+// The studio's main window: builds the window, wires actions, restores the layout.
+// Work happens in ImportJob and the models; this class only connects them.
+
+#include "core/asset.h"
+#include "io/import_options.h"
+
+#include <QMainWindow>
+
+#include <memory>
+
+namespace Ui { class MainWindow; }
+class QProgressDialog;
+
+namespace mlod {
+
+class AssetTreeModel;
+class ImportJob;
+
+class MainWindow : public QMainWindow {
+  Q_OBJECT
+public:
+  explicit MainWindow(QWidget* parent = nullptr);
+  ~MainWindow() override;
+
+  AssetTreeModel* assetModel() const { return m_assets; }
+  bool isImporting() const;
+  QString logText() const;
+
+public slots:
+  // Imports a file in the background; importFinished() follows.
+  void importFile(const QString& path);
+  void cancelImport();
+
+signals:
+  void importFinished(bool ok, const QString& path, const QString& message);
+
+protected:
+  void closeEvent(QCloseEvent* event) override;
+
+private:
+  void onImported(const QString& path, std::shared_ptr<const Asset> asset);
+  void onImportFailed(const QString& path, const QString& reason);
+  void showAsset(const Asset& asset);
+  void log(const QString& line);
+  void chooseFile();
+  void showAbout();
+
+  std::unique_ptr<Ui::MainWindow> m_ui;
+  AssetTreeModel* m_assets = nullptr;
+  ImportJob* m_import = nullptr;
+  QProgressDialog* m_progress = nullptr;
+};
+
+} // namespace mlod

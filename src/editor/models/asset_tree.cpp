@@ -1,0 +1,71 @@
+#include "editor/models/asset_tree.h"
+
+#include <QFileInfo>
+
+namespace mlod {
+
+namespace {
+QList<QStandardItem*> row(const QString& name, const QString& detail, const QString& tooltip = {}) {
+  auto* nameItem = new QStandardItem(name);
+  auto* detailItem = new QStandardItem(detail);
+  nameItem->setEditable(false);
+  detailItem->setEditable(false);
+  if (!tooltip.isEmpty()) {
+    nameItem->setToolTip(tooltip);
+    detailItem->setToolTip(tooltip);
+  }
+  return {nameItem, detailItem};
+}
+} // namespace
+
+AssetTreeModel::AssetTreeModel(QObject* parent) : QStandardItemModel(0, ColumnCount, parent) {
+  setHorizontalHeaderLabels({tr("Name"), tr("Details")});
+}
+
+QModelIndex AssetTreeModel::addAsset(const std::shared_ptr<const Asset>& asset) {
+  m_assets.push_back(asset);
+  const QString file = QString::fromStdString(asset->sourcePath);
+  QList<QStandardItem*> top =
+      row(QFileInfo(file).fileName(),
+          tr("%1 · %2 cm/unit").arg(QString::fromStdString(asset->format)).arg(asset->unitScale),
+          tr("%1\nUnit: %2 cm per file unit (%3)").arg(file).arg(asset->unitScale).arg(QString::fromStdString(asset->unitSource)));
+
+  const Skeleton& skeleton = asset->skeleton;
+  QList<QStandardItem*> skeletonRow =
+      row(tr("Skeleton"), tr("%n joints", nullptr, skeleton.jointCount()), tr("Joints in parent-before-child order"));
+  std::vector<QStandardItem*> jointItems;
+  for (const Joint& joint : skeleton.joints) {
+    const glm::vec3& offset = joint.rest.translation;
+    QList<QStandardItem*> jointRow =
+        row(QString::fromStdString(joint.name), tr("offset %1 cm").arg(double(glm::length(offset)), 0, 'f', 2),
+            tr("Rest offset from the parent: (%1, %2, %3) cm")
+                .arg(double(offset.x), 0, 'f', 3).arg(double(offset.y), 0, 'f', 3).arg(double(offset.z), 0, 'f', 3));
+    QStandardItem* parent = joint.parent < 0 ? skeletonRow.front() : jointItems[std::size_t(joint.parent)];
+    jointItems.push_back(jointRow.front());
+    parent->appendRow(jointRow);
+  }
+  top.front()->appendRow(skeletonRow);
+
+  QList<QStandardItem*> clipsRow = row(tr("Clips"), tr("%n clips", nullptr, int(asset->clips.size())));
+  for (const Clip& clip : asset->clips)
+    clipsRow.front()->appendRow(row(QString::fromStdString(clip.name),
+                                    tr("%1 frames · %2 fps · %3 s").arg(clip.frameCount).arg(clip.fps).arg(clip.durationSeconds(), 0, 'f', 2)));
+  top.front()->appendRow(clipsRow);
+
+  QList<QStandardItem*> meshesRow = row(tr("Meshes"), tr("%n meshes", nullptr, int(asset->meshes.size())));
+  for (const SkinnedMesh& mesh : asset->meshes)
+    meshesRow.front()->appendRow(row(QString::fromStdString(mesh.name),
+                                     tr("%1 vertices · %2 triangles · %3 bones")
+                                         .arg(mesh.vertexCount()).arg(mesh.triangleCount()).arg(mesh.boneCount())));
+  top.front()->appendRow(meshesRow);
+  appendRow(top);
+  return indexFromItem(top.front());
+}
+
+const Asset* AssetTreeModel::assetAt(int rowIndex) const {
+  if (rowIndex < 0 || rowIndex >= assetCount())
+    return nullptr;
+  return m_assets[std::size_t(rowIndex)].get();
+}
+
+} // namespace mlod

@@ -1,0 +1,28 @@
+#pragma once
+// The Assets dock's model: one row per imported file, with its skeleton (as a joint
+// tree), clips and meshes below it.
+
+#include "core/asset.h"
+
+#include <QStandardItemModel>
+
+#include <memory>
+
+namespace mlod {
+
+class AssetTreeModel : public QStandardItemModel {
+  Q_OBJECT
+public:
+  enum Column { NameColumn, DetailColumn, ColumnCount };
+  explicit AssetTreeModel(QObject* parent = nullptr);
+
+  // Adds a row for the asset and returns its index.
+  QModelIndex addAsset(const std::shared_ptr<const Asset>& asset);
+  const Asset* assetAt(int row) const;
+  int assetCount() const { return static_cast<int>(m_assets.size()); }
+
+private:
+  std::vector<std::shared_ptr<const Asset>> m_assets;
+};
+
+} // namespace mlod

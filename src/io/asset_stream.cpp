@@ -1,0 +1,200 @@
+#include "io/asset_stream.h"
+
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+namespace mlod {
+
+namespace {
+
+constexpr char kMagic[8] = {'M', 'L', 'O', 'D', 'A', 'S', 'T', '1'};
+
+class Writer {
+public:
+  explicit Writer(std::string& out) : m_out(out) {}
+  template <typename T>
+  void pod(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    m_out.append(reinterpret_cast<const char*>(&value), sizeof(T));
+  }
+  void text(const std::string& value) {
+    pod(static_cast<std::uint64_t>(value.size()));
+    m_out.append(value);
+  }
+  template <typename T>
+  void array(const std::vector<T>& values) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    pod(static_cast<std::uint64_t>(values.size()));
+    m_out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+  }
+
+private:
+  std::string& m_out;
+};
+
+class Reader {
+public:
+  explicit Reader(std::string_view in) : m_in(in) {}
+  bool failed() const { return m_failed; }
+  template <typename T>
+  T pod() {
+    T value{};
+    if (!take(&value, sizeof(T)))
+      m_failed = true;
+    return value;
+  }
+  std::string text() {
+    const auto size = pod<std::uint64_t>();
+    if (m_failed || size > m_in.size() - m_offset) {
+      m_failed = true;
+      return {};
+    }
+    std::string value(m_in.substr(m_offset, size));
+    m_offset += size;
+    return value;
+  }
+  template <typename T>
+  std::vector<T> array() {
+    const auto count = pod<std::uint64_t>();
+    if (m_failed || count > (m_in.size() - m_offset) / sizeof(T)) {
+      m_failed = true;
+      return {};
+    }
+    std::vector<T> values(count);
+    take(values.data(), count * sizeof(T));
+    return values;
+  }
+
+private:
+  bool take(void* out, std::size_t size) {
+    if (size > m_in.size() - m_offset)
+      return false;
+    std::memcpy(out, m_in.data() + m_offset, size);
+    m_offset += size;
+    return true;
+  }
+  std::string_view m_in;
+  std::size_t m_offset = 0;
+  bool m_failed = false;
+};
+
+} // namespace
+
+void writeAssetStream(const Asset& asset, std::string& out_bytes) {
+  Writer w(out_bytes);
+  out_bytes.append(kMagic, sizeof(kMagic));
+  w.text(asset.sourcePath);
+  w.text(asset.format);
+  w.pod(asset.unitScale);
+  w.text(asset.unitSource);
+  w.pod(static_cast<std::uint64_t>(asset.skeleton.joints.size()));
+  for (const Joint& joint : asset.skeleton.joints) {
+    w.text(joint.name);
+    w.pod(static_cast<std::int32_t>(joint.parent));
+    w.pod(joint.rest);
+    w.pod(static_cast<std::uint8_t>(joint.inverseBind.has_value()));
+    if (joint.inverseBind)
+      w.pod(*joint.inverseBind);
+  }
+  w.pod(static_cast<std::uint64_t>(asset.clips.size()));
+  for (const Clip& clip : asset.clips) {
+    w.text(clip.name);
+    w.pod(clip.fps);
+    w.pod(static_cast<std::int32_t>(clip.frameCount));
+    w.pod(static_cast<std::int32_t>(clip.jointCount));
+    w.pod(static_cast<std::uint8_t>(clip.looping));
+    w.array(clip.rotations);
+    w.array(clip.translations);
+    w.array(clip.scales);
+    w.array(clip.hasRotation);
+    w.array(clip.hasTranslation);
+    w.array(clip.hasScale);
+  }
+  w.pod(static_cast<std::uint64_t>(asset.meshes.size()));
+  for (const SkinnedMesh& mesh : asset.meshes) {
+    w.text(mesh.name);
+    w.array(mesh.positions);
+    w.array(mesh.normals);
+    w.array(mesh.uvs);
+    w.array(mesh.indices);
+    w.array(mesh.joints);
+    w.array(mesh.weights);
+    w.pod(static_cast<std::uint64_t>(mesh.parts.size()));
+    for (const MeshPart& part : mesh.parts) {
+      w.text(part.name);
+      w.pod(part.firstIndex);
+      w.pod(part.indexCount);
+    }
+  }
+  w.pod(static_cast<std::uint64_t>(asset.warnings.size()));
+  for (const std::string& warning : asset.warnings)
+    w.text(warning);
+}
+
+Result<Asset> readAssetStream(std::string_view bytes) {
+  if (bytes.size() < sizeof(kMagic) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
+    return Error("the import worker sent no asset");
+  Reader r(bytes.substr(sizeof(kMagic)));
+  Asset asset;
+  asset.sourcePath = r.text();
+  asset.format = r.text();
+  asset.unitScale = r.pod<double>();
+  asset.unitSource = r.text();
+  const auto joints = r.pod<std::uint64_t>();
+  for (std::uint64_t i = 0; i < joints && !r.failed(); ++i) {
+    Joint joint;
+    joint.name = r.text();
+    joint.parent = r.pod<std::int32_t>();
+    joint.rest = r.pod<Transform>();
+    if (r.pod<std::uint8_t>())
+      joint.inverseBind = r.pod<glm::mat4>();
+    asset.skeleton.joints.push_back(std::move(joint));
+  }
+  const auto clips = r.pod<std::uint64_t>();
+  for (std::uint64_t i = 0; i < clips && !r.failed(); ++i) {
+    Clip clip;
+    clip.name = r.text();
+    clip.fps = r.pod<double>();
+    clip.frameCount = r.pod<std::int32_t>();
+    clip.jointCount = r.pod<std::int32_t>();
+    clip.looping = r.pod<std::uint8_t>() != 0;
+    clip.rotations = r.array<glm::quat>();
+    clip.translations = r.array<glm::vec3>();
+    clip.scales = r.array<glm::vec3>();
+    clip.hasRotation = r.array<std::uint8_t>();
+    clip.hasTranslation = r.array<std::uint8_t>();
+    clip.hasScale = r.array<std::uint8_t>();
+    asset.clips.push_back(std::move(clip));
+  }
+  const auto meshes = r.pod<std::uint64_t>();
+  for (std::uint64_t i = 0; i < meshes && !r.failed(); ++i) {
+    SkinnedMesh mesh;
+    mesh.name = r.text();
+    mesh.positions = r.array<glm::vec3>();
+    mesh.normals = r.array<glm::vec3>();
+    mesh.uvs = r.array<glm::vec2>();
+    mesh.indices = r.array<std::uint32_t>();
+    mesh.joints = r.array<glm::u16vec4>();
+    mesh.weights = r.array<glm::vec4>();
+    const auto parts = r.pod<std::uint64_t>();
+    for (std::uint64_t p = 0; p < parts && !r.failed(); ++p) {
+      MeshPart part;
+      part.name = r.text();
+      part.firstIndex = r.pod<std::uint32_t>();
+      part.indexCount = r.pod<std::uint32_t>();
+      mesh.parts.push_back(std::move(part));
+    }
+    asset.meshes.push_back(std::move(mesh));
+  }
+  const auto warnings = r.pod<std::uint64_t>();
+  for (std::uint64_t i = 0; i < warnings && !r.failed(); ++i)
+    asset.warnings.push_back(r.text());
+  if (r.failed())
+    return Error("the import worker sent a truncated asset");
+  if (Error error = asset.validate())
+    return error;
+  return asset;
+}
+
+} // namespace mlod

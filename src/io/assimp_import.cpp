@@ -1,0 +1,717 @@
+// Assimp scene -> core Asset. DESIGN.md section 3 states the import rules; this file
+// applies them and guards against what broken files hand us (null nodes, cycles,
+// dangling bone names, unsorted or non-finite keys).
+
+#include "io/importer.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+namespace mlod {
+
+namespace {
+
+constexpr unsigned kPostProcess = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                  aiProcess_LimitBoneWeights | aiProcess_GenSmoothNormals |
+                                  aiProcess_ValidateDataStructure;
+constexpr std::size_t kMaxNodes = 1'000'000;
+constexpr int kMaxFrames = 10'000'000;
+
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
+}
+
+glm::mat4 toGlm(const aiMatrix4x4& m) {
+  // Assimp is row-major (a1..a4 is the first row); GLM is column-major.
+  return glm::mat4(m.a1, m.b1, m.c1, m.d1, m.a2, m.b2, m.c2, m.d2, m.a3, m.b3, m.c3, m.d3, m.a4, m.b4, m.c4, m.d4);
+}
+glm::vec3 toGlm(const aiVector3D& v) { return {v.x, v.y, v.z}; }
+glm::quat toGlm(const aiQuaternion& q) { return glm::quat(q.w, q.x, q.y, q.z); }
+
+bool isIdentity(const glm::mat4& m) {
+  const glm::mat4 identity(1.0f);
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (std::abs(m[c][r] - identity[c][r]) > 1e-6f)
+        return false;
+  return true;
+}
+
+std::string metadataString(const aiScene& scene, const char* key) {
+  aiString value;
+  if (scene.mMetaData && scene.mMetaData->Get(key, value))
+    return value.C_Str();
+  return {};
+}
+
+std::optional<double> metadataNumber(const aiScene& scene, const char* key) {
+  if (!scene.mMetaData)
+    return std::nullopt;
+  for (unsigned i = 0; i < scene.mMetaData->mNumProperties; ++i) {
+    if (std::string(scene.mMetaData->mKeys[i].C_Str()) != key)
+      continue;
+    const aiMetadataEntry& entry = scene.mMetaData->mValues[i];
+    switch (entry.mType) {
+    case AI_FLOAT: return *static_cast<const float*>(entry.mData);
+    case AI_DOUBLE: return *static_cast<const double*>(entry.mData);
+    case AI_INT32: return *static_cast<const std::int32_t*>(entry.mData);
+    default: return std::nullopt;
+    }
+  }
+  return std::nullopt;
+}
+
+// The <unit meter="..."/> of a Collada file's <asset> header, in metres per unit.
+std::optional<double> colladaMetresPerUnit(const std::string& header) {
+  const std::size_t unit = header.find("<unit");
+  if (unit == std::string::npos)
+    return std::nullopt;
+  const std::size_t close = header.find('>', unit);
+  const std::size_t meter = header.find("meter=", unit);
+  if (meter == std::string::npos || (close != std::string::npos && meter > close))
+    return std::nullopt;
+  const std::size_t quote = meter + 6;
+  if (quote >= header.size() || (header[quote] != '"' && header[quote] != '\''))
+    return std::nullopt;
+  const double value = std::strtod(header.c_str() + quote + 1, nullptr);
+  if (!std::isfinite(value) || value <= 0.0)
+    return std::nullopt;
+  return value;
+}
+
+// One node of the scene graph, flattened in depth-first order (parents first).
+struct FlatNode {
+  const aiNode* node = nullptr;
+  int parent = -1;
+  glm::mat4 local{1.0f};
+  glm::mat4 global{1.0f};
+};
+
+// Flattens the node graph, refusing cycles, null children and absurd sizes.
+// `rootCorrection` is multiplied into the root node's transform.
+Error flattenNodes(const aiNode* root, const glm::mat4& rootCorrection, std::vector<FlatNode>& out_nodes) {
+  std::set<const aiNode*> seen;
+  std::vector<std::pair<const aiNode*, int>> stack{{root, -1}};
+  while (!stack.empty()) {
+    auto [node, parent] = stack.back();
+    stack.pop_back();
+    if (!node)
+      return Error("its node graph has a dangling (null) node");
+    if (!seen.insert(node).second)
+      return Error("its node graph is cyclic (node '" + std::string(node->mName.C_Str()) + "' is reached twice)");
+    if (out_nodes.size() >= kMaxNodes)
+      return Error("it has more than " + std::to_string(kMaxNodes) + " nodes");
+    FlatNode flat;
+    flat.node = node;
+    flat.parent = parent;
+    flat.local = toGlm(node->mTransformation);
+    if (parent < 0)
+      flat.local = flat.local * rootCorrection;
+    flat.global = parent < 0 ? flat.local : out_nodes[static_cast<std::size_t>(parent)].global * flat.local;
+    const int index = static_cast<int>(out_nodes.size());
+    out_nodes.push_back(flat);
+    if (node->mNumChildren > 0 && !node->mChildren)
+      return Error("its node graph has a dangling (null) node");
+    for (unsigned c = node->mNumChildren; c-- > 0;)
+      stack.emplace_back(node->mChildren[c], index);
+  }
+  return {};
+}
+
+// Sample of a key track at `time` (ticks): the exact key where the time hits one,
+// linear (or spherical) interpolation between keys, clamped outside them.
+template <typename Key, typename Value, typename Lerp>
+Value sampleKeys(const Key* keys, unsigned count, double time, Value fallback, Lerp lerp) {
+  if (count == 0)
+    return fallback;
+  if (count == 1 || time <= keys[0].mTime)
+    return keys[0].mValue;
+  if (time >= keys[count - 1].mTime)
+    return keys[count - 1].mValue;
+  const Key* upper = std::upper_bound(keys, keys + count, time, [](double t, const Key& k) { return t < k.mTime; });
+  const Key* below = upper - 1;
+  if (below->mTime == time)
+    return below->mValue;
+  const double span = upper->mTime - below->mTime;
+  const float a = span > 0.0 ? static_cast<float>((time - below->mTime) / span) : 0.0f;
+  return lerp(below->mValue, upper->mValue, a);
+}
+
+template <typename Key>
+bool keysSortedAndFinite(const Key* keys, unsigned count) {
+  for (unsigned i = 0; i < count; ++i) {
+    if (!std::isfinite(keys[i].mTime))
+      return false;
+    if (i > 0 && keys[i].mTime < keys[i - 1].mTime)
+      return false;
+  }
+  return true;
+}
+
+bool nearlyEqual(const glm::vec3& a, const glm::vec3& b) {
+  const float scale = std::max({1.0f, glm::length(a), glm::length(b)});
+  return glm::length(a - b) <= 1e-6f * scale;
+}
+bool sameRotation(const glm::quat& a, const glm::quat& b) { return std::abs(glm::dot(a, b)) >= 1.0f - 1e-7f; }
+
+// Whether a channel moves its node away from the rest pose at all.
+bool channelAnimates(const aiNodeAnim& channel, const Transform& rest) {
+  for (unsigned i = 0; i < channel.mNumPositionKeys; ++i)
+    if (!nearlyEqual(toGlm(channel.mPositionKeys[i].mValue), rest.translation))
+      return true;
+  for (unsigned i = 0; i < channel.mNumRotationKeys; ++i)
+    if (!sameRotation(glm::normalize(toGlm(channel.mRotationKeys[i].mValue)), rest.rotation))
+      return true;
+  for (unsigned i = 0; i < channel.mNumScalingKeys; ++i)
+    if (!nearlyEqual(toGlm(channel.mScalingKeys[i].mValue), rest.scale))
+      return true;
+  return false;
+}
+
+class SceneConverter {
+public:
+  SceneConverter(const aiScene& scene, const ImportOptions& options, std::string sourcePath, std::string extension,
+                 std::optional<double> colladaMetres)
+      : m_scene(scene), m_options(options), m_extension(std::move(extension)), m_colladaMetres(colladaMetres) {
+    m_asset.sourcePath = std::move(sourcePath);
+  }
+
+  Result<Asset> run() {
+    if (!m_scene.mRootNode)
+      return Error("it has no root node");
+    m_asset.format = metadataString(m_scene, "SourceAsset_Format");
+    if (m_asset.format.empty())
+      m_asset.format = m_extension;
+    m_isBvh = lower(m_asset.format).rfind("bvh", 0) == 0 || m_extension == "bvh";
+    chooseUnitScale();
+    if (Error error = flattenNodes(m_scene.mRootNode, m_rootCorrection, m_nodes))
+      return error;
+    for (std::size_t i = 0; i < m_nodes.size(); ++i)
+      m_nodeByName.emplace(m_nodes[i].node->mName.C_Str(), static_cast<int>(i));
+    if (Error error = buildSkeleton())
+      return error;
+    for (unsigned a = 0; a < m_scene.mNumAnimations; ++a)
+      if (Error error = buildClip(a))
+        return error;
+    if (m_isBvh) {
+      if (m_scene.mNumMeshes > 0)
+        m_asset.warnings.push_back("the skeleton mesh that Assimp generates for BVH files was left out");
+    } else if (Error error = buildMeshes()) {
+      return error;
+    }
+    if (m_asset.skeleton.empty() && m_asset.meshes.empty())
+      return Error("it holds no skeleton, animation or triangle mesh");
+    if (Error error = m_asset.validate())
+      return error;
+    return std::move(m_asset);
+  }
+
+private:
+  void chooseUnitScale() {
+    const std::string format = lower(m_asset.format);
+    const bool collada = format.find("collada") != std::string::npos || m_extension == "dae" || m_extension == "zae";
+    // Assimp 5.2 scales a Collada root node by <unit meter>, so its scene is in metres. Where
+    // we know that factor we divide it back out: joint offsets stay true file lengths.
+    if (collada && m_colladaMetres)
+      m_rootCorrection = glm::scale(glm::mat4(1.0f), glm::vec3(static_cast<float>(1.0 / *m_colladaMetres)));
+    if (m_options.unitScale > 0.0) {
+      m_asset.unitScale = m_options.unitScale;
+      m_asset.unitSource = "option";
+    } else if (format.find("gltf") != std::string::npos || m_extension == "gltf" || m_extension == "glb") {
+      m_asset.unitScale = 100.0;
+      m_asset.unitSource = "format";
+    } else if (format.find("fbx") != std::string::npos || m_extension == "fbx") {
+      const std::optional<double> factor = metadataNumber(m_scene, "UnitScaleFactor");
+      const bool valid = factor && std::isfinite(*factor) && *factor > 0.0;
+      m_asset.unitScale = valid ? *factor : 1.0;
+      m_asset.unitSource = valid ? "file" : "default";
+    } else if (collada) {
+      if (m_colladaMetres) {
+        m_asset.unitScale = *m_colladaMetres * 100.0;
+        m_asset.unitSource = "file";
+      } else {
+        m_asset.unitScale = 100.0;
+        m_asset.unitSource = "format";
+      }
+    } else {
+      m_asset.unitScale = 1.0;
+      m_asset.unitSource = "default";
+    }
+  }
+
+  int nodeIndex(const aiString& name) const {
+    const auto it = m_nodeByName.find(name.C_Str());
+    return it == m_nodeByName.end() ? -1 : it->second;
+  }
+
+  bool isAncestorOrSelf(int ancestor, int node) const {
+    for (int n = node; n >= 0; n = m_nodes[static_cast<std::size_t>(n)].parent)
+      if (n == ancestor)
+        return true;
+    return false;
+  }
+
+  Error buildSkeleton() {
+    std::set<int> seeds;
+    if (!m_isBvh) {
+      for (unsigned m = 0; m < m_scene.mNumMeshes; ++m) {
+        const aiMesh* mesh = m_scene.mMeshes[m];
+        if (!mesh)
+          return Error("mesh " + std::to_string(m) + " is missing");
+        for (unsigned b = 0; b < mesh->mNumBones; ++b) {
+          const aiBone* bone = mesh->mBones[b];
+          if (!bone)
+            return Error("mesh '" + std::string(mesh->mName.C_Str()) + "' has a missing bone");
+          const int node = nodeIndex(bone->mName);
+          if (node < 0)
+            return Error("bone '" + std::string(bone->mName.C_Str()) + "' names no node of the scene");
+          seeds.insert(node);
+        }
+      }
+    }
+    for (unsigned a = 0; a < m_scene.mNumAnimations; ++a) {
+      const aiAnimation* animation = m_scene.mAnimations[a];
+      if (!animation)
+        return Error("animation " + std::to_string(a) + " is missing");
+      for (unsigned c = 0; c < animation->mNumChannels; ++c) {
+        const aiNodeAnim* channel = animation->mChannels[c];
+        if (!channel)
+          return Error("animation " + std::to_string(a) + " has a missing channel");
+        const int node = nodeIndex(channel->mNodeName);
+        if (node < 0) {
+          m_asset.warnings.push_back("animation channel for '" + std::string(channel->mNodeName.C_Str()) +
+                                     "', which is no node, was ignored");
+          continue;
+        }
+        const Transform rest = decompose(m_nodes[static_cast<std::size_t>(node)].local);
+        if (channelAnimates(*channel, rest))
+          seeds.insert(node);
+      }
+    }
+    if (seeds.empty())
+      return {};
+
+    // The lowest common ancestor of every seed becomes the root joint.
+    int root = *seeds.begin();
+    for (int seed : seeds)
+      while (!isAncestorOrSelf(root, seed))
+        root = m_nodes[static_cast<std::size_t>(root)].parent;
+    std::vector<bool> isJoint(m_nodes.size(), false);
+    for (int seed : seeds)
+      for (int n = seed; n != root; n = m_nodes[static_cast<std::size_t>(n)].parent)
+        isJoint[static_cast<std::size_t>(n)] = true;
+    isJoint[static_cast<std::size_t>(root)] = true;
+    // Leaf nodes without meshes below a joint are end effectors (BVH End Sites, "_Nub"s).
+    for (std::size_t i = 0; i < m_nodes.size(); ++i) {
+      const FlatNode& flat = m_nodes[i];
+      if (!isJoint[i] && flat.parent >= 0 && isJoint[static_cast<std::size_t>(flat.parent)] &&
+          flat.node->mNumChildren == 0 && flat.node->mNumMeshes == 0)
+        isJoint[i] = true;
+    }
+
+    m_jointOfNode.assign(m_nodes.size(), -1);
+    Skeleton& skeleton = m_asset.skeleton;
+    std::set<std::string> names;
+    const int rootParent = m_nodes[static_cast<std::size_t>(root)].parent;
+    m_rootParentGlobal = rootParent >= 0 ? m_nodes[static_cast<std::size_t>(rootParent)].global : glm::mat4(1.0f);
+    for (std::size_t i = 0; i < m_nodes.size(); ++i) {
+      if (!isJoint[i])
+        continue;
+      if (skeleton.joints.size() >= 32767)
+        return Error("its skeleton has more than 32767 joints");
+      const FlatNode& flat = m_nodes[i];
+      Joint joint;
+      joint.name = flat.node->mName.C_Str();
+      if (joint.name.empty())
+        joint.name = "joint" + std::to_string(skeleton.joints.size());
+      if (!names.insert(joint.name).second) {
+        const std::string original = joint.name;
+        for (int k = 2; !names.insert(joint.name).second; ++k)
+          joint.name = original + "#" + std::to_string(k);
+        m_asset.warnings.push_back("two joints are named '" + original + "'; one was renamed '" + joint.name + "'");
+      }
+      joint.parent = static_cast<int>(i) == root ? -1 : m_jointOfNode[static_cast<std::size_t>(flat.parent)];
+      const glm::mat4 local = static_cast<int>(i) == root ? m_rootParentGlobal * flat.local : flat.local;
+      joint.rest = decompose(local);
+      joint.rest.translation *= static_cast<float>(m_asset.unitScale);
+      m_jointOfNode[i] = static_cast<int>(skeleton.joints.size());
+      skeleton.joints.push_back(std::move(joint));
+    }
+    return {};
+  }
+
+  Error buildClip(unsigned animationIndex) {
+    const aiAnimation& animation = *m_scene.mAnimations[animationIndex];
+    Skeleton& skeleton = m_asset.skeleton;
+    if (skeleton.empty())
+      return {};
+    std::string name = animation.mName.C_Str();
+    if (name.empty())
+      name = "Take " + std::to_string(animationIndex + 1);
+    for (const Clip& other : m_asset.clips)
+      if (other.name == name)
+        name += " (" + std::to_string(animationIndex + 1) + ")";
+    const std::string where = "animation '" + name + "'";
+    double ticksPerSecond = animation.mTicksPerSecond;
+    if (!std::isfinite(ticksPerSecond) || ticksPerSecond < 0.0)
+      return Error(where + " has an invalid tick rate");
+    if (ticksPerSecond == 0.0) {
+      ticksPerSecond = 25.0; // Assimp's convention for files that state none
+      m_asset.warnings.push_back(where + " states no tick rate; 25 ticks per second assumed");
+    }
+    if (!std::isfinite(animation.mDuration) || animation.mDuration < 0.0)
+      return Error(where + " has an invalid duration");
+
+    Clip clip;
+    clip.name = name;
+    double framesExact = 0.0;
+    if (m_isBvh) {
+      // BVH: one key per frame at integer ticks, ticks per second = 1 / Frame Time.
+      clip.fps = ticksPerSecond;
+      framesExact = animation.mDuration;
+    } else {
+      clip.fps = m_options.fps;
+      framesExact = animation.mDuration / ticksPerSecond * clip.fps;
+    }
+    if (!(clip.fps > 0.0) || !std::isfinite(clip.fps))
+      return Error(where + ": the frame rate must be positive");
+    if (framesExact + 1.0 > kMaxFrames)
+      return Error(where + " is too long (" + std::to_string(framesExact) + " frames)");
+    clip.frameCount = static_cast<int>(std::lround(framesExact)) + 1;
+    clip.jointCount = skeleton.jointCount();
+    const Clip rest = Clip::restPose(skeleton, clip.frameCount, clip.fps);
+    clip.rotations = rest.rotations;
+    clip.translations = rest.translations;
+    clip.scales = rest.scales;
+    clip.hasRotation = rest.hasRotation;
+    clip.hasTranslation = rest.hasTranslation;
+    clip.hasScale = rest.hasScale;
+
+    const float unit = static_cast<float>(m_asset.unitScale);
+    const bool foldRoot = !isIdentity(m_rootParentGlobal);
+    for (unsigned c = 0; c < animation.mNumChannels; ++c) {
+      const aiNodeAnim& channel = *animation.mChannels[c];
+      const int node = nodeIndex(channel.mNodeName);
+      if (node < 0 || m_jointOfNode[static_cast<std::size_t>(node)] < 0)
+        continue;
+      const int j = m_jointOfNode[static_cast<std::size_t>(node)];
+      if (!keysSortedAndFinite(channel.mPositionKeys, channel.mNumPositionKeys) ||
+          !keysSortedAndFinite(channel.mRotationKeys, channel.mNumRotationKeys) ||
+          !keysSortedAndFinite(channel.mScalingKeys, channel.mNumScalingKeys))
+        return Error(where + " has key times that are not finite or not in order on '" +
+                     std::string(channel.mNodeName.C_Str()) + "'");
+      const Transform nodeRest = decompose(m_nodes[static_cast<std::size_t>(node)].local);
+      const auto j_ = static_cast<std::size_t>(j);
+      clip.hasRotation[j_] = channel.mNumRotationKeys > 0;
+      for (unsigned i = 0; i < channel.mNumPositionKeys && !clip.hasTranslation[j_]; ++i)
+        clip.hasTranslation[j_] = !nearlyEqual(toGlm(channel.mPositionKeys[i].mValue), nodeRest.translation);
+      for (unsigned i = 0; i < channel.mNumScalingKeys && !clip.hasScale[j_]; ++i)
+        clip.hasScale[j_] = !nearlyEqual(toGlm(channel.mScalingKeys[i].mValue), nodeRest.scale);
+
+      const auto vecLerp = [](const aiVector3D& a, const aiVector3D& b, float t) { return a + (b - a) * t; };
+      const auto quatLerp = [](const aiQuaternion& a, const aiQuaternion& b, float t) {
+        aiQuaternion out;
+        aiQuaternion::Interpolate(out, a, b, t);
+        return out;
+      };
+      const aiVector3D restT(nodeRest.translation.x, nodeRest.translation.y, nodeRest.translation.z);
+      const aiVector3D restS(nodeRest.scale.x, nodeRest.scale.y, nodeRest.scale.z);
+      const aiQuaternion restR(nodeRest.rotation.w, nodeRest.rotation.x, nodeRest.rotation.y, nodeRest.rotation.z);
+      for (int f = 0; f < clip.frameCount; ++f) {
+        const double ticks = m_isBvh ? f : f / clip.fps * ticksPerSecond;
+        Transform local;
+        local.translation = toGlm(sampleKeys(channel.mPositionKeys, channel.mNumPositionKeys, ticks, restT, vecLerp));
+        local.scale = toGlm(sampleKeys(channel.mScalingKeys, channel.mNumScalingKeys, ticks, restS, vecLerp));
+        const glm::quat q = toGlm(sampleKeys(channel.mRotationKeys, channel.mNumRotationKeys, ticks, restR, quatLerp));
+        const float length = glm::length(q);
+        // A zero or non-finite key stays as it is, so validate() names it.
+        local.rotation = length > 0.0f && std::isfinite(length) ? q / length : q;
+        if (j == 0 && foldRoot)
+          local = decompose(m_rootParentGlobal * toMatrix(local));
+        const std::size_t k = clip.index(j, f);
+        clip.rotations[k] = local.rotation;
+        clip.translations[k] = local.translation * unit;
+        clip.scales[k] = local.scale;
+      }
+    }
+    m_asset.clips.push_back(std::move(clip));
+    return {};
+  }
+
+  // Nearest joint at or above a node, or -1.
+  int jointAtOrAbove(int node) const {
+    for (int n = node; n >= 0; n = m_nodes[static_cast<std::size_t>(n)].parent)
+      if (!m_jointOfNode.empty() && m_jointOfNode[static_cast<std::size_t>(n)] >= 0)
+        return m_jointOfNode[static_cast<std::size_t>(n)];
+    return -1;
+  }
+
+  Error buildMeshes() {
+    Skeleton& skeleton = m_asset.skeleton;
+    const std::vector<glm::mat4> restModels = skeleton.empty() ? std::vector<glm::mat4>{} : skeleton.restModelMatrices();
+    SkinnedMesh character;
+    SkinnedMesh fixed;
+    int skippedFaces = 0;
+    int unweighted = 0;
+    const float unit = static_cast<float>(m_asset.unitScale);
+    // Rest model matrices are in cm already; mesh data is still in file units until the end.
+    const glm::mat4 toFileUnits = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / unit));
+    const glm::mat4 toCm = glm::scale(glm::mat4(1.0f), glm::vec3(unit));
+
+    for (std::size_t n = 0; n < m_nodes.size(); ++n) {
+      const aiNode& node = *m_nodes[n].node;
+      if (node.mNumMeshes > 0 && !node.mMeshes)
+        return Error("node '" + std::string(node.mName.C_Str()) + "' has a dangling mesh list");
+      for (unsigned k = 0; k < node.mNumMeshes; ++k) {
+        const unsigned meshIndex = node.mMeshes[k];
+        if (meshIndex >= m_scene.mNumMeshes || !m_scene.mMeshes[meshIndex])
+          return Error("node '" + std::string(node.mName.C_Str()) + "' refers to mesh " + std::to_string(meshIndex) +
+                       ", which does not exist");
+        const aiMesh& mesh = *m_scene.mMeshes[meshIndex];
+        if (mesh.mNumVertices == 0 || !mesh.mVertices)
+          continue;
+        const bool hasBones = mesh.mNumBones > 0 && !skeleton.empty();
+        const int rigidJoint = hasBones ? -1 : jointAtOrAbove(static_cast<int>(n));
+        SkinnedMesh& target = (hasBones || rigidJoint >= 0) ? character : fixed;
+        const glm::mat4& meshGlobal = m_nodes[n].global; // file units
+        // Model-space bind position = placement * mesh-space position.
+        glm::mat4 placement = meshGlobal;
+        if (rigidJoint >= 0) {
+          const Joint& joint = skeleton.joints[static_cast<std::size_t>(rigidJoint)];
+          const glm::mat4 jointRest = toFileUnits * restModels[static_cast<std::size_t>(rigidJoint)] * toCm;
+          if (joint.inverseBind) {
+            const glm::mat4 inverseBind = toFileUnits * *joint.inverseBind * toCm;
+            placement = glm::inverse(inverseBind) * glm::inverse(jointRest) * meshGlobal;
+          }
+        }
+        const glm::mat3 normalMatrix = glm::inverseTranspose(glm::mat3(placement));
+        const auto base = static_cast<std::uint32_t>(target.positions.size());
+        std::vector<std::vector<std::pair<int, float>>> influences;
+        if (hasBones)
+          influences.resize(mesh.mNumVertices);
+        for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+          target.positions.push_back(glm::vec3(placement * glm::vec4(toGlm(mesh.mVertices[v]), 1.0f)) * unit);
+          if (mesh.mNormals) {
+            const glm::vec3 normal = normalMatrix * toGlm(mesh.mNormals[v]);
+            const float length = glm::length(normal);
+            target.normals.push_back(length > 0.0f && std::isfinite(length) ? normal / length : glm::vec3(0, 1, 0));
+          } else {
+            target.normals.push_back(glm::vec3(0, 1, 0));
+          }
+          target.uvs.push_back(mesh.mTextureCoords[0] ? glm::vec2(mesh.mTextureCoords[0][v].x, mesh.mTextureCoords[0][v].y)
+                                                      : glm::vec2(0.0f));
+        }
+        if (hasBones) {
+          for (unsigned b = 0; b < mesh.mNumBones; ++b) {
+            const aiBone& bone = *mesh.mBones[b];
+            const int j = m_jointOfNode[static_cast<std::size_t>(nodeIndex(bone.mName))];
+            // Offset: mesh space -> bone space. Ours: model space -> joint space.
+            glm::mat4 inverseBind = toGlm(bone.mOffsetMatrix) * glm::inverse(meshGlobal);
+            inverseBind[3] = glm::vec4(glm::vec3(inverseBind[3]) * unit, 1.0f);
+            Joint& joint = skeleton.joints[static_cast<std::size_t>(j)];
+            if (!joint.inverseBind)
+              joint.inverseBind = inverseBind;
+            else if (!sameMatrix(*joint.inverseBind, inverseBind))
+              m_asset.warnings.push_back("bone '" + joint.name + "' has different bind poses in different meshes; "
+                                         "the first was kept");
+            if (bone.mNumWeights > 0 && !bone.mWeights)
+              return Error("bone '" + joint.name + "' has a dangling weight list");
+            for (unsigned w = 0; w < bone.mNumWeights; ++w) {
+              const aiVertexWeight& weight = bone.mWeights[w];
+              if (weight.mVertexId >= mesh.mNumVertices)
+                return Error("bone '" + joint.name + "' weights vertex " + std::to_string(weight.mVertexId) +
+                             ", which does not exist");
+              if (!std::isfinite(weight.mWeight) || weight.mWeight < 0.0f)
+                return Error("bone '" + joint.name + "' has an invalid weight");
+              influences[weight.mVertexId].emplace_back(j, weight.mWeight);
+            }
+          }
+        }
+        const int fallbackJoint = std::max(0, jointAtOrAbove(static_cast<int>(n)));
+        for (unsigned v = 0; v < mesh.mNumVertices && &target == &character; ++v) {
+          std::vector<int> joints;
+          std::vector<float> weights;
+          if (hasBones)
+            for (const auto& [j, w] : influences[v]) {
+              joints.push_back(j);
+              weights.push_back(w);
+            }
+          glm::u16vec4 outJoints;
+          glm::vec4 outWeights;
+          if (!normalizeInfluences(joints.data(), weights.data(), static_cast<int>(joints.size()), outJoints, outWeights)) {
+            const int rigid = rigidJoint >= 0 ? rigidJoint : fallbackJoint;
+            if (hasBones)
+              ++unweighted;
+            outJoints = glm::u16vec4(static_cast<std::uint16_t>(rigid), 0, 0, 0);
+            outWeights = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+            ensureInverseBind(rigid, restModels);
+          }
+          character.joints.push_back(outJoints);
+          character.weights.push_back(outWeights);
+        }
+        MeshPart part;
+        part.name = mesh.mName.length > 0 ? mesh.mName.C_Str() : node.mName.C_Str();
+        part.firstIndex = static_cast<std::uint32_t>(target.indices.size());
+        for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+          const aiFace& face = mesh.mFaces[f];
+          if (face.mNumIndices != 3 || !face.mIndices) {
+            ++skippedFaces;
+            continue;
+          }
+          for (int i = 0; i < 3; ++i) {
+            if (face.mIndices[i] >= mesh.mNumVertices)
+              return Error("mesh '" + part.name + "' has a face with a vertex index out of range");
+            target.indices.push_back(base + face.mIndices[i]);
+          }
+        }
+        part.indexCount = static_cast<std::uint32_t>(target.indices.size()) - part.firstIndex;
+        if (part.indexCount > 0)
+          target.parts.push_back(part);
+      }
+    }
+    if (skippedFaces > 0)
+      m_asset.warnings.push_back(std::to_string(skippedFaces) + " point and line primitives were left out");
+    if (unweighted > 0)
+      m_asset.warnings.push_back(std::to_string(unweighted) +
+                                 " vertices of skinned meshes had no weights and were bound rigidly");
+    const std::string stem = std::filesystem::path(m_asset.sourcePath).stem().string();
+    character.name = stem.empty() ? "character" : stem;
+    fixed.name = skeleton.empty() ? character.name : "static";
+    for (SkinnedMesh* mesh : {&character, &fixed}) {
+      if (mesh->indices.empty())
+        continue;
+      m_asset.meshes.push_back(std::move(*mesh));
+    }
+    return {};
+  }
+
+  static bool sameMatrix(const glm::mat4& a, const glm::mat4& b) {
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (std::abs(a[c][r] - b[c][r]) > 1e-3f * std::max(1.0f, std::abs(a[c][r])))
+          return false;
+    return true;
+  }
+
+  void ensureInverseBind(int joint, const std::vector<glm::mat4>& restModels) {
+    Joint& target = m_asset.skeleton.joints[static_cast<std::size_t>(joint)];
+    if (!target.inverseBind)
+      target.inverseBind = glm::inverse(restModels[static_cast<std::size_t>(joint)]);
+  }
+
+  const aiScene& m_scene;
+  const ImportOptions& m_options;
+  std::string m_extension;
+  std::optional<double> m_colladaMetres;
+  Asset m_asset;
+  bool m_isBvh = false;
+  std::vector<FlatNode> m_nodes;
+  std::unordered_map<std::string, int> m_nodeByName;
+  std::vector<int> m_jointOfNode;
+  glm::mat4 m_rootParentGlobal{1.0f};
+  glm::mat4 m_rootCorrection{1.0f};
+};
+
+void configure(Assimp::Importer& importer) {
+  // FBX: fold pivots into the nodes instead of inserting helper nodes into the hierarchy.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
+  importer.SetPropertyInteger(AI_CONFIG_PP_LBW_MAX_WEIGHTS, kMaxInfluences);
+}
+
+Result<Asset> convert(Assimp::Importer& importer, const aiScene* scene, const std::string& sourcePath,
+                      const std::string& extension, const ImportOptions& options, std::optional<double> colladaMetres) {
+  if (!scene) {
+    std::string reason = importer.GetErrorString();
+    if (reason.empty())
+      reason = "Assimp could not read it";
+    return Error(reason);
+  }
+  if (!(options.fps > 0.0) || !std::isfinite(options.fps) || options.fps > 10000.0)
+    return Error("the resampling rate must be in (0, 10000] fps");
+  if (!std::isfinite(options.unitScale) || options.unitScale < 0.0)
+    return Error("the unit scale must be a positive number of cm per unit");
+  try {
+    return SceneConverter(*scene, options, sourcePath, extension, colladaMetres).run();
+  } catch (const std::bad_alloc&) {
+    return Error("it needs more memory than is available");
+  } catch (const std::exception& e) {
+    return Error(e.what());
+  }
+}
+
+std::optional<double> colladaUnitOf(const std::string& extension, const std::string& head) {
+  if (extension != "dae")
+    return std::nullopt;
+  return colladaMetresPerUnit(head);
+}
+
+} // namespace
+
+Result<Asset> importAsset(const std::string& path, const ImportOptions& options) {
+  std::error_code ec;
+  const std::filesystem::path file(path);
+  if (!std::filesystem::exists(file, ec))
+    return Error("no such file");
+  if (std::filesystem::is_directory(file, ec))
+    return Error("it is a directory, not a file");
+  const auto size = std::filesystem::file_size(file, ec);
+  if (ec)
+    return Error("cannot read it: " + ec.message());
+  if (size == 0)
+    return Error("the file is empty");
+  std::ifstream stream(file, std::ios::binary);
+  if (!stream)
+    return Error("cannot open it for reading");
+  std::string head(4096, '\0');
+  stream.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(stream.gcount()));
+  std::string extension = lower(file.extension().string());
+  if (!extension.empty())
+    extension.erase(0, 1);
+
+  Assimp::Importer importer;
+  configure(importer);
+  try {
+    const aiScene* scene = importer.ReadFile(path, kPostProcess);
+    return convert(importer, scene, path, extension, options, colladaUnitOf(extension, head));
+  } catch (const std::bad_alloc&) {
+    return Error("it needs more memory than is available");
+  } catch (const std::exception& e) {
+    return Error(e.what());
+  }
+}
+
+Result<Asset> importAssetFromMemory(const void* data, std::size_t size, const std::string& extension,
+                                    const ImportOptions& options) {
+  if (size == 0 || !data)
+    return Error("the file is empty");
+  const std::string ext = lower(extension);
+  Assimp::Importer importer;
+  configure(importer);
+  try {
+    const aiScene* scene = importer.ReadFileFromMemory(data, size, kPostProcess, ext.c_str());
+    const std::string head(static_cast<const char*>(data), std::min<std::size_t>(size, 4096));
+    return convert(importer, scene, "memory." + ext, ext, options, colladaUnitOf(ext, head));
+  } catch (const std::bad_alloc&) {
+    return Error("it needs more memory than is available");
+  } catch (const std::exception& e) {
+    return Error(e.what());
+  }
+}
+
+} // namespace mlod

@@ -1,0 +1,131 @@
+#include "io/isolated_import.h"
+
+#include "io/asset_stream.h"
+#include "io/importer.h"
+
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define MLOD_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define MLOD_ASAN 1
+#endif
+#endif
+
+namespace mlod {
+
+namespace {
+
+bool writeAll(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t written = ::write(fd, data, size);
+    if (written < 0 && errno == EINTR)
+      continue;
+    if (written <= 0)
+      return false;
+    data += written;
+    size -= static_cast<std::size_t>(written);
+  }
+  return true;
+}
+
+[[noreturn]] void runChild(int fd, const std::string& path, const ImportOptions& options, std::size_t memoryBytes) {
+  std::signal(SIGPIPE, SIG_IGN);
+#ifndef MLOD_ASAN
+  // note: ASan reserves terabytes of address space up front, so the limit is skipped there.
+  if (memoryBytes > 0) {
+    rlimit limit{memoryBytes, memoryBytes};
+    ::setrlimit(RLIMIT_AS, &limit);
+  }
+#else
+  (void)memoryBytes;
+#endif
+  std::string bytes;
+  Result<Asset> result = importAsset(path, options);
+  if (result.ok()) {
+    bytes.push_back('A');
+    writeAssetStream(result.value(), bytes);
+  } else {
+    bytes.push_back('E');
+    bytes += result.message();
+  }
+  const bool sent = writeAll(fd, bytes.data(), bytes.size());
+  ::close(fd);
+  ::_exit(sent ? 0 : 3);
+}
+
+} // namespace
+
+Result<Asset> importAssetIsolated(const std::string& path, const ImportOptions& options,
+                                  const IsolationLimits& limits) {
+  int fds[2];
+  if (::pipe(fds) != 0)
+    return Error(std::string("cannot start the import worker: ") + std::strerror(errno));
+  const pid_t child = ::fork();
+  if (child < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return Error(std::string("cannot start the import worker: ") + std::strerror(errno));
+  }
+  if (child == 0) {
+    ::close(fds[0]);
+    runChild(fds[1], path, options, limits.memoryBytes);
+  }
+  ::close(fds[1]);
+
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration<double>(limits.timeoutSeconds);
+  std::string bytes;
+  std::string stopped;
+  char buffer[1 << 16];
+  for (;;) {
+    if (limits.cancel && limits.cancel->load()) {
+      stopped = "import cancelled";
+      break;
+    }
+    if (limits.timeoutSeconds > 0 && Clock::now() >= deadline) {
+      stopped = "import stopped after " + std::to_string(static_cast<int>(limits.timeoutSeconds)) +
+                " s: the importer did not finish (the file may be broken)";
+      break;
+    }
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = ::poll(&p, 1, 50);
+    if (ready < 0 && errno != EINTR)
+      break;
+    if (ready <= 0)
+      continue;
+    const ssize_t got = ::read(fds[0], buffer, sizeof(buffer));
+    if (got < 0 && errno == EINTR)
+      continue;
+    if (got <= 0)
+      break; // end of stream: the child finished or died
+    bytes.append(buffer, static_cast<std::size_t>(got));
+  }
+  ::close(fds[0]);
+  if (!stopped.empty())
+    ::kill(child, SIGKILL);
+  int status = 0;
+  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (!stopped.empty())
+    return Error(stopped);
+  if (WIFSIGNALED(status)) {
+    const int sig = WTERMSIG(status);
+    return Error("the importer crashed on this file (signal " + std::to_string(sig) + ", " + strsignal(sig) + ")");
+  }
+  if (bytes.empty())
+    return Error("the importer stopped without an answer (exit status " + std::to_string(WEXITSTATUS(status)) + ")");
+  if (bytes[0] == 'E')
+    return Error(bytes.substr(1));
+  return readAssetStream(std::string_view(bytes).substr(1));
+}
+
+} // namespace mlod
