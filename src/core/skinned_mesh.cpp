@@ -9,6 +9,26 @@ namespace mlod {
 
 namespace {
 float floatSum(const glm::vec4& w) { return ((w.x + w.y) + w.z) + w.w; }
+
+// Sets w.x so that floatSum(w) is exactly 1, searching outward from the real-valued
+// answer one ulp at a time (the float sum is monotone in w.x). False when no value lands.
+bool solveLargest(glm::vec4& w) {
+  const float start = 1.0f - ((w.y + w.z) + w.w);
+  float up = start;
+  float down = start;
+  for (int step = 0; step < 256; ++step) {
+    w.x = up;
+    if (floatSum(w) == 1.0f)
+      return true;
+    w.x = down;
+    if (floatSum(w) == 1.0f)
+      return true;
+    up = std::nextafter(up, 2.0f);
+    down = std::nextafter(down, 0.0f);
+  }
+  w.x = start;
+  return false;
+}
 } // namespace
 
 bool normalizeInfluences(const int* joints, const float* weights, int count, glm::u16vec4& out_joints,
@@ -34,31 +54,25 @@ bool normalizeInfluences(const int* joints, const float* weights, int count, glm
     out_weights[i] = static_cast<float>(w / total);
   }
   // note: rounding each weight to float leaves a residual of a few ulps; it goes into
-  // the largest weight, where it matters least, stepping it an ulp at a time until the
-  // float sum is exactly 1. With ties (three weights of 1/3) the largest can end an ulp
-  // below the next one: then the two swap places and the new first one takes the residual.
-  for (int attempt = 0; attempt < 16; ++attempt) {
-    bool exact = false;
-    out_weights.x = 1.0f - ((out_weights.y + out_weights.z) + out_weights.w);
-    for (int step = 0; step < 64 && !exact; ++step) {
-      const float sum = floatSum(out_weights);
-      exact = sum == 1.0f;
-      if (!exact)
-        out_weights.x = std::nextafter(out_weights.x, sum > 1.0f ? 0.0f : 2.0f);
+  // the largest weight, where it matters least. With ties (three weights of 1/3) the
+  // largest can end an ulp below the next: then the later ones come down to it and the
+  // largest takes the residual again, so the result stays sorted.
+  for (int attempt = 0; attempt < 32; ++attempt) {
+    if (!solveLargest(out_weights)) {
+      // note: x + y can fall only on every other float (y an odd multiple of half x's
+      // ulp, ties to even), so that no x reaches 1; an ulp off y changes that.
+      const int i = out_weights.z > 0.0f && attempt % 2 == 1 ? 2 : 1;
+      out_weights[i] = std::nextafter(out_weights[i], 0.0f);
+      continue;
     }
-    if (exact && out_weights.x >= out_weights.y)
+    bool sorted = true;
+    for (int i = 1; i < kMaxInfluences; ++i)
+      if (out_weights[i] > out_weights[i - 1]) {
+        out_weights[i] = out_weights[i - 1];
+        sorted = false;
+      }
+    if (sorted)
       break;
-    if (!exact) {
-      // No value of the first weight lands on 1 exactly: nudge the smallest one.
-      for (int i = kMaxInfluences - 1; i > 0; --i)
-        if (out_weights[i] > 0.0f) {
-          out_weights[i] = std::nextafter(out_weights[i], 0.0f);
-          break;
-        }
-    } else {
-      std::swap(out_weights.x, out_weights.y);
-      std::swap(out_joints.x, out_joints.y);
-    }
   }
   return true;
 }

@@ -1,7 +1,5 @@
 #include "editor/import_job.h"
 
-#include "io/isolated_import.h"
-
 #include <QtConcurrent>
 
 namespace mlod {
@@ -28,8 +26,7 @@ void ImportJob::start(const QString& path, const ImportOptions& options) {
   m_path = path;
   m_cancel = std::make_shared<std::atomic<bool>>(false);
   const std::string file = path.toStdString();
-  m_watcher.setFuture(QtConcurrent::run([file, options, cancel = m_cancel]() -> Outcome {
-    IsolationLimits limits;
+  m_watcher.setFuture(QtConcurrent::run([file, options, limits = m_limits, cancel = m_cancel]() mutable -> Outcome {
     limits.cancel = cancel.get();
     Result<Asset> result = importAssetIsolated(file, options, limits);
     if (!result)

@@ -3,6 +3,7 @@
 
 #include "core/asset.h"
 #include "io/import_options.h"
+#include "io/isolated_import.h"
 
 #include <QFutureWatcher>
 #include <QObject>
@@ -20,6 +21,9 @@ public:
   ~ImportJob() override;
 
   bool isRunning() const;
+  // Time and memory limits of the import worker (the cancel flag is the job's own).
+  void setLimits(const IsolationLimits& limits) { m_limits = limits; }
+  const IsolationLimits& limits() const { return m_limits; }
   // Starts importing `path`; finished() or failed() follows, once.
   void start(const QString& path, const ImportOptions& options);
   // Asks the worker to stop; failed("import cancelled") follows.
@@ -37,6 +41,7 @@ private:
   QFutureWatcher<Outcome> m_watcher;
   std::shared_ptr<std::atomic<bool>> m_cancel;
   QString m_path;
+  IsolationLimits m_limits;
 };
 
 } // namespace mlod

@@ -24,6 +24,7 @@ public:
   ~MainWindow() override;
 
   AssetTreeModel* assetModel() const { return m_assets; }
+  ImportJob* importJob() const { return m_import; }
   bool isImporting() const;
   QString logText() const;
 

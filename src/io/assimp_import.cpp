@@ -214,8 +214,8 @@ public:
     } else if (Error error = buildMeshes()) {
       return error;
     }
-    if (m_asset.skeleton.empty() && m_asset.meshes.empty())
-      return Error("it holds no skeleton, animation or triangle mesh");
+    if (m_asset.clips.empty() && m_asset.meshes.empty())
+      return Error("it holds no animation and no triangle mesh");
     if (Error error = m_asset.validate())
       return error;
     return std::move(m_asset);
@@ -278,8 +278,11 @@ private:
           if (!bone)
             return Error("mesh '" + std::string(mesh->mName.C_Str()) + "' has a missing bone");
           const int node = nodeIndex(bone->mName);
-          if (node < 0)
-            return Error("bone '" + std::string(bone->mName.C_Str()) + "' names no node of the scene");
+          if (node < 0) {
+            m_asset.warnings.push_back("bone '" + std::string(bone->mName.C_Str()) + "' of mesh '" +
+                                       mesh->mName.C_Str() + "' names no node; its weights were left out");
+            continue;
+          }
           seeds.insert(node);
         }
       }
@@ -298,8 +301,10 @@ private:
                                      "', which is no node, was ignored");
           continue;
         }
-        const Transform rest = decompose(m_nodes[static_cast<std::size_t>(node)].local);
-        if (channelAnimates(*channel, rest))
+        // A node with a channel is a joint; except that some exporters (X files, BCN_Epileptic)
+        // give mesh nodes a channel that never moves them: those stay out of the skeleton.
+        const FlatNode& flat = m_nodes[static_cast<std::size_t>(node)];
+        if (m_isBvh || flat.node->mNumMeshes == 0 || channelAnimates(*channel, decompose(flat.local)))
           seeds.insert(node);
       }
     }
@@ -381,8 +386,11 @@ private:
     clip.name = name;
     double framesExact = 0.0;
     if (m_isBvh) {
-      // BVH: one key per frame at integer ticks, ticks per second = 1 / Frame Time.
-      clip.fps = ticksPerSecond;
+      // BVH: one key per frame at integer ticks, ticks per second = 1 / Frame Time. Files
+      // write the frame time rounded (CMU: .0083333 for 1/120 s); a rate within 0.001 fps
+      // of a whole number is that number.
+      clip.fps = std::abs(ticksPerSecond - std::round(ticksPerSecond)) < 1e-3 ? std::round(ticksPerSecond)
+                                                                              : ticksPerSecond;
       framesExact = animation.mDuration;
     } else {
       clip.fps = m_options.fps;
@@ -467,6 +475,7 @@ private:
     SkinnedMesh character;
     SkinnedMesh fixed;
     int skippedFaces = 0;
+    int degenerateFaces = 0;
     int unweighted = 0;
     const float unit = static_cast<float>(m_asset.unitScale);
     // Rest model matrices are in cm already; mesh data is still in file units until the end.
@@ -491,7 +500,18 @@ private:
         const glm::mat4& meshGlobal = m_nodes[n].global; // file units
         // Model-space bind position = placement * mesh-space position.
         glm::mat4 placement = meshGlobal;
-        if (rigidJoint >= 0) {
+        if (hasBones) {
+          // A skinned mesh's node transform is ignored when it is drawn (glTF says so, Assimp's
+          // viewer does so): a vertex lands at boneGlobal * offset * v. So the mesh is placed
+          // where the skeleton's rest pose puts it, through its heaviest bone; skinning gives
+          // the same result for any placement, and merged meshes then agree on one bind pose.
+          const int heaviest = heaviestBone(mesh);
+          if (heaviest >= 0) {
+            const aiBone& bone = *mesh.mBones[heaviest];
+            const int j = m_jointOfNode[static_cast<std::size_t>(nodeIndex(bone.mName))];
+            placement = toFileUnits * restModels[static_cast<std::size_t>(j)] * toCm * toGlm(bone.mOffsetMatrix);
+          }
+        } else if (rigidJoint >= 0) {
           const Joint& joint = skeleton.joints[static_cast<std::size_t>(rigidJoint)];
           const glm::mat4 jointRest = toFileUnits * restModels[static_cast<std::size_t>(rigidJoint)] * toCm;
           if (joint.inverseBind) {
@@ -519,9 +539,12 @@ private:
         if (hasBones) {
           for (unsigned b = 0; b < mesh.mNumBones; ++b) {
             const aiBone& bone = *mesh.mBones[b];
-            const int j = m_jointOfNode[static_cast<std::size_t>(nodeIndex(bone.mName))];
+            const int boneNode = nodeIndex(bone.mName);
+            if (boneNode < 0)
+              continue; // warned about in buildSkeleton()
+            const int j = m_jointOfNode[static_cast<std::size_t>(boneNode)];
             // Offset: mesh space -> bone space. Ours: model space -> joint space.
-            glm::mat4 inverseBind = toGlm(bone.mOffsetMatrix) * glm::inverse(meshGlobal);
+            glm::mat4 inverseBind = toGlm(bone.mOffsetMatrix) * glm::inverse(placement);
             inverseBind[3] = glm::vec4(glm::vec3(inverseBind[3]) * unit, 1.0f);
             Joint& joint = skeleton.joints[static_cast<std::size_t>(j)];
             if (!joint.inverseBind)
@@ -573,11 +596,16 @@ private:
             ++skippedFaces;
             continue;
           }
-          for (int i = 0; i < 3; ++i) {
+          for (int i = 0; i < 3; ++i)
             if (face.mIndices[i] >= mesh.mNumVertices)
               return Error("mesh '" + part.name + "' has a face with a vertex index out of range");
-            target.indices.push_back(base + face.mIndices[i]);
+          if (face.mIndices[0] == face.mIndices[1] || face.mIndices[1] == face.mIndices[2] ||
+              face.mIndices[0] == face.mIndices[2]) {
+            ++degenerateFaces;
+            continue;
           }
+          for (int i = 0; i < 3; ++i)
+            target.indices.push_back(base + face.mIndices[i]);
         }
         part.indexCount = static_cast<std::uint32_t>(target.indices.size()) - part.firstIndex;
         if (part.indexCount > 0)
@@ -586,6 +614,8 @@ private:
     }
     if (skippedFaces > 0)
       m_asset.warnings.push_back(std::to_string(skippedFaces) + " point and line primitives were left out");
+    if (degenerateFaces > 0)
+      m_asset.warnings.push_back(std::to_string(degenerateFaces) + " degenerate triangles (a vertex used twice) were left out");
     if (unweighted > 0)
       m_asset.warnings.push_back(std::to_string(unweighted) +
                                  " vertices of skinned meshes had no weights and were bound rigidly");
@@ -598,6 +628,25 @@ private:
       m_asset.meshes.push_back(std::move(*mesh));
     }
     return {};
+  }
+
+  // The bone of `mesh` (naming a node) with the largest total weight, or -1.
+  int heaviestBone(const aiMesh& mesh) const {
+    int best = -1;
+    double bestWeight = -1.0;
+    for (unsigned b = 0; b < mesh.mNumBones; ++b) {
+      const aiBone& bone = *mesh.mBones[b];
+      if (nodeIndex(bone.mName) < 0)
+        continue;
+      double total = 0.0;
+      for (unsigned w = 0; w < bone.mNumWeights && bone.mWeights; ++w)
+        total += std::isfinite(bone.mWeights[w].mWeight) ? bone.mWeights[w].mWeight : 0.0;
+      if (total > bestWeight) {
+        bestWeight = total;
+        best = static_cast<int>(b);
+      }
+    }
+    return best;
   }
 
   static bool sameMatrix(const glm::mat4& a, const glm::mat4& b) {
@@ -639,6 +688,9 @@ Result<Asset> convert(Assimp::Importer& importer, const aiScene* scene, const st
     std::string reason = importer.GetErrorString();
     if (reason.empty())
       reason = "Assimp could not read it";
+    // Assimp catches the allocation failure itself and keeps only its what().
+    if (reason.find("bad_alloc") != std::string::npos)
+      reason = "it needs more memory than the import may use (the file may be broken)";
     return Error(reason);
   }
   if (!(options.fps > 0.0) || !std::isfinite(options.fps) || options.fps > 10000.0)
@@ -648,7 +700,7 @@ Result<Asset> convert(Assimp::Importer& importer, const aiScene* scene, const st
   try {
     return SceneConverter(*scene, options, sourcePath, extension, colladaMetres).run();
   } catch (const std::bad_alloc&) {
-    return Error("it needs more memory than is available");
+    return Error("it needs more memory than the import may use (the file may be broken)");
   } catch (const std::exception& e) {
     return Error(e.what());
   }
@@ -669,6 +721,8 @@ Result<Asset> importAsset(const std::string& path, const ImportOptions& options)
     return Error("no such file");
   if (std::filesystem::is_directory(file, ec))
     return Error("it is a directory, not a file");
+  if (!std::filesystem::is_regular_file(file, ec))
+    return Error("it is not a regular file");
   const auto size = std::filesystem::file_size(file, ec);
   if (ec)
     return Error("cannot read it: " + ec.message());
@@ -690,7 +744,7 @@ Result<Asset> importAsset(const std::string& path, const ImportOptions& options)
     const aiScene* scene = importer.ReadFile(path, kPostProcess);
     return convert(importer, scene, path, extension, options, colladaUnitOf(extension, head));
   } catch (const std::bad_alloc&) {
-    return Error("it needs more memory than is available");
+    return Error("it needs more memory than the import may use (the file may be broken)");
   } catch (const std::exception& e) {
     return Error(e.what());
   }
@@ -708,7 +762,7 @@ Result<Asset> importAssetFromMemory(const void* data, std::size_t size, const st
     const std::string head(static_cast<const char*>(data), std::min<std::size_t>(size, 4096));
     return convert(importer, scene, "memory." + ext, ext, options, colladaUnitOf(ext, head));
   } catch (const std::bad_alloc&) {
-    return Error("it needs more memory than is available");
+    return Error("it needs more memory than the import may use (the file may be broken)");
   } catch (const std::exception& e) {
     return Error(e.what());
   }

@@ -1,0 +1,34 @@
+#include "cli_runner.h"
+
+#include "test_files.h"
+
+#include <cstdlib>
+#include <sys/wait.h>
+
+namespace mlod::test {
+
+namespace {
+std::string quote(const std::string& text) {
+  std::string out = "'";
+  for (char c : text)
+    out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+} // namespace
+
+CliRun runMotionlod(const std::vector<std::string>& arguments) {
+  const std::string out = writeTemp("cli.out", "");
+  const std::string err = writeTemp("cli.err", "");
+  std::string command = quote(MLOD_MOTIONLOD);
+  for (const std::string& argument : arguments)
+    command += " " + quote(argument);
+  command += " > " + quote(out) + " 2> " + quote(err);
+  const int raw = std::system(command.c_str());
+  CliRun run;
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+  run.out = readText(out);
+  run.err = readText(err);
+  return run;
+}
+
+} // namespace mlod::test

@@ -1,0 +1,80 @@
+// The command-line contract of DESIGN.md section 6 for `--version` and `info`.
+
+#include "cli_runner.h"
+#include "test_files.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace mlod {
+namespace {
+
+using test::runMotionlod;
+
+// Guards `motionlod --version`.
+TEST(Cli, Version) {
+  const test::CliRun run = runMotionlod({"--version"});
+  EXPECT_EQ(run.status, 0);
+  EXPECT_NE(run.out.find("motionlod 0.1.0"), std::string::npos) << run.out;
+}
+
+// Guards `info` on the CMU clip: the header's 2,752 frames, 38 joints, the table layout.
+TEST(Cli, InfoPrintsCounts) {
+  const test::CliRun run = runMotionlod({"info", test::modelPath("BVH/01_01.bvh"), "--unit-scale", "cmu"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("2752 frames"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("38 joints"), std::string::npos);
+  EXPECT_NE(run.out.find("5.64444 cm per file unit (option)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("EndSite_Head (no rotation channel)"), std::string::npos);
+}
+
+// Guards `info --json`: one JSON document with joints (name, parent), clips, meshes, unit.
+TEST(Cli, InfoJson) {
+  const test::CliRun run = runMotionlod({"info", test::modelPath("X/BCN_Epileptic.X"), "--json"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json doc = nlohmann::json::parse(run.out);
+  EXPECT_EQ(doc["joints"].size(), 54u);
+  EXPECT_EQ(doc["clips"][0]["frames"], 100);
+  EXPECT_EQ(doc["clips"][0]["fps"], 30.0);
+  EXPECT_EQ(doc["meshes"][0]["vertices"], 3014);
+  EXPECT_EQ(doc["meshes"][0]["triangles"], 5126);
+  EXPECT_EQ(doc["meshes"][0]["bones"], 54);
+  EXPECT_EQ(doc["unit_scale"], 1.0);
+  EXPECT_TRUE(doc["joints"][0]["parent"].is_null());
+}
+
+// Guards the error contract: "error: FILE: reason" on stderr, exit 2, nothing on stdout.
+TEST(Cli, BadFilesExitTwoWithMessage) {
+  const std::string empty = test::writeTemp("empty.bvh", "");
+  const std::string garbage = test::writeTemp("garbage.fbx", std::string(2048, '\x07'));
+  const std::string lying = test::writeTemp(
+      "lying.bvh", test::makeBvh("Xposition Yposition Zposition Zrotation Yrotation Xrotation",
+                                 "Zrotation Yrotation Xrotation", 50, "0.01", "0 0 0 0 0 0 0 0 0\n"));
+  for (const std::string& file : {empty, garbage, lying, std::string("/no/such/file.bvh")}) {
+    SCOPED_TRACE(file);
+    const test::CliRun run = runMotionlod({"info", file});
+    EXPECT_EQ(run.status, 2);
+    EXPECT_EQ(run.err.rfind("error: " + file + ": ", 0), 0u) << run.err;
+    EXPECT_TRUE(run.out.empty()) << run.out;
+  }
+}
+
+// Guards a file that crashes or exhausts the importer: the CLI survives and reports it.
+TEST(Cli, RunawayImportIsReported) {
+  const test::CliRun run =
+      runMotionlod({"info", test::modelPath("invalid/OutOfMemory.off"), "--import-timeout", "5"});
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.err.rfind("error: ", 0), 0u) << run.err;
+}
+
+// Guards argument errors: a bad unit scale and a missing command exit 2.
+TEST(Cli, BadArguments) {
+  const test::CliRun unit = runMotionlod({"info", test::modelPath("BVH/01_01.bvh"), "--unit-scale", "-3"});
+  EXPECT_EQ(unit.status, 2);
+  EXPECT_NE(unit.err.find("--unit-scale"), std::string::npos) << unit.err;
+  EXPECT_EQ(runMotionlod({}).status, 2);
+  EXPECT_EQ(runMotionlod({"frobnicate"}).status, 2);
+}
+
+} // namespace
+} // namespace mlod

@@ -1,0 +1,146 @@
+// Qt Test driving the studio's main window: import (off the UI thread, through the
+// sandboxed importer), errors, cancel, shortcuts and a rendered window.
+
+#include "editor/import_job.h"
+#include "editor/main_window.h"
+#include "editor/models/asset_tree.h"
+
+#include <QAction>
+#include <QImage>
+#include <QMessageBox>
+#include <QSignalSpy>
+#include <QStatusBar>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QTreeView>
+
+using mlod::AssetTreeModel;
+using mlod::MainWindow;
+
+class TestMainWindow : public QObject {
+  Q_OBJECT
+
+private:
+  // Imports and waits for importFinished; returns its arguments.
+  static QList<QVariant> importAndWait(MainWindow& window, const QString& path) {
+    QSignalSpy spy(&window, &MainWindow::importFinished);
+    window.importFile(path);
+    if (!spy.wait(60000) || spy.isEmpty())
+      return {};
+    return spy.takeFirst();
+  }
+
+private slots:
+  void initTestCase() { QCoreApplication::setOrganizationName("MotionLODTest"); }
+
+  // The bundled sample imports; its skeleton shows as a joint tree with the CMU names.
+  void importShowsSkeletonClipsAndMeshes() {
+    MainWindow window;
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    const QList<QVariant> result = importAndWait(window, MLOD_SAMPLE);
+    QVERIFY(!result.isEmpty());
+    QCOMPARE(result[0].toBool(), true);
+    AssetTreeModel* model = window.assetModel();
+    QCOMPARE(model->assetCount(), 1);
+    const QModelIndex asset = model->index(0, 0);
+    QCOMPARE(model->data(asset).toString(), QString("cmu_01_01_excerpt.bvh"));
+    const QModelIndex skeleton = model->index(0, 0, asset);
+    QCOMPARE(model->data(skeleton).toString(), QString("Skeleton"));
+    QCOMPARE(model->data(model->index(0, AssetTreeModel::DetailColumn, asset)).toString(), QString("38 joints"));
+    const QModelIndex hips = model->index(0, 0, skeleton);
+    QCOMPARE(model->data(hips).toString(), QString("Hips"));
+    QCOMPARE(model->rowCount(hips), 3); // LHipJoint, RHipJoint, LowerBack
+    const QModelIndex clips = model->index(1, 0, asset);
+    QCOMPARE(model->data(model->index(0, AssetTreeModel::DetailColumn, clips)).toString(),
+             QString("480 frames · 120 fps · 3.99 s"));
+    QVERIFY(window.logText().contains("Imported cmu_01_01_excerpt.bvh: 38 joints, 1 clips, 0 meshes"));
+    QVERIFY(window.statusBar()->currentMessage().contains("Imported"));
+  }
+
+  // A broken file: the log says why, a non-modal message box appears, the window lives on.
+  void importFailureIsReported() {
+    QTemporaryDir dir;
+    const QString empty = dir.filePath("empty.bvh");
+    QFile file(empty);
+    QVERIFY(file.open(QIODevice::WriteOnly));
+    file.close();
+    MainWindow window;
+    window.show();
+    const QList<QVariant> result = importAndWait(window, empty);
+    QVERIFY(!result.isEmpty());
+    QCOMPARE(result[0].toBool(), false);
+    QVERIFY(result[2].toString().contains("empty"));
+    QVERIFY(window.logText().contains("error: " + empty + ": the file is empty"));
+    auto* box = window.findChild<QMessageBox*>();
+    QVERIFY(box);
+    QVERIFY(box->isVisible());
+    QCOMPARE(box->informativeText(), QString("the file is empty"));
+    box->close();
+    QCOMPARE(window.assetModel()->assetCount(), 0);
+    // The window still imports afterwards.
+    QCOMPARE(importAndWait(window, MLOD_SAMPLE).value(0).toBool(), true);
+  }
+
+  // Cancel stops a runaway import (a file that makes Assimp allocate without end).
+  void cancelStopsImport() {
+    MainWindow window;
+    window.show();
+    mlod::IsolationLimits limits;
+    limits.memoryBytes = 0; // without a limit this file keeps Assimp allocating for minutes
+    window.importJob()->setLimits(limits);
+    QSignalSpy spy(&window, &MainWindow::importFinished);
+    window.importFile(QString(MLOD_ASSIMP_MODELS) + "/invalid/OutOfMemory.off");
+    QVERIFY(window.isImporting());
+    QTest::qWait(300);
+    QVERIFY2(spy.isEmpty(), qPrintable(spy.isEmpty() ? QString() : spy.first()[2].toString()));
+    window.cancelImport();
+    QVERIFY(spy.wait(20000));
+    QCOMPARE(spy.first()[0].toBool(), false);
+    QCOMPARE(spy.first()[2].toString(), QString("import cancelled"));
+    QVERIFY(!window.isImporting());
+  }
+
+  // A second import while one runs is refused and logged, not queued silently.
+  void secondImportWhileRunningIsRefused() {
+    MainWindow window;
+    QSignalSpy spy(&window, &MainWindow::importFinished);
+    window.importFile(MLOD_SAMPLE);
+    window.importFile(MLOD_SAMPLE);
+    QVERIFY(window.logText().contains("already running"));
+    QVERIFY(spy.wait(60000));
+    QTest::qWait(200);
+    QCOMPARE(spy.count(), 1);
+    QCOMPARE(window.assetModel()->assetCount(), 1);
+  }
+
+  // The common actions have their standard shortcuts and tooltips.
+  void actionsHaveShortcuts() {
+    MainWindow window;
+    auto* open = window.findChild<QAction*>("actionOpen");
+    auto* quit = window.findChild<QAction*>("actionQuit");
+    QVERIFY(open && quit);
+    QCOMPARE(open->shortcut(), QKeySequence(QKeySequence::Open));
+    QCOMPARE(quit->shortcut(), QKeySequence("Ctrl+Q"));
+    QVERIFY(!open->toolTip().isEmpty());
+  }
+
+  // The window renders: the grabbed image is not blank after an import.
+  void windowRendersSomething() {
+    MainWindow window;
+    window.resize(1000, 700);
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    QCOMPARE(importAndWait(window, MLOD_SAMPLE).value(0).toBool(), true);
+    const QImage image = window.grab().toImage();
+    QVERIFY(!image.isNull());
+    QSet<QRgb> colours;
+    for (int y = 0; y < image.height(); y += 7)
+      for (int x = 0; x < image.width(); x += 7)
+        colours.insert(image.pixel(x, y));
+    QVERIFY2(colours.size() > 5, "the window image is blank");
+  }
+};
+
+QTEST_MAIN(TestMainWindow)
+#include "test_main_window.moc"

@@ -1,0 +1,105 @@
+// The sandboxed import: same result as in-process, and a file that makes Assimp
+// allocate without bound, hang or be cancelled comes back as an Error.
+
+#include "io/asset_stream.h"
+#include "io/importer.h"
+#include "io/isolated_import.h"
+#include "test_files.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <thread>
+
+namespace mlod {
+namespace {
+
+// Guards the pipe protocol: the isolated import gives the same asset, bit for bit.
+TEST(IsolatedImport, SameAssetAsInProcess) {
+  ImportOptions options;
+  options.unitScale = 2.54 / 0.45;
+  const Result<Asset> direct = importAsset(test::modelPath("BVH/01_01.bvh"), options);
+  const Result<Asset> isolated = importAssetIsolated(test::modelPath("BVH/01_01.bvh"), options);
+  ASSERT_TRUE(direct.ok() && isolated.ok()) << (isolated.ok() ? "" : isolated.message());
+  std::string a, b;
+  writeAssetStream(*direct, a);
+  writeAssetStream(*isolated, b);
+  EXPECT_EQ(a, b);
+}
+
+// Guards error messages crossing the pipe.
+TEST(IsolatedImport, ErrorsCrossThePipe) {
+  const Result<Asset> asset = importAssetIsolated(test::writeTemp("empty.x", ""));
+  ASSERT_FALSE(asset.ok());
+  EXPECT_NE(asset.message().find("empty"), std::string::npos);
+}
+
+// Guards the memory limit and the time limit on a file that makes Assimp allocate
+// hundreds of gigabytes (assimp-testmodels' invalid/OutOfMemory.off).
+TEST(IsolatedImport, RunawayImportIsStopped) {
+  IsolationLimits limits;
+  limits.timeoutSeconds = 20.0;
+  limits.memoryBytes = std::size_t{2} << 30;
+  const auto start = std::chrono::steady_clock::now();
+  const Result<Asset> asset = importAssetIsolated(test::modelPath("invalid/OutOfMemory.off"), {}, limits);
+  ASSERT_FALSE(asset.ok());
+  EXPECT_FALSE(asset.message().empty());
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(60));
+}
+
+// Guards the timeout path alone: without a memory limit, OutOfMemory.off keeps Assimp
+// busy for far longer than the one second allowed.
+TEST(IsolatedImport, TimeoutStopsAHang) {
+  IsolationLimits limits;
+  limits.timeoutSeconds = 1.0;
+  limits.memoryBytes = 0;
+  const Result<Asset> asset = importAssetIsolated(test::modelPath("invalid/OutOfMemory.off"), {}, limits);
+  ASSERT_FALSE(asset.ok());
+  EXPECT_NE(asset.message().find("stopped after 1 s"), std::string::npos) << asset.message();
+}
+
+// Guards cancel from another thread.
+TEST(IsolatedImport, CancelStopsTheWorker) {
+  std::atomic<bool> cancel{false};
+  IsolationLimits limits;
+  limits.timeoutSeconds = 60.0;
+  limits.memoryBytes = 0;
+  limits.cancel = &cancel;
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    cancel = true;
+  });
+  const auto start = std::chrono::steady_clock::now();
+  const Result<Asset> asset = importAssetIsolated(test::modelPath("invalid/OutOfMemory.off"), {}, limits);
+  canceller.join();
+  ASSERT_FALSE(asset.ok());
+  EXPECT_EQ(asset.message(), "import cancelled");
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30));
+}
+
+// Guards special files: a FIFO is refused at once instead of blocking the reader.
+TEST(IsolatedImport, FifoIsRefused) {
+  const std::string fifo = test::writeTemp("walk.bvh", "") + ".fifo";
+  ::unlink(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const Result<Asset> asset = importAssetIsolated(fifo);
+  ::unlink(fifo.c_str());
+  ASSERT_FALSE(asset.ok());
+  EXPECT_NE(asset.message().find("not a regular file"), std::string::npos) << asset.message();
+}
+
+// Guards the stream reader against truncated bytes (it must refuse, not read past the end).
+TEST(AssetStream, RefusesTruncatedBytes) {
+  const Result<Asset> asset = importAsset(test::modelPath("glTF2/simple_skin/simple_skin.gltf"));
+  ASSERT_TRUE(asset.ok());
+  std::string bytes;
+  writeAssetStream(*asset, bytes);
+  ASSERT_TRUE(readAssetStream(bytes).ok());
+  for (std::size_t cut : {std::size_t{0}, std::size_t{7}, bytes.size() / 3, bytes.size() - 1})
+    EXPECT_FALSE(readAssetStream(std::string_view(bytes).substr(0, cut)).ok()) << "cut at " << cut;
+}
+
+} // namespace
+} // namespace mlod

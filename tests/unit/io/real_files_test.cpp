@@ -1,0 +1,172 @@
+// Import of real files from Debian's assimp-testmodels, checked against the committed
+// table tests/data/expected_counts.json and against the files' own numbers.
+
+#include "io/importer.h"
+#include "test_files.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
+#include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <sstream>
+
+namespace mlod {
+namespace {
+
+nlohmann::json expectedCounts() {
+  std::ifstream in(test::dataPath("expected_counts.json"));
+  return nlohmann::json::parse(in);
+}
+
+Asset importModel(const std::string& relative, const std::string& unit = {}) {
+  ImportOptions options;
+  if (!unit.empty())
+    options.unitScale = parseUnitScale(unit).value();
+  Result<Asset> asset = importAsset(test::modelPath(relative), options);
+  EXPECT_TRUE(asset.ok()) << relative << ": " << (asset.ok() ? "" : asset.message());
+  return asset.ok() ? std::move(asset).value() : Asset{};
+}
+
+// Guards every count of the committed table: joints, frames, fps, channels, vertices, bones.
+TEST(RealFiles, MatchTheCommittedTable) {
+  const nlohmann::json table = expectedCounts();
+  ASSERT_GE(table["files"].size(), 10u);
+  for (const nlohmann::json& entry : table["files"]) {
+    const std::string path = entry["path"];
+    SCOPED_TRACE(path);
+    const Asset asset = importModel(path, entry.value("unit_scale", std::string()));
+    EXPECT_NEAR(asset.unitScale, entry["unit_cm"].get<double>(), 1e-5);
+    EXPECT_EQ(asset.skeleton.jointCount(), entry["joints"].get<int>());
+    ASSERT_EQ(asset.clips.size(), entry["clips"].size());
+    for (std::size_t c = 0; c < asset.clips.size(); ++c) {
+      EXPECT_EQ(asset.clips[c].frameCount, entry["clips"][c]["frames"].get<int>());
+      EXPECT_NEAR(asset.clips[c].fps, entry["clips"][c]["fps"].get<double>(), 1e-6);
+      EXPECT_EQ(asset.clips[c].rotationChannelCount(), entry["clips"][c]["rotation_channels"].get<int>());
+    }
+    ASSERT_EQ(asset.meshes.size(), entry["meshes"].size());
+    for (std::size_t m = 0; m < asset.meshes.size(); ++m) {
+      EXPECT_EQ(asset.meshes[m].vertexCount(), entry["meshes"][m]["vertices"].get<std::size_t>());
+      EXPECT_EQ(asset.meshes[m].triangleCount(), entry["meshes"][m]["triangles"].get<std::size_t>());
+      EXPECT_EQ(asset.meshes[m].boneCount(), entry["meshes"][m]["bones"].get<int>());
+    }
+  }
+}
+
+// Guards CMU 01_01 against the file's own text: the header's frame count, the End Sites,
+// the zero-length hips and the first motion row (root position and ZYX rotation, degrees).
+TEST(RealFiles, Cmu0101AgreesWithItsText) {
+  const Asset asset = importModel("BVH/01_01.bvh", "cmu");
+  const std::string text = test::readText(test::modelPath("BVH/01_01.bvh"));
+  EXPECT_NE(text.find("Frames: 2752"), std::string::npos);
+  const Clip& clip = asset.clips.at(0);
+  EXPECT_EQ(clip.frameCount, 2752);
+  EXPECT_EQ(asset.skeleton.leafCount(), 7);
+  EXPECT_EQ(clip.rotationChannelCount(), 31);
+  EXPECT_EQ(asset.skeleton.joints[static_cast<std::size_t>(asset.skeleton.find("LHipJoint"))].rest.translation,
+            glm::vec3(0.0f));
+
+  std::istringstream rows(text.substr(text.find("Frame Time:")));
+  std::string line;
+  std::getline(rows, line);
+  double x, y, z, rz, ry, rx;
+  rows >> x >> y >> z >> rz >> ry >> rx;
+  const float unit = 2.54f / 0.45f;
+  EXPECT_NEAR(clip.translation(0, 0).x, x * unit, 1e-3);
+  EXPECT_NEAR(clip.translation(0, 0).y, y * unit, 1e-3);
+  EXPECT_NEAR(clip.translation(0, 0).z, z * unit, 1e-3);
+  const glm::quat expected = glm::angleAxis(glm::radians(float(rz)), glm::vec3(0, 0, 1)) *
+                             glm::angleAxis(glm::radians(float(ry)), glm::vec3(0, 1, 0)) *
+                             glm::angleAxis(glm::radians(float(rx)), glm::vec3(1, 0, 0));
+  EXPECT_NEAR(std::abs(glm::dot(clip.rotation(0, 0), expected)), 1.0f, 1e-6f);
+}
+
+double angleBetween(const glm::quat& a, const glm::quat& b) {
+  return 2.0 * std::acos(std::min(1.0, double(std::abs(glm::dot(a, b)))));
+}
+
+// Guards resampling of uneven keys (BCN_Epileptic.X: 4,800 ticks/s, 100 keys at uneven
+// times on B_Hip_Left): a frame on a key equals that key; a frame between two keys lies
+// on the arc between them, at the fraction its time gives.
+TEST(RealFiles, BcnResamplesUnevenKeys) {
+  const Asset asset = importModel("X/BCN_Epileptic.X", "m");
+  const Clip& clip = asset.clips.at(0);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(test::modelPath("X/BCN_Epileptic.X"), 0);
+  ASSERT_TRUE(scene && scene->mNumAnimations == 1);
+  const aiAnimation& animation = *scene->mAnimations[0];
+  ASSERT_EQ(animation.mTicksPerSecond, 4800.0);
+  const aiNodeAnim* channel = nullptr;
+  for (unsigned c = 0; c < animation.mNumChannels; ++c)
+    if (std::string(animation.mChannels[c]->mNodeName.C_Str()) == "B_Hip_Left")
+      channel = animation.mChannels[c];
+  ASSERT_NE(channel, nullptr);
+  ASSERT_GT(channel->mNumRotationKeys, 50u);
+  const int joint = asset.skeleton.find("B_Hip_Left");
+  int onKey = 0, between = 0;
+  for (int f = 0; f < clip.frameCount; ++f) {
+    const double ticks = f / clip.fps * 4800.0;
+    unsigned k = 0;
+    while (k + 1 < channel->mNumRotationKeys && channel->mRotationKeys[k + 1].mTime <= ticks)
+      ++k;
+    const auto key = [&](unsigned i) {
+      const aiQuaternion& q = channel->mRotationKeys[i].mValue;
+      return glm::normalize(glm::quat(q.w, q.x, q.y, q.z));
+    };
+    const glm::quat ours = clip.rotation(joint, f);
+    if (channel->mRotationKeys[k].mTime == ticks || k + 1 == channel->mNumRotationKeys) {
+      EXPECT_LT(angleBetween(ours, key(k)), 1e-3) << "frame " << f;
+      ++onKey;
+      continue;
+    }
+    const double t0 = channel->mRotationKeys[k].mTime, t1 = channel->mRotationKeys[k + 1].mTime;
+    const double arc = angleBetween(key(k), key(k + 1));
+    const double a0 = angleBetween(ours, key(k)), a1 = angleBetween(ours, key(k + 1));
+    EXPECT_NEAR(a0 + a1, arc, 1e-3) << "frame " << f << " is off the arc between its keys";
+    if (arc > 1e-2) {
+      EXPECT_NEAR(a0 / arc, (ticks - t0) / (t1 - t0), 2e-2) << "frame " << f;
+    }
+    ++between;
+  }
+  EXPECT_GT(onKey, 0);
+  EXPECT_GT(between, 0);
+}
+
+// Guards bind poses: at the first frame, every bone's skinning matrix (model * inverse
+// bind) is the same rigid transform, so the mesh is not deformed; and the merged mesh
+// has at most 4 normalised influences (validate() checks the exact sum).
+TEST(RealFiles, BindPoseAgreesWithFirstFrame) {
+  for (const char* file : {"X/BCN_Epileptic.X", "FBX/huesitos.fbx", "glTF2/simple_skin/simple_skin.gltf"}) {
+    SCOPED_TRACE(file);
+    const Asset asset = importModel(file);
+    ASSERT_FALSE(asset.validate());
+    ASSERT_FALSE(asset.clips.empty());
+    std::vector<glm::mat4> models;
+    asset.clips[0].modelMatrices(asset.skeleton, 0, models);
+    const SkinnedMesh& mesh = asset.meshes.at(0);
+    std::optional<glm::mat4> first;
+    float size = 0.0f;
+    for (const glm::vec3& p : mesh.positions)
+      size = std::max(size, glm::length(p));
+    for (int j = 0; j < asset.skeleton.jointCount(); ++j) {
+      const Joint& joint = asset.skeleton.joints[std::size_t(j)];
+      if (!joint.inverseBind)
+        continue;
+      const glm::mat4 skinning = models[std::size_t(j)] * *joint.inverseBind;
+      if (!first) {
+        first = skinning;
+        continue;
+      }
+      for (const glm::vec3& p : {mesh.positions.front(), mesh.positions.back(), glm::vec3(0.0f)})
+        EXPECT_LT(glm::length(glm::vec3(skinning * glm::vec4(p, 1)) - glm::vec3(*first * glm::vec4(p, 1))),
+                  1e-3f * std::max(1.0f, size))
+            << "joint " << joint.name;
+    }
+    ASSERT_TRUE(first.has_value());
+  }
+}
+
+} // namespace
+} // namespace mlod

@@ -1,0 +1,22 @@
+#pragma once
+// Paths to real test data and temporary files the tests write.
+
+#include <string>
+
+namespace mlod::test {
+
+// A file of Debian's assimp-testmodels, e.g. modelPath("BVH/01_01.bvh").
+std::string modelPath(const std::string& relative);
+// A file of tests/data.
+std::string dataPath(const std::string& relative);
+// Writes `content` to a fresh file named `name` in this process's temporary folder.
+std::string writeTemp(const std::string& name, const std::string& content);
+std::string readText(const std::string& path);
+
+// A BVH file: one root "Hips" with `rootChannels` (e.g. "Xposition Yposition Zposition
+// Zrotation Yrotation Xrotation"), a child "Chest" 10 units up with `chestChannels`, an
+// End Site 5 units above it, and the motion rows given.
+std::string makeBvh(const std::string& rootChannels, const std::string& chestChannels, int frames,
+                    const std::string& frameTime, const std::string& rows);
+
+} // namespace mlod::test
