@@ -1,6 +1,7 @@
 // motionlod: the batch command line (DESIGN.md section 6).
 
 #include "cli/info_command.h"
+#include "cli/simplify_command.h"
 #include "core/version.h"
 
 #include <CLI/CLI.hpp>
@@ -26,6 +27,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   mlod::cli::InfoCommand info;
   info.attach(app);
+  mlod::cli::SimplifyCommand simplify;
+  simplify.attach(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -39,6 +42,8 @@ int main(int argc, char** argv) {
   try {
     if (app.got_subcommand("info"))
       return info.run();
+    if (app.got_subcommand("simplify"))
+      return simplify.run();
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << std::endl;
     return mlod::cli::kExitFailure;

@@ -1,0 +1,192 @@
+#include "cli/simplify_command.h"
+
+#include "core/jpc/jpc.h"
+#include "core/jpc/jpc_report.h"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <sstream>
+
+namespace mlod::cli {
+
+void SimplifyCommand::attach(CLI::App& app) {
+  CLI::App* command = app.add_subcommand(
+      "simplify",
+      "Joint posture clustering (JPC) of one clip: simplified joints %, clusters and errors per threshold "
+      "(the paper's Table 1)");
+  command->add_option("FILE", file,
+                      "motion or character file (any format Assimp reads); .mlod projects are not supported yet")
+      ->required();
+  command->add_option("--clip", clip, "the clip, by name or index (default: the first)");
+  command->add_option("--threshold", thresholds,
+                      "error threshold E per LOD level, cm·degrees (E / 57.3 ~ cm), comma-separated: 5,50,100,300")
+      ->required()
+      ->delimiter(',');
+  command->add_option("--alpha", alpha, "orientation weight alpha of every joint, cm (default 5)");
+  command->add_option("--joint", jointThresholds, "NAME=E: joint NAME's threshold at every level (repeatable)");
+  command->add_option("--mode", mode,
+                      "greedy: the paper's longest-range-first clusters; optimal: the clusters that cover the most "
+                      "frames under the same bound (default greedy)");
+  command->add_flag("--json", json,
+                    "print one JSON document on stdout (\"joints\" lists the joints with a rotation channel; "
+                    "\"seconds\" is clustering and measuring, import excluded)");
+  addImportOptions(*command, import);
+}
+
+namespace {
+std::string formatNumber(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+// NAME=E -> (NAME, E); the name may itself hold '='.
+bool parseJointThreshold(const std::string& text, std::string& out_name, double& out_threshold) {
+  const std::size_t equals = text.rfind('=');
+  if (equals == std::string::npos || equals == 0 || equals + 1 == text.size())
+    return false;
+  out_name = text.substr(0, equals);
+  const std::string number = text.substr(equals + 1);
+  char* end = nullptr;
+  out_threshold = std::strtod(number.c_str(), &end);
+  return end == number.c_str() + number.size();
+}
+
+// The clip named `selector`, else the one at index `selector`; -1 when neither.
+int findClip(const Asset& asset, const std::string& selector) {
+  if (selector.empty())
+    return asset.clips.empty() ? -1 : 0;
+  for (std::size_t i = 0; i < asset.clips.size(); ++i)
+    if (asset.clips[i].name == selector)
+      return static_cast<int>(i);
+  char* end = nullptr;
+  const long index = std::strtol(selector.c_str(), &end, 10);
+  if (end == selector.c_str() + selector.size() && index >= 0 && index < static_cast<long>(asset.clips.size()))
+    return static_cast<int>(index);
+  return -1;
+}
+
+void printTable(const JpcReport& report, const Clip& clip, int clusterable) {
+  std::printf("file:     %s\n", report.file.c_str());
+  std::printf("clip:     %s (%d frames at %g fps), %d of %d joints clusterable\n", report.clip.c_str(), report.frames,
+              report.fps, clusterable, clip.jointCount);
+  std::printf("settings: mode %s, alpha %g cm, unit %g cm per file unit\n\n", toString(report.mode), report.alpha,
+              report.unitScale);
+  const auto header = [&](const char* first) {
+    std::printf("%-30s", first);
+    for (const JpcLevelResult& level : report.levels)
+      std::printf(" %12s", ("E=" + formatNumber(level.threshold)).c_str());
+    std::printf("\n");
+  };
+  const auto row = [&](const std::string& name, auto&& value) {
+    std::printf("%-30s", name.c_str());
+    for (const JpcLevelResult& level : report.levels)
+      std::printf(" %12s", value(level).c_str());
+    std::printf("\n");
+  };
+  const auto fixed = [](double value, int digits) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.*f", digits, value);
+    return std::string(text);
+  };
+  std::printf("Average simplified joints (%%), as the paper's Table 1 (Original = 0.0 by definition):\n");
+  header("Motion");
+  row(report.clip + " (Original 0.0)", [&](const JpcLevelResult& l) { return fixed(l.simplifiedPercent, 1); });
+  row("clusters", [&](const JpcLevelResult& l) { return std::to_string(l.clusterCount); });
+  row("max E (cm·deg)", [&](const JpcLevelResult& l) { return fixed(l.maxError, 2); });
+  row("max joint position error (cm)", [&](const JpcLevelResult& l) { return fixed(l.maxJointPositionErrorCm, 3); });
+  row("mean joint position error (cm)",
+      [&](const JpcLevelResult& l) { return fixed(l.meanJointPositionErrorCm, 3); });
+  std::printf("\nPer joint: simplified %% (clusters)\n");
+  header("Joint");
+  for (std::size_t j = 0; j < report.jointNames.size(); ++j) {
+    if (report.levels.empty() || !report.levels.front().joints[j].clusterable)
+      continue;
+    const std::string name = report.jointNames[j] + (report.levels.front().joints[j].locked ? " (locked)" : "");
+    row(name, [&](const JpcLevelResult& l) {
+      const JointMetrics& m = l.joints[j];
+      return fixed(m.simplifiedPercent, 1) + " (" + std::to_string(m.clusters) + ")";
+    });
+  }
+  std::printf("\nseconds:  %.3f (clustering and measuring, import excluded)\n", report.seconds);
+}
+} // namespace
+
+int SimplifyCommand::run() const {
+  // Arguments that need no file first: a typo costs no import.
+  const std::optional<JpcMode> jpcMode = parseJpcMode(mode);
+  if (!jpcMode) {
+    printError(file, "--mode '" + mode + "' is neither greedy nor optimal");
+    return kExitBadInput;
+  }
+  for (std::size_t i = 0; i < thresholds.size(); ++i)
+    if (Error error = validateThreshold(thresholds[i], "--threshold " + formatNumber(thresholds[i]))) {
+      printError(file, error.message());
+      return kExitBadInput;
+    }
+  JpcSettings settings;
+  settings.mode = *jpcMode;
+  settings.alpha = alpha;
+  for (const std::string& text : jointThresholds) {
+    std::string name;
+    double threshold = 0.0;
+    if (!parseJointThreshold(text, name, threshold)) {
+      printError(file, "--joint '" + text + "' is not NAME=E (a joint name and a threshold in cm·degrees)");
+      return kExitBadInput;
+    }
+    settings.joints[name].thresholds.assign(thresholds.size(), threshold);
+  }
+  if (!std::isfinite(alpha) || alpha < 0.0) {
+    printError(file, "--alpha is " + formatNumber(alpha) + "; it must be finite and >= 0 (cm)");
+    return kExitBadInput;
+  }
+
+  const std::optional<Asset> asset = importForCommand(file, import);
+  if (!asset)
+    return kExitBadInput;
+  if (asset->clips.empty()) {
+    printError(file, "has no animation clip to simplify");
+    return kExitBadInput;
+  }
+  const int clipIndex = findClip(*asset, clip);
+  if (clipIndex < 0) {
+    std::string names;
+    for (const Clip& c : asset->clips)
+      names += (names.empty() ? "" : ", ") + c.name;
+    printError(file, "no clip '" + clip + "' (by name or index); the file has: " + names);
+    return kExitBadInput;
+  }
+  const Clip& selected = asset->clips[static_cast<std::size_t>(clipIndex)];
+  settings.zeroLength = 1e-6 * asset->unitScale; // DESIGN.md: 1e-6 file units
+
+  const auto start = std::chrono::steady_clock::now();
+  Result<std::vector<JpcLevelResult>> levels = simplifyClip(asset->skeleton, selected, settings, thresholds);
+  if (!levels) {
+    printError(file, levels.message());
+    return kExitBadInput;
+  }
+  JpcReport report;
+  report.file = file;
+  report.clip = selected.name;
+  report.frames = selected.frameCount;
+  report.fps = selected.fps;
+  report.mode = settings.mode;
+  report.alpha = alpha;
+  report.unitScale = asset->unitScale;
+  for (const Joint& joint : asset->skeleton.joints)
+    report.jointNames.push_back(joint.name);
+  report.levels = std::move(levels).value();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (json)
+    std::cout << jpcReportJson(report) << std::endl;
+  else
+    printTable(report, selected, selected.rotationChannelCount());
+  return kExitOk;
+}
+
+} // namespace mlod::cli

@@ -1,0 +1,155 @@
+// Clustering table, Ahn & Wohn section 4.2 (STEP 1), banded; DESIGN.md section 4.
+#include "core/jpc/clustering_table.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+namespace mlod {
+
+double errorRoundingBound(const JointTrack& track) {
+  // note: one evaluation is within a few ulps of 180 * (r + alpha) of the exact angle sum
+  // (atan2 of well-conditioned arguments, double throughout); 1e-12 relative is ~5000 ulps.
+  return 1e-12 * track.maxError() + std::numeric_limits<double>::min();
+}
+
+namespace {
+// Frame-to-frame errors, each rounded up to a multiple of a power-of-two quantum and
+// summed exactly in 64-bit integers: prefix[t] * quantum >= sum of s(u) for u in (0, t],
+// with no rounding that grows with the clip's length.
+struct StepBound {
+  std::vector<std::uint64_t> prefix; // per frame
+  double quantum = 1.0;              // cm·degrees per unit of prefix
+  double slack = 0.0;                // margin kept below T (cm·degrees)
+  bool usable = false;               // false at T within the margin (T = 0 above all)
+
+  // Units of prefix that fit in `budget` cm·degrees; saturates.
+  std::uint64_t units(double budget) const {
+    const double u = std::floor(budget / quantum);
+    return u >= 9.0e18 ? std::numeric_limits<std::uint64_t>::max() / 2 : static_cast<std::uint64_t>(u);
+  }
+};
+
+StepBound buildStepBound(const JointTrack& track, double threshold, std::int64_t& evaluations) {
+  StepBound bound;
+  const int n = track.frameCount();
+  const double eta = errorRoundingBound(track);
+  bound.slack = 3.0 * eta + 8.0 * std::numeric_limits<double>::epsilon() * (threshold + track.maxError());
+  bound.usable = threshold > bound.slack;
+  if (!bound.usable || n < 2)
+    return bound;
+  // 2^61 units in all leave headroom for the additions below.
+  const double total = static_cast<double>(n) * (track.maxError() + eta) * 1.01;
+  bound.quantum = std::ldexp(1.0, std::ilogb(total) - 60);
+  bound.prefix.assign(static_cast<std::size_t>(n), 0);
+  for (int t = 1; t < n; ++t) {
+    std::uint64_t step = 0;
+    if (!track.sameAsPrevious(t)) {
+      // the true step is at most the computed one plus eta
+      step = static_cast<std::uint64_t>(std::ceil((track.error(t, t - 1) + eta) / bound.quantum));
+      ++evaluations;
+    }
+    bound.prefix[static_cast<std::size_t>(t)] = bound.prefix[static_cast<std::size_t>(t - 1)] + step;
+  }
+  return bound;
+}
+
+// Computed E(t, ref) <= exact E(t, ref) + eta <= exact E(a, ref) + exact steps + eta
+//                     <= computed E(a, ref) + (prefix[t] - prefix[a]) * quantum + 2 eta,
+// and slack covers 2 eta plus the rounding of the budget.
+int scanForward(const JointTrack& track, const StepBound& bound, double threshold, int ref,
+                std::int64_t& evaluations) {
+  const int n = track.frameCount();
+  int last = ref; // every frame in [ref, last] is within the threshold
+  int anchor = ref;
+  double anchorError = 0.0;
+  while (last + 1 < n) {
+    const int t = last + 1;
+    if (track.sameAsPrevious(t)) {
+      last = track.runLast(t);
+      continue;
+    }
+    if (bound.usable) {
+      const double budget = threshold - bound.slack - anchorError;
+      if (budget >= 0.0) {
+        const std::uint64_t limit = bound.prefix[static_cast<std::size_t>(anchor)] + bound.units(budget);
+        const auto begin = bound.prefix.begin() + t;
+        const int reach = static_cast<int>(std::upper_bound(begin, bound.prefix.end(), limit) - bound.prefix.begin()) - 1;
+        if (reach >= t) {
+          last = reach;
+          continue;
+        }
+      }
+    }
+    const double error = track.error(t, ref);
+    ++evaluations;
+    if (!(error <= threshold))
+      break;
+    anchor = t;
+    anchorError = error;
+    last = t;
+  }
+  return last;
+}
+
+int scanBackward(const JointTrack& track, const StepBound& bound, double threshold, int ref,
+                 std::int64_t& evaluations) {
+  int first = ref; // every frame in [first, ref] is within the threshold
+  int anchor = ref;
+  double anchorError = 0.0;
+  while (first > 0) {
+    const int t = first - 1;
+    if (track.sameAsPrevious(first)) { // t holds the same rotation as `first`
+      first = track.runFirst(t);
+      continue;
+    }
+    if (bound.usable) {
+      const double budget = threshold - bound.slack - anchorError;
+      if (budget >= 0.0) {
+        const std::uint64_t top = bound.prefix[static_cast<std::size_t>(anchor)];
+        const std::uint64_t units = bound.units(budget);
+        const std::uint64_t floorValue = units >= top ? 0 : top - units;
+        const int reach = static_cast<int>(
+            std::lower_bound(bound.prefix.begin(), bound.prefix.begin() + t + 1, floorValue) - bound.prefix.begin());
+        if (reach <= t) {
+          first = reach;
+          continue;
+        }
+      }
+    }
+    const double error = track.error(t, ref);
+    ++evaluations;
+    if (!(error <= threshold))
+      break;
+    anchor = t;
+    anchorError = error;
+    first = t;
+  }
+  return first;
+}
+} // namespace
+
+ClusteringTable::ClusteringTable(const JointTrack& track, double threshold, bool withStarts)
+    : m_track(&track), m_threshold(threshold) {
+  assert(threshold >= 0.0 && std::isfinite(threshold));
+  const int n = track.frameCount();
+  m_ends.resize(static_cast<std::size_t>(n));
+  if (withStarts)
+    m_starts.resize(static_cast<std::size_t>(n));
+  // A joint whose largest possible error is within T: whole-clip runs, no table work.
+  m_wholeClip = threshold >= track.maxError();
+  if (m_wholeClip) {
+    std::fill(m_ends.begin(), m_ends.end(), n - 1);
+    std::fill(m_starts.begin(), m_starts.end(), 0);
+    return;
+  }
+  const StepBound bound = buildStepBound(track, threshold, m_evaluations);
+  for (int ref = 0; ref < n; ++ref) {
+    m_ends[static_cast<std::size_t>(ref)] = scanForward(track, bound, threshold, ref, m_evaluations);
+    if (withStarts)
+      m_starts[static_cast<std::size_t>(ref)] = scanBackward(track, bound, threshold, ref, m_evaluations);
+  }
+}
+
+} // namespace mlod

@@ -1,0 +1,159 @@
+// Joint posture clustering, Ahn & Wohn section 4; DESIGN.md section 4.
+#include "core/jpc/jpc.h"
+
+#include "core/jpc/clustering_table.h"
+#include "core/jpc/greedy_clustering.h"
+#include "core/jpc/key_posture.h"
+#include "core/jpc/optimal_clustering.h"
+#include "core/jpc/parallel_for.h"
+#include "core/jpc/simplified_motion.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace mlod {
+
+JointClustering clusterJoint(const JointTrack& track, double threshold, JpcMode mode) {
+  assert(threshold >= 0.0 && std::isfinite(threshold));
+  JointClustering out;
+  if (track.frameCount() < kMinClusterFrames)
+    return out;
+  const bool optimal = mode == JpcMode::Optimal;
+  const ClusteringTable table(track, threshold, optimal);
+  out.evaluations = table.evaluations();
+  const std::vector<FrameRange> ranges =
+      optimal ? optimalRanges(table.rowStarts(), table.rowEnds()) : greedyRanges(table.rowEnds());
+  out.clusters.reserve(ranges.size());
+  for (const FrameRange& range : ranges) {
+    const KeyPosture key = keyPosture(track, range, threshold, &table);
+    out.evaluations += key.evaluations;
+    // Every range has a row that holds it: greedy's own first row, optimal's window key.
+    assert(key.key >= 0);
+    if (key.key < 0)
+      continue;
+    out.clusters.push_back({range.first, range.last, key.key});
+    out.clusteredFrames += range.length();
+    out.maxError = std::max(out.maxError, key.maxError);
+  }
+  return out;
+}
+
+Result<JpcClip> JpcClip::prepare(const Skeleton& skeleton, const Clip& clip, const JpcSettings& settings) {
+  if (Error error = skeleton.validate())
+    return Error("the skeleton is invalid: " + error.message());
+  if (Error error = clip.validate(skeleton))
+    return error;
+  if (Error error = settings.validate(skeleton))
+    return error;
+  JpcClip out;
+  out.m_settings = settings;
+  out.m_frameCount = clip.frameCount;
+  const std::vector<JointGeometry> geometry = jointGeometry(skeleton, settings.zeroLength);
+  out.m_joints.resize(static_cast<std::size_t>(skeleton.jointCount()));
+  for (int j = 0; j < skeleton.jointCount(); ++j) {
+    JointEntry& entry = out.m_joints[static_cast<std::size_t>(j)];
+    entry.name = skeleton.joints[static_cast<std::size_t>(j)].name;
+    entry.clusterable = clip.hasRotation[static_cast<std::size_t>(j)] != 0;
+    entry.locked = settings.lockedFor(entry.name);
+    if (entry.clusterable && !entry.locked) {
+      const std::span<const glm::quat> rotations(&clip.rotations[clip.index(j, 0)],
+                                                 static_cast<std::size_t>(clip.frameCount));
+      entry.track = JointTrack(geometry[static_cast<std::size_t>(j)], settings.alphaFor(entry.name), rotations);
+    }
+  }
+  return out;
+}
+
+int JpcClip::clusterableCount() const {
+  return static_cast<int>(std::count_if(m_joints.begin(), m_joints.end(),
+                                        [](const JointEntry& entry) { return entry.clusterable; }));
+}
+
+const JointTrack& JpcClip::track(int joint) const {
+  assert(clusterable(joint) && !locked(joint));
+  return m_joints[static_cast<std::size_t>(joint)].track;
+}
+
+double JpcClip::threshold(int joint, int level, double levelThreshold) const {
+  return m_settings.thresholdFor(jointName(joint), level, levelThreshold);
+}
+
+JointClustering JpcClip::clusterJoint(int joint, int level, double levelThreshold) const {
+  if (!clusterable(joint) || locked(joint))
+    return {};
+  return mlod::clusterJoint(track(joint), threshold(joint, level, levelThreshold), m_settings.mode);
+}
+
+std::vector<JointClustering> JpcClip::cluster(int level, double levelThreshold, int threads) const {
+  std::vector<JointClustering> out(m_joints.size());
+  parallelFor(jointCount(), threads,
+              [&](int j) { out[static_cast<std::size_t>(j)] = clusterJoint(j, level, levelThreshold); });
+  return out;
+}
+
+JpcLevelResult measureLevel(const JpcClip& prepared, const Skeleton& skeleton, const Clip& clip, int level,
+                            double levelThreshold, std::vector<JointClustering> joints,
+                            std::span<const glm::vec3> originalPositions) {
+  assert(static_cast<int>(joints.size()) == prepared.jointCount());
+  JpcLevelResult out;
+  out.threshold = levelThreshold;
+  out.clusters.frameCount = prepared.frameCount();
+  out.clusters.joints.resize(joints.size());
+  out.joints.resize(joints.size());
+  long long clusteredJointFrames = 0;
+  for (int j = 0; j < prepared.jointCount(); ++j) {
+    JointClustering& clustering = joints[static_cast<std::size_t>(j)];
+    JointMetrics& metrics = out.joints[static_cast<std::size_t>(j)];
+    metrics.clusterable = prepared.clusterable(j);
+    metrics.locked = prepared.locked(j);
+    metrics.threshold = prepared.threshold(j, level, levelThreshold);
+    metrics.clusters = static_cast<int>(clustering.clusters.size());
+    metrics.clusteredFrames = clustering.clusteredFrames;
+    metrics.simplifiedPercent = 100.0 * clustering.clusteredFrames / prepared.frameCount();
+    metrics.maxError = clustering.maxError;
+    clusteredJointFrames += clustering.clusteredFrames;
+    out.clusterCount += metrics.clusters;
+    out.maxError = std::max(out.maxError, metrics.maxError);
+    out.clusters.joints[static_cast<std::size_t>(j)] = std::move(clustering.clusters);
+  }
+  const double jointFrames = static_cast<double>(prepared.clusterableCount()) * prepared.frameCount();
+  out.simplifiedPercent = jointFrames > 0.0 ? 100.0 * static_cast<double>(clusteredJointFrames) / jointFrames : 0.0;
+  const PositionError position = jointPositionError(skeleton, clip, out.clusters, originalPositions);
+  out.maxJointPositionErrorCm = position.maxCm;
+  out.meanJointPositionErrorCm = position.meanCm;
+  return out;
+}
+
+Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const Clip& clip,
+                                                 const JpcSettings& settings,
+                                                 std::span<const double> levelThresholds, int threads) {
+  for (std::size_t level = 0; level < levelThresholds.size(); ++level)
+    if (Error error = validateThreshold(levelThresholds[level], levelThresholds.size() == 1
+                                                                    ? std::string("threshold")
+                                                                    : "threshold " + std::to_string(level + 1)))
+      return error;
+  Result<JpcClip> prepared = JpcClip::prepare(skeleton, clip, settings);
+  if (!prepared)
+    return prepared.error();
+  const JpcClip& jpc = *prepared;
+  const int levels = static_cast<int>(levelThresholds.size());
+  const int joints = jpc.jointCount();
+  // Every (level, joint) pair is a task: the costly joints of all levels share the threads.
+  std::vector<std::vector<JointClustering>> clustered(static_cast<std::size_t>(levels),
+                                                      std::vector<JointClustering>(static_cast<std::size_t>(joints)));
+  parallelFor(levels * joints, threads, [&](int task) {
+    const int level = task / joints, joint = task % joints;
+    clustered[static_cast<std::size_t>(level)][static_cast<std::size_t>(joint)] =
+        jpc.clusterJoint(joint, level, levelThresholds[static_cast<std::size_t>(level)]);
+  });
+  const std::vector<glm::vec3> original = jointPositions(skeleton, clip);
+  std::vector<JpcLevelResult> out(static_cast<std::size_t>(levels));
+  parallelFor(levels, threads, [&](int level) {
+    const std::size_t l = static_cast<std::size_t>(level);
+    out[l] = measureLevel(jpc, skeleton, clip, level, levelThresholds[l], std::move(clustered[l]), original);
+  });
+  return out;
+}
+
+} // namespace mlod

@@ -1,0 +1,123 @@
+#pragma once
+// Joint posture clustering (JPC) of a clip: Ahn & Wohn, "Motion Level-of-Detail: A
+// Simplification Method on Crowd Scene", section 4, as DESIGN.md section 4 makes it
+// precise. Per joint, runs of consecutive frames whose postures all stay within an error
+// threshold of one key posture become clusters; inside a cluster the joint is frozen at
+// its key posture.
+//
+// The pieces, one file each: posture_error.h (eqs. (1)-(6)), clustering_table.h (STEP 1,
+// banded), greedy_clustering.h (STEPs 2-5), optimal_clustering.h (beyond the paper),
+// key_posture.h (eq. (7), STEP 6), simplified_motion.h (M'(t) and its error in cm).
+//
+// Units: thresholds and errors E in cm·degrees, alpha in cm, positions in cm.
+// Guarantee, for every clustered frame t of joint j: E_j(t, key) <= T_j.
+
+#include "core/clip.h"
+#include "core/error.h"
+#include "core/jpc/cluster_set.h"
+#include "core/jpc/jpc_settings.h"
+#include "core/jpc/posture_error.h"
+#include "core/skeleton.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace mlod {
+
+// The clusters of one joint.
+struct JointClustering {
+  std::vector<Cluster> clusters; // sorted, disjoint, >= 3 frames each, key inside
+  int clusteredFrames = 0;
+  double maxError = 0.0;          // max E(t, key) over the clustered frames; 0 without clusters
+  std::int64_t evaluations = 0;   // error evaluations spent (statistic)
+};
+
+// Clusters one joint at threshold T (cm·degrees, >= 0): the clustering table, the ranges
+// chosen by `mode`, the keys by eq. (7). Deterministic; about a millisecond per joint of a
+// 3,000-frame clip.
+JointClustering clusterJoint(const JointTrack& track, double threshold, JpcMode mode);
+
+// What JPC needs from one clip, prepared once for any number of thresholds: the error
+// tracks of every clusterable joint (those with a rotation channel) that is not locked.
+// Re-clustering one joint after an edit of its threshold is clusterJoint(track(j), T, mode).
+class JpcClip {
+public:
+  // Checks `settings` (unknown joint names, negative or NaN alpha ...) and `clip` against
+  // `skeleton`; bad input is an Error with a message.
+  static Result<JpcClip> prepare(const Skeleton& skeleton, const Clip& clip, const JpcSettings& settings);
+
+  int jointCount() const { return static_cast<int>(m_joints.size()); }
+  int frameCount() const { return m_frameCount; }
+  const JpcSettings& settings() const { return m_settings; }
+  const std::string& jointName(int joint) const { return m_joints[static_cast<std::size_t>(joint)].name; }
+  // The joint carries a rotation channel in the clip (DESIGN.md section 4).
+  bool clusterable(int joint) const { return m_joints[static_cast<std::size_t>(joint)].clusterable; }
+  bool locked(int joint) const { return m_joints[static_cast<std::size_t>(joint)].locked; }
+  int clusterableCount() const;
+  // The joint's error track; only for clusterable joints that are not locked.
+  const JointTrack& track(int joint) const;
+  // T_j at `level` whose threshold is `levelThreshold` (cm·degrees).
+  double threshold(int joint, int level, double levelThreshold) const;
+
+  // Clusters one joint at `level` (no clusters for locked and unclusterable joints).
+  JointClustering clusterJoint(int joint, int level, double levelThreshold) const;
+  // Clusters every joint at one level, on up to `threads` threads (0 = all hardware
+  // threads). One entry per joint.
+  std::vector<JointClustering> cluster(int level, double levelThreshold, int threads = 0) const;
+
+private:
+  struct JointEntry {
+    std::string name;
+    bool clusterable = false;
+    bool locked = false;
+    JointTrack track;
+  };
+  JpcSettings m_settings;
+  int m_frameCount = 0;
+  std::vector<JointEntry> m_joints;
+};
+
+// Table 1 of the paper and the fidelity a technical artist reads, for one joint.
+struct JointMetrics {
+  bool clusterable = false;
+  bool locked = false;
+  double threshold = 0.0;         // T_j, cm·degrees
+  int clusters = 0;
+  int clusteredFrames = 0;
+  double simplifiedPercent = 0.0; // 100 x clustered frames / frames
+  double maxError = 0.0;          // max E(t, key) over clustered frames, cm·degrees
+};
+
+// One LOD level of a clip.
+struct JpcLevelResult {
+  double threshold = 0.0; // the level's threshold, cm·degrees
+  ClusterSet clusters;
+  std::vector<JointMetrics> joints; // per skeleton joint
+  // 100 x clustered joint-frames / (clusterable joints x frames): the paper's Table 1.
+  double simplifiedPercent = 0.0;
+  int clusterCount = 0;
+  double maxError = 0.0;                 // over every joint, cm·degrees
+  double maxJointPositionErrorCm = 0.0;  // forward kinematics of M' against M, every joint and frame
+  double meanJointPositionErrorCm = 0.0;
+};
+
+// Clusters `clip` at each threshold of `levelThresholds` (level i gets threshold i and
+// the per-joint overrides of level i) and measures the result. Work is spread over up to
+// `threads` threads (0 = all hardware threads); the result does not depend on it.
+// Errors: invalid settings, thresholds or clip.
+Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const Clip& clip,
+                                                 const JpcSettings& settings,
+                                                 std::span<const double> levelThresholds, int threads = 0);
+
+// Gathers one level's clusters (one JointClustering per joint, from JpcClip::cluster())
+// into a ClusterSet with its metrics; the joint-position error is forward kinematics of
+// M' against `clip`. `originalPositions` as in jointPositionError().
+JpcLevelResult measureLevel(const JpcClip& prepared, const Skeleton& skeleton, const Clip& clip, int level,
+                            double levelThreshold, std::vector<JointClustering> joints,
+                            std::span<const glm::vec3> originalPositions = {});
+
+} // namespace mlod

@@ -1,0 +1,63 @@
+#pragma once
+// Settings of joint posture clustering (JPC, DESIGN.md sections 3 and 4).
+//
+// Units: thresholds are errors E in cm·degrees (the paper's Table 1 uses 5, 50, 100, 300;
+// E / 57.3 is roughly a displacement in cm); alpha weighs the orientation error and is a
+// length in cm (alpha = 5: one degree of twist counts like one degree of swing of a 5 cm
+// segment).
+
+#include "core/error.h"
+#include "core/skeleton.h"
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mlod {
+
+inline constexpr double kDefaultJpcAlpha = 5.0; // cm
+
+// How the clusters of one joint are chosen under the error bound.
+enum class JpcMode {
+  Greedy,  // the paper's STEPs 1-6: the longest row range first
+  Optimal, // the partition that covers the most frames, then has the fewest clusters
+};
+
+const char* toString(JpcMode mode);                              // "greedy", "optimal"
+std::optional<JpcMode> parseJpcMode(const std::string& text);   // inverse of toString()
+
+// Per-joint settings (DESIGN.md section 3). Everything absent falls back to JpcSettings.
+struct JointSettings {
+  std::optional<double> alpha; // cm, >= 0; absent = JpcSettings::alpha
+  // Threshold override per LOD level (index = level), cm·degrees, >= 0. An absent entry,
+  // or a level past the end, uses that level's threshold.
+  std::vector<std::optional<double>> thresholds;
+  bool locked = false; // never simplified, whatever the threshold
+};
+
+struct JpcSettings {
+  double alpha = kDefaultJpcAlpha; // cm, >= 0: the orientation weight of every joint without its own
+  JpcMode mode = JpcMode::Greedy;
+  // Child offsets shorter than this are zero-length (followed down to the next non-zero
+  // ones, DESIGN.md section 4), cm. DESIGN says 1e-6 file units: pass 1e-6 x the asset's
+  // unit scale.
+  double zeroLength = 1e-6;
+  std::map<std::string, JointSettings> joints; // by joint name; a joint not listed takes the defaults
+
+  // alpha of joint `name` (JointSettings::alpha, else `alpha`).
+  double alphaFor(const std::string& name) const;
+  // Threshold T_j of joint `name` at LOD level `level` whose own threshold is
+  // `levelThreshold` (cm·degrees).
+  double thresholdFor(const std::string& name, int level, double levelThreshold) const;
+  bool lockedFor(const std::string& name) const;
+
+  // Rules: alpha finite and >= 0; zeroLength finite and >= 0; every joint name exists in
+  // `skeleton`; every per-joint alpha and threshold finite and >= 0.
+  Error validate(const Skeleton& skeleton) const;
+};
+
+// Rules: a threshold is finite and >= 0. `what` names it in the message ("threshold 2").
+Error validateThreshold(double threshold, const std::string& what = "threshold");
+
+} // namespace mlod

@@ -1,0 +1,158 @@
+// Key posture, Ahn & Wohn section 4.3, eq. (7) (STEP 6); DESIGN.md section 4.
+#include "core/jpc/key_posture.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+namespace mlod {
+
+namespace {
+// Consecutive identical frames inside the range: one evaluation serves them all.
+struct Run {
+  int frame; // the first frame of the run inside the range
+  int count;
+};
+
+std::vector<Run> runsOf(const JointTrack& track, FrameRange range) {
+  std::vector<Run> runs;
+  for (int t = range.first; t <= range.last;) {
+    const int end = std::min(track.runLast(t), range.last);
+    runs.push_back({t, end - t + 1});
+    t = end + 1;
+  }
+  return runs;
+}
+
+struct RowResult {
+  bool complete = false; // false: over the threshold somewhere, or cannot beat the best
+  double sum = 0.0;
+  double max = 0.0;
+};
+
+// eq. (7) for row k, summed in ascending t; stops as soon as row k cannot win.
+RowResult evaluateRow(const JointTrack& track, const std::vector<Run>& runs, int k, double threshold,
+                      double bestSum, int bestKey, std::int64_t& evaluations) {
+  RowResult row;
+  for (const Run& run : runs) {
+    const double error = track.error(run.frame, k);
+    ++evaluations;
+    if (!(error <= threshold))
+      return row;
+    row.max = std::max(row.max, error);
+    for (int c = 0; c < run.count; ++c)
+      row.sum += error;
+    // what is left only adds (>= 0): a partial sum past the best loses, and so does a tie
+    // with a later row
+    if (row.sum > bestSum || (row.sum == bestSum && k > bestKey))
+      return row;
+  }
+  row.complete = true;
+  return row;
+}
+} // namespace
+
+KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshold, const ClusteringTable* table) {
+  assert(range.first >= 0 && range.first <= range.last && range.last < track.frameCount());
+  KeyPosture out;
+  const std::vector<Run> runs = runsOf(track, range);
+  const std::size_t count = runs.size();
+  const double m = range.length();
+  const double eta = errorRoundingBound(track);
+  constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+
+  const auto ruledOutByTable = [&](int k) {
+    if (!table)
+      return false;
+    return table->rowEnd(k) < range.last || (table->hasStarts() && table->rowStart(k) > range.first);
+  };
+
+  double bestSum = std::numeric_limits<double>::infinity();
+  int bestKey = -1;
+  double bestMax = 0.0;
+  const auto offer = [&](int k, const RowResult& row) {
+    if (row.complete && (row.sum < bestSum || (row.sum == bestSum && k < bestKey))) {
+      bestSum = row.sum;
+      bestKey = k;
+      bestMax = row.max;
+    }
+  };
+
+  // The pivot: the run holding the middle frame, evaluated against every run.
+  const int middle = range.first + range.length() / 2;
+  std::size_t pivot = 0;
+  while (runs[pivot].frame + runs[pivot].count <= middle)
+    ++pivot;
+  std::vector<double> pivotErrors(count);
+  RowResult pivotRow;
+  pivotRow.complete = !ruledOutByTable(runs[pivot].frame);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double error = track.error(runs[i].frame, runs[pivot].frame);
+    ++out.evaluations;
+    pivotErrors[i] = error;
+    pivotRow.complete = pivotRow.complete && error <= threshold;
+    pivotRow.max = std::max(pivotRow.max, error);
+    for (int c = 0; c < runs[i].count; ++c)
+      pivotRow.sum += error;
+  }
+  offer(runs[pivot].frame, pivotRow);
+  const auto finish = [&] {
+    out.key = bestKey;
+    out.errorSum = bestKey >= 0 ? bestSum : 0.0;
+    out.maxError = bestKey >= 0 ? bestMax : 0.0;
+    return out;
+  };
+  if (count == 1)
+    return finish();
+
+  // Lower bounds: sum_t |E(t, p) - E(k, p)| = v C_below - S_below + S_above - v C_above.
+  std::vector<std::size_t> byError(count);
+  std::iota(byError.begin(), byError.end(), std::size_t{0});
+  std::sort(byError.begin(), byError.end(), [&](std::size_t x, std::size_t y) {
+    return pivotErrors[x] != pivotErrors[y] ? pivotErrors[x] < pivotErrors[y] : x < y;
+  });
+  std::vector<double> sortedErrors(count), prefixCount(count + 1, 0.0), prefixSum(count + 1, 0.0);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t r = byError[i];
+    sortedErrors[i] = pivotErrors[r];
+    prefixCount[i + 1] = prefixCount[i] + runs[r].count;
+    prefixSum[i + 1] = prefixSum[i] + runs[r].count * pivotErrors[r];
+  }
+  const double total = prefixSum[count];
+  const double lowest = sortedErrors.front(), highest = sortedErrors.back();
+  std::vector<double> bound(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double v = pivotErrors[i];
+    const std::size_t below = static_cast<std::size_t>(
+        std::lower_bound(sortedErrors.begin(), sortedErrors.end(), v) - sortedErrors.begin());
+    bound[i] = (v * prefixCount[below] - prefixSum[below]) + ((total - prefixSum[below]) - v * (m - prefixCount[below]));
+  }
+  std::vector<std::size_t> order(count);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t x, std::size_t y) { return bound[x] != bound[y] ? bound[x] < bound[y] : x < y; });
+
+  for (const std::size_t i : order) {
+    if (i == pivot)
+      continue;
+    const int k = runs[i].frame;
+    const double v = pivotErrors[i];
+    // E(t, k) >= |E(t, p) - E(k, p)|: some frame is over the threshold.
+    if (std::max(v - lowest, highest - v) - 2.0 * eta > threshold)
+      continue;
+    // Rounding: each computed error is within eta of the pseudometric; sums of m terms
+    // lose at most m epsilon relative.
+    const double margin = 3.0 * m * eta + 4.0 * m * kEpsilon * (bound[i] + total + v * m);
+    if (bound[i] - margin > bestSum)
+      continue;
+    if (ruledOutByTable(k))
+      continue;
+    offer(k, evaluateRow(track, runs, k, threshold, bestSum, bestKey, out.evaluations));
+  }
+  return finish();
+}
+
+} // namespace mlod

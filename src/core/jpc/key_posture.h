@@ -1,0 +1,35 @@
+#pragma once
+// Key posture of a cluster (Ahn & Wohn, section 4.3, eq. (7); STEP 6), restricted as
+// DESIGN.md section 4 says: among the rows k of the cluster whose errors to every frame
+// of the cluster stay within the threshold, the one with the least sum of errors
+// sum_t E(t, k), summed in ascending t; ties: the earliest k. So E(t, key) <= T holds for
+// every frame of the cluster.
+
+#include "core/jpc/clustering_table.h"
+#include "core/jpc/cluster_set.h"
+#include "core/jpc/posture_error.h"
+
+#include <cstdint>
+
+namespace mlod {
+
+struct KeyPosture {
+  int key = -1;          // frame; -1 when no row of the range is within the threshold
+  double errorSum = 0.0; // sum_t E(t, key) over the range, cm·degrees
+  double maxError = 0.0; // max_t E(t, key) over the range, cm·degrees
+  std::int64_t evaluations = 0; // error evaluations spent (statistic)
+};
+
+// `table` (optional, built for the same threshold) rules out rows whose run cannot hold
+// the range without evaluating them.
+//
+// note: eq. (7) is m^2 evaluations for a cluster of m frames. Exactly the same key comes
+// out of far fewer: rows of identical postures have identical sums (only the first can
+// win), and with one pivot row p evaluated, the triangle inequality gives every row k the
+// lower bound sum_t |E(t, p) - E(k, p)| (sorted prefix sums, O(log m) per row); rows are
+// tried by increasing bound and dropped once the bound, or their partial sum, passes the
+// best sum so far (with a margin for rounding).
+KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshold,
+                      const ClusteringTable* table = nullptr);
+
+} // namespace mlod
