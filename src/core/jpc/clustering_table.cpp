@@ -55,15 +55,29 @@ StepBound buildStepBound(const JointTrack& track, double threshold, std::int64_t
   return bound;
 }
 
-// Computed E(t, ref) <= exact E(t, ref) + eta <= exact E(a, ref) + exact steps + eta
-//                     <= computed E(a, ref) + (prefix[t] - prefix[a]) * quantum + 2 eta,
-// and slack covers 2 eta plus the rounding of the budget.
+// Blocks of the approximate kernel grow from kFirstBlock to kLastBlock frames while a run
+// goes on: most runs end within a few frames of where the bound gives out.
+constexpr int kFirstBlock = 8;
+constexpr int kLastBlock = 64;
+
+// Frame by frame from the diagonal, each frame is decided by the first of:
+// - it holds the same rotation as its neighbour inside the run: the same error, exactly;
+// - the triangle bound from the last anchor a (a frame whose error is known to within
+//   its upper bound u):
+//     computed E(t, ref) <= exact E(t, ref) + eta <= exact E(a, ref) + exact steps + eta
+//                        <= u + (prefix[t] - prefix[a]) * quantum + 2 eta,
+//   slack covering 2 eta and the rounding of the budget;
+// - the approximate kernel, when it is more than its bound away from T;
+// - the exact kernel.
 int scanForward(const JointTrack& track, const StepBound& bound, double threshold, int ref,
                 std::int64_t& evaluations) {
   const int n = track.frameCount();
+  const double delta = track.approximationBound();
+  float approximate[kLastBlock];
+  int block = kFirstBlock;
   int last = ref; // every frame in [ref, last] is within the threshold
   int anchor = ref;
-  double anchorError = 0.0;
+  double anchorUpper = 0.0;
   while (last + 1 < n) {
     const int t = last + 1;
     if (track.sameAsPrevious(t)) {
@@ -71,33 +85,47 @@ int scanForward(const JointTrack& track, const StepBound& bound, double threshol
       continue;
     }
     if (bound.usable) {
-      const double budget = threshold - bound.slack - anchorError;
+      const double budget = threshold - bound.slack - anchorUpper;
       if (budget >= 0.0) {
         const std::uint64_t limit = bound.prefix[static_cast<std::size_t>(anchor)] + bound.units(budget);
-        const auto begin = bound.prefix.begin() + t;
-        const int reach = static_cast<int>(std::upper_bound(begin, bound.prefix.end(), limit) - bound.prefix.begin()) - 1;
-        if (reach >= t) {
-          last = reach;
+        if (bound.prefix[static_cast<std::size_t>(t)] <= limit) {
+          const auto begin = bound.prefix.begin() + t;
+          last = static_cast<int>(std::upper_bound(begin, bound.prefix.end(), limit) - bound.prefix.begin()) - 1;
           continue;
         }
       }
     }
-    const double error = track.error(t, ref);
-    ++evaluations;
-    if (!(error <= threshold))
-      break;
-    anchor = t;
-    anchorError = error;
-    last = t;
+    const int count = std::min(block, n - t);
+    block = std::min(2 * block, kLastBlock);
+    track.approximateErrors(ref, t, count, approximate);
+    for (int i = 0; i < count; ++i) {
+      const int u = t + i;
+      const double estimate = approximate[i];
+      double upper = estimate + delta;
+      if (!(upper <= threshold)) {
+        if (estimate - delta > threshold)
+          return last;
+        upper = track.error(u, ref);
+        ++evaluations;
+        if (!(upper <= threshold))
+          return last;
+      }
+      anchor = u;
+      anchorUpper = upper;
+      last = u;
+    }
   }
   return last;
 }
 
 int scanBackward(const JointTrack& track, const StepBound& bound, double threshold, int ref,
                  std::int64_t& evaluations) {
+  const double delta = track.approximationBound();
+  float approximate[kLastBlock];
+  int block = kFirstBlock;
   int first = ref; // every frame in [first, ref] is within the threshold
   int anchor = ref;
-  double anchorError = 0.0;
+  double anchorUpper = 0.0;
   while (first > 0) {
     const int t = first - 1;
     if (track.sameAsPrevious(first)) { // t holds the same rotation as `first`
@@ -105,26 +133,37 @@ int scanBackward(const JointTrack& track, const StepBound& bound, double thresho
       continue;
     }
     if (bound.usable) {
-      const double budget = threshold - bound.slack - anchorError;
+      const double budget = threshold - bound.slack - anchorUpper;
       if (budget >= 0.0) {
         const std::uint64_t top = bound.prefix[static_cast<std::size_t>(anchor)];
         const std::uint64_t units = bound.units(budget);
         const std::uint64_t floorValue = units >= top ? 0 : top - units;
-        const int reach = static_cast<int>(
-            std::lower_bound(bound.prefix.begin(), bound.prefix.begin() + t + 1, floorValue) - bound.prefix.begin());
-        if (reach <= t) {
-          first = reach;
+        if (bound.prefix[static_cast<std::size_t>(t)] >= floorValue) {
+          first = static_cast<int>(std::lower_bound(bound.prefix.begin(), bound.prefix.begin() + t + 1, floorValue) -
+                                   bound.prefix.begin());
           continue;
         }
       }
     }
-    const double error = track.error(t, ref);
-    ++evaluations;
-    if (!(error <= threshold))
-      break;
-    anchor = t;
-    anchorError = error;
-    first = t;
+    const int count = std::min(block, t + 1);
+    block = std::min(2 * block, kLastBlock);
+    track.approximateErrors(ref, t - count + 1, count, approximate);
+    for (int i = count - 1; i >= 0; --i) {
+      const int u = t - count + 1 + i;
+      const double estimate = approximate[i];
+      double upper = estimate + delta;
+      if (!(upper <= threshold)) {
+        if (estimate - delta > threshold)
+          return first;
+        upper = track.error(u, ref);
+        ++evaluations;
+        if (!(upper <= threshold))
+          return first;
+      }
+      anchor = u;
+      anchorUpper = upper;
+      first = u;
+    }
   }
   return first;
 }

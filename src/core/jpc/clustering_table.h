@@ -15,7 +15,9 @@
 // rounding) joins the run unevaluated. Frames identical to their predecessor (still
 // joints: CMU fingers, LHipJoint) have the predecessor's error bit for bit and are
 // skipped even at T = 0. This is the paper's long-clip reduction by angular speed
-// (section 4.3, E_pos(t, t - 1)), made exact.
+// (section 4.3, E_pos(t, t - 1)), made exact. The frames the bound leaves open go through
+// the float SIMD kernel (JointTrack::approximateErrors) in blocks; only those within its
+// error bound of T are evaluated exactly.
 
 #include "core/jpc/posture_error.h"
 
@@ -47,7 +49,7 @@ public:
   // Table entry E(t, ref), evaluated on demand (the same kernel the runs came from).
   double entry(int t, int ref) const { return m_track->error(t, ref); }
 
-  // Error evaluations spent building the runs (a statistic for benchmarks and tests).
+  // Exact error evaluations spent building the runs (a statistic for benchmarks and tests).
   std::int64_t evaluations() const { return m_evaluations; }
 
 private:

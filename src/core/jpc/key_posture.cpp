@@ -11,6 +11,8 @@
 namespace mlod {
 
 namespace {
+constexpr int kChunk = 256; // frames of a row per call of the approximate kernel
+
 // Consecutive identical frames inside the range: one evaluation serves them all.
 struct Run {
   int frame; // the first frame of the run inside the range
@@ -135,6 +137,16 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
   std::sort(order.begin(), order.end(),
             [&](std::size_t x, std::size_t y) { return bound[x] != bound[y] ? bound[x] < bound[y] : x < y; });
 
+  // Approximate phase: the float kernel over every frame gives each surviving row its
+  // sum to within m delta; rows that cannot beat the best upper bound drop out early.
+  const double delta = track.approximationBound();
+  struct Survivor {
+    double lower; // of the row's exact sum
+    std::size_t run;
+  };
+  std::vector<Survivor> survivors;
+  std::vector<float> approximate(static_cast<std::size_t>(std::min(range.length(), kChunk)));
+  double upperBest = bestSum; // the winner's exact sum is at most this
   for (const std::size_t i : order) {
     if (i == pivot)
       continue;
@@ -146,11 +158,41 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
     // Rounding: each computed error is within eta of the pseudometric; sums of m terms
     // lose at most m epsilon relative.
     const double margin = 3.0 * m * eta + 4.0 * m * kEpsilon * (bound[i] + total + v * m);
-    if (bound[i] - margin > bestSum)
+    if (bound[i] - margin > upperBest)
       continue;
     if (ruledOutByTable(k))
       continue;
+    double sum = 0.0, largest = 0.0;
+    bool dropped = false;
+    for (int first = range.first; first <= range.last && !dropped; first += kChunk) {
+      const int chunk = std::min(kChunk, range.last - first + 1);
+      track.approximateErrors(k, first, chunk, approximate.data());
+      for (int c = 0; c < chunk; ++c) {
+        sum += approximate[static_cast<std::size_t>(c)];
+        largest = std::max(largest, static_cast<double>(approximate[static_cast<std::size_t>(c)]));
+      }
+      const double done = first + chunk - range.first;
+      dropped = largest - delta > threshold || // surely over the threshold somewhere
+                sum - done * delta - 4.0 * done * kEpsilon * (sum + done * delta) > upperBest;
+    }
+    if (dropped)
+      continue;
+    const double slack = m * delta + 4.0 * m * kEpsilon * (sum + m * delta);
+    if (largest + delta <= threshold) // surely feasible
+      upperBest = std::min(upperBest, sum + slack);
+    survivors.push_back({sum - slack, i});
+  }
+
+  // Exact phase: the few rows whose sum may still be the least, by increasing bound.
+  std::sort(survivors.begin(), survivors.end(), [](const Survivor& a, const Survivor& b) {
+    return a.lower != b.lower ? a.lower < b.lower : a.run < b.run;
+  });
+  for (const Survivor& survivor : survivors) {
+    if (survivor.lower > upperBest)
+      break;
+    const int k = runs[survivor.run].frame;
     offer(k, evaluateRow(track, runs, k, threshold, bestSum, bestKey, out.evaluations));
+    upperBest = std::min(upperBest, bestSum);
   }
   return finish();
 }

@@ -27,8 +27,11 @@ struct KeyPosture {
 // out of far fewer: rows of identical postures have identical sums (only the first can
 // win), and with one pivot row p evaluated, the triangle inequality gives every row k the
 // lower bound sum_t |E(t, p) - E(k, p)| (sorted prefix sums, O(log m) per row); rows are
-// tried by increasing bound and dropped once the bound, or their partial sum, passes the
-// best sum so far (with a margin for rounding).
+// tried by increasing bound and dropped once the bound passes the best sum so far. The
+// rows left are summed with the float SIMD kernel (JointTrack::approximateErrors), which
+// brackets each exact sum within m x its error bound; only rows whose bracket still
+// reaches the best one are summed exactly (ascending t, as eq. (7) says). Every margin
+// covers rounding, so the key is the one the full table would give.
 KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshold,
                       const ClusteringTable* table = nullptr);
 

@@ -163,5 +163,80 @@ TEST(JpcError, CmuHips) {
   EXPECT_NEAR(geometry[0].radius, 446.0, 1.0);
 }
 
+// Guards the float SIMD kernel against the scalar one: within its stated bound with 4x
+// to spare, and within 1e-4 relative past one degree of motion (issue 3). The clustering
+// relies on the bound to keep exact results.
+void checkApproximation(const JointTrack& track, const std::vector<int>& refs, const std::string& what) {
+  std::vector<float> approximate(static_cast<std::size_t>(track.frameCount()));
+  for (int ref : refs) {
+    track.approximateErrors(ref, 0, track.frameCount(), approximate.data());
+    for (int t = 0; t < track.frameCount(); ++t) {
+      const double exact = track.error(t, ref);
+      const double difference = std::abs(approximate[static_cast<std::size_t>(t)] - exact);
+      ASSERT_LE(difference, 0.25 * track.approximationBound()) << what << " t " << t << " ref " << ref;
+      if (exact > track.radius() + track.alpha()) { // past one degree of motion; float resolves less near 0
+        ASSERT_LE(difference, 1e-4 * exact) << what << " t " << t << " ref " << ref;
+      }
+    }
+  }
+  // a part of a row gives the same values as the whole row
+  std::vector<float> part(5);
+  track.approximateErrors(refs.front(), 1, 5, part.data());
+  track.approximateErrors(refs.front(), 0, track.frameCount(), approximate.data());
+  for (int i = 0; i < 5; ++i)
+    EXPECT_EQ(part[static_cast<std::size_t>(i)], approximate[static_cast<std::size_t>(i) + 1]);
+}
+
+TEST(JpcError, ApproximateKernelOnRealData) {
+  for (const char* file : {"BVH/01_01.bvh", "X/BCN_Epileptic.X"}) {
+    const Asset& asset = test::realAsset(file);
+    const Clip& clip = asset.clips.front();
+    const std::vector<JointGeometry> geometry = jointGeometry(asset.skeleton, 1e-6 * asset.unitScale);
+    for (double alpha : {0.0, 5.0, 100.0}) {
+      for (int j = 0; j < clip.jointCount; ++j) {
+        if (!clip.hasRotation[static_cast<std::size_t>(j)])
+          continue;
+        const JointTrack track(geometry[static_cast<std::size_t>(j)], alpha, test::rotationsOf(clip, j));
+        std::vector<int> refs;
+        for (int ref = 0; ref < clip.frameCount; ref += std::max(1, clip.frameCount / 13))
+          refs.push_back(ref);
+        checkApproximation(track, refs, std::string(file) + " " + asset.skeleton.joints[static_cast<std::size_t>(j)].name);
+        if (HasFatalFailure())
+          return;
+      }
+    }
+  }
+}
+
+// The hard cases for float: postures a hair apart, and nearly opposite (180 degrees).
+TEST(JpcError, ApproximateKernelNearZeroAndNearOpposite) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::uniform_real_distribution<float> exponent(-7.0f, 0.0f);
+  JointGeometry geometry;
+  geometry.directions = {glm::normalize(glm::dvec3(0.3, 1.0, -0.2)), {1, 0, 0}};
+  geometry.radius = 446.0;
+  std::vector<glm::quat> rotations;
+  for (int i = 0; i < 4000; ++i) {
+    const glm::quat base = glm::normalize(glm::quat(unit(rng), unit(rng), unit(rng), unit(rng)));
+    const float small = std::pow(10.0f, exponent(rng)); // degrees
+    const glm::vec3 axis(unit(rng), unit(rng), unit(rng));
+    rotations.push_back(base);
+    rotations.push_back(glm::normalize(base * axisAngle(small, axis)));          // a hair apart
+    rotations.push_back(glm::normalize(base * axisAngle(180.0f - small, axis))); // nearly opposite
+  }
+  for (double alpha : {0.0, 5.0}) {
+    const JointTrack track(geometry, alpha, rotations);
+    std::vector<float> approximate(2);
+    for (int i = 0; i + 2 < track.frameCount(); i += 3) {
+      track.approximateErrors(i, i + 1, 2, approximate.data());
+      for (int k = 0; k < 2; ++k)
+        ASSERT_LE(std::abs(approximate[static_cast<std::size_t>(k)] - track.error(i + 1 + k, i)),
+                  0.25 * track.approximationBound())
+            << i << " " << k;
+    }
+  }
+}
+
 } // namespace
 } // namespace mlod
