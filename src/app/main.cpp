@@ -2,6 +2,7 @@
 
 #include "core/version.h"
 #include "editor/main_window.h"
+#include "io/import_options.h"
 
 #include <QApplication>
 #include <QCommandLineParser>
@@ -30,25 +31,44 @@ int main(int argc, char** argv) {
   parser.addHelpOption();
   parser.addVersionOption();
   const QCommandLineOption open("open", "Import FILE at start.", "FILE");
-  const QCommandLineOption sample("sample", "Import the bundled sample clip at start.");
+  const QCommandLineOption sample("sample", "Import the bundled sample clip (CMU mocap, in its unit) at start.");
+  const QCommandLineOption unit("unit-scale", "cm per file unit for the imports, or a preset: cm, m, mm, inch, cmu.",
+                                "S");
   const QCommandLineOption screenshot("screenshot", "Save the window to PNG once the imports are done, then quit.", "PNG");
-  parser.addOptions({open, sample, screenshot});
+  parser.addOptions({open, sample, unit, screenshot});
   parser.addPositionalArgument("files", "Files to import.", "[files...]");
   parser.process(app);
 
-  QStringList files = parser.values(open) + parser.positionalArguments();
+  // Each file with the unit it is imported in (0 = the window's import unit).
+  QList<QPair<QString, double>> files;
   if (parser.isSet(sample))
-    files.prepend(samplePath());
+    files.append({samplePath(), *mlod::parseUnitScale("cmu")});
+  for (const QString& file : parser.values(open) + parser.positionalArguments())
+    files.append({file, 0.0});
 
   mlod::MainWindow window;
+  if (parser.isSet(unit)) {
+    const std::optional<double> scale = mlod::parseUnitScale(parser.value(unit).toStdString());
+    if (!scale) {
+      std::fprintf(stderr, "error: --unit-scale %s: not a positive number or a preset (cm, m, mm, inch, cmu)\n",
+                   qPrintable(parser.value(unit)));
+      return 2;
+    }
+    for (auto& file : files)
+      file.second = file.second > 0.0 ? file.second : *scale;
+  }
   window.show();
 
-  auto pending = std::make_shared<QStringList>(files);
+  auto pending = std::make_shared<QList<QPair<QString, double>>>(files);
   const QString shotPath = parser.value(screenshot);
   int status = 0;
   auto next = [&window, pending, shotPath, &status]() {
     if (!pending->isEmpty()) {
-      window.importFile(pending->takeFirst());
+      const auto [file, scale] = pending->takeFirst();
+      if (scale > 0.0)
+        window.importFileWithUnit(file, scale);
+      else
+        window.importFile(file);
       return;
     }
     if (!shotPath.isEmpty()) {

@@ -5,6 +5,7 @@
 #include "editor/models/asset_tree.h"
 #include "ui_main_window.h"
 
+#include <QActionGroup>
 #include <QCloseEvent>
 #include <QDateTime>
 #include <QDockWidget>
@@ -40,6 +41,9 @@ MainWindow::MainWindow(QWidget* parent)
               showAsset(*asset);
           });
 
+  buildUnitMenu();
+  resizeDocks({m_ui->assetsDock}, {340}, Qt::Horizontal);
+  resizeDocks({m_ui->logDock}, {160}, Qt::Vertical);
   QSettings settings;
   restoreGeometry(settings.value("mainWindow/geometry").toByteArray());
   restoreState(settings.value("mainWindow/state").toByteArray());
@@ -51,6 +55,43 @@ MainWindow::~MainWindow() = default;
 bool MainWindow::isImporting() const { return m_import->isRunning(); }
 
 QString MainWindow::logText() const { return m_ui->logView->toPlainText(); }
+
+void MainWindow::buildUnitMenu() {
+  // Files without a unit of their own (BVH, X, SMD …) take this one; glTF, FBX and
+  // Collada keep the unit they state unless a preset is picked here.
+  QMenu* menu = m_ui->menuFile->addMenu(tr("Import &Unit"));
+  menu->setToolTipsVisible(true);
+  m_ui->menuFile->insertMenu(m_ui->actionQuit, menu);
+  m_ui->menuFile->insertSeparator(m_ui->actionQuit);
+  auto* group = new QActionGroup(this);
+  const auto add = [&](const QString& text, double cmPerUnit, const QString& tooltip) {
+    QAction* action = menu->addAction(text);
+    action->setCheckable(true);
+    action->setData(cmPerUnit);
+    action->setToolTip(tooltip);
+    group->addAction(action);
+    return action;
+  };
+  add(tr("From the File"), 0.0, tr("glTF in metres, FBX and Collada by their stated unit, others 1 cm per unit"))
+      ->setObjectName("actionUnitFromFile");
+  for (const UnitPreset& preset : unitPresets())
+    add(tr("%1 (%2 cm per unit)").arg(QString::fromUtf8(preset.description)).arg(preset.cmPerUnit, 0, 'g', 5),
+        preset.cmPerUnit, tr("Lengths in the file are %1").arg(QString::fromUtf8(preset.description)))
+        ->setObjectName(QString("actionUnit_%1").arg(preset.name));
+  const double saved = QSettings().value("import/unitScale", 0.0).toDouble();
+  setImportUnitScale(saved);
+  connect(group, &QActionGroup::triggered, this, [this](QAction* action) {
+    setImportUnitScale(action->data().toDouble());
+    QSettings().setValue("import/unitScale", m_unitScale);
+  });
+  m_unitGroup = group;
+}
+
+void MainWindow::setImportUnitScale(double cmPerUnit) {
+  m_unitScale = cmPerUnit > 0.0 ? cmPerUnit : 0.0;
+  for (QAction* action : m_unitGroup ? m_unitGroup->actions() : QList<QAction*>{})
+    action->setChecked(std::abs(action->data().toDouble() - m_unitScale) < 1e-9);
+}
 
 void MainWindow::chooseFile() {
   QSettings settings;
@@ -64,14 +105,18 @@ void MainWindow::chooseFile() {
   importFile(path);
 }
 
-void MainWindow::importFile(const QString& path) {
+void MainWindow::importFile(const QString& path) { importFileWithUnit(path, m_unitScale); }
+
+void MainWindow::importFileWithUnit(const QString& path, double unitScale) {
   if (m_import->isRunning()) {
     log(tr("An import is already running; %1 was not started.").arg(path));
     return;
   }
   log(tr("Importing %1 …").arg(path));
   statusBar()->showMessage(tr("Importing %1 …").arg(QFileInfo(path).fileName()));
-  m_import->start(path, ImportOptions{});
+  ImportOptions options;
+  options.unitScale = unitScale;
+  m_import->start(path, options);
   if (!m_progress) {
     m_progress = new QProgressDialog(this);
     m_progress->setWindowTitle(tr("Import"));
@@ -98,9 +143,10 @@ void MainWindow::onImported(const QString& path, std::shared_ptr<const Asset> as
   m_ui->assetTree->resizeColumnToContents(AssetTreeModel::NameColumn);
   for (const std::string& warning : asset->warnings)
     log(tr("warning: %1: %2").arg(path, QString::fromStdString(warning)));
-  const QString message = tr("Imported %1: %n joints", nullptr, asset->skeleton.jointCount()) .arg(QFileInfo(path).fileName()) +
-                          tr(", %n clips", nullptr, int(asset->clips.size())) +
-                          tr(", %n meshes", nullptr, int(asset->meshes.size()));
+  const QString message = tr("Imported %1: %2, %3, %4")
+                              .arg(QFileInfo(path).fileName(), countText(asset->skeleton.jointCount(), "joint", "joints"),
+                                   countText(qsizetype(asset->clips.size()), "clip", "clips"),
+                                   countText(qsizetype(asset->meshes.size()), "mesh", "meshes"));
   log(message);
   statusBar()->showMessage(message, 10000);
   showAsset(*asset);
@@ -129,6 +175,8 @@ void MainWindow::showAsset(const Asset& asset) {
                      .arg(asset.unitScale)
                      .arg(QString::fromStdString(asset.unitSource));
   html += tr("<p><b>Skeleton:</b> %1 joints, %2 leaves</p>").arg(asset.skeleton.jointCount()).arg(asset.skeleton.leafCount());
+  if (asset.clips.empty())
+    html += tr("<p><b>Clips:</b> none (a character without animation)</p>");
   html += "<table cellspacing=6><tr><th align=left>Clip</th><th>Frames</th><th>fps</th><th>Seconds</th><th>Rotation channels</th></tr>";
   for (const Clip& clip : asset.clips)
     html += QString("<tr><td>%1</td><td align=right>%2</td><td align=right>%3</td><td align=right>%4</td><td align=right>%5</td></tr>")
@@ -137,14 +185,19 @@ void MainWindow::showAsset(const Asset& asset) {
                 .arg(clip.fps, 0, 'g', 6)
                 .arg(clip.durationSeconds(), 0, 'f', 2)
                 .arg(clip.rotationChannelCount());
-  html += "</table><table cellspacing=6><tr><th align=left>Mesh</th><th>Vertices</th><th>Triangles</th><th>Bones</th></tr>";
+  html += "</table>";
+  if (asset.meshes.empty())
+    html += tr("<p><b>Mesh:</b> none (a motion without a character mesh)</p>");
+  else
+    html += "<table cellspacing=6><tr><th align=left>Mesh</th><th>Vertices</th><th>Triangles</th><th>Bones</th></tr>";
   for (const SkinnedMesh& mesh : asset.meshes)
     html += QString("<tr><td>%1</td><td align=right>%2</td><td align=right>%3</td><td align=right>%4</td></tr>")
                 .arg(QString::fromStdString(mesh.name).toHtmlEscaped())
                 .arg(mesh.vertexCount())
                 .arg(mesh.triangleCount())
                 .arg(mesh.boneCount());
-  html += "</table>";
+  if (!asset.meshes.empty())
+    html += "</table>";
   m_ui->summaryLabel->setText(html);
 }
 

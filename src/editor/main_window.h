@@ -10,6 +10,7 @@
 #include <memory>
 
 namespace Ui { class MainWindow; }
+class QActionGroup;
 class QProgressDialog;
 
 namespace mlod {
@@ -26,11 +27,16 @@ public:
   AssetTreeModel* assetModel() const { return m_assets; }
   ImportJob* importJob() const { return m_import; }
   bool isImporting() const;
+  // cm per file unit for the next imports; 0 = each file's own (ImportOptions::unitScale).
+  void setImportUnitScale(double cmPerUnit);
+  double importUnitScale() const { return m_unitScale; }
   QString logText() const;
 
 public slots:
-  // Imports a file in the background; importFinished() follows.
+  // Imports a file in the background with the import unit chosen in the menu (or, when
+  // given, `unitScale` cm per file unit for this file alone); importFinished() follows.
   void importFile(const QString& path);
+  void importFileWithUnit(const QString& path, double unitScale);
   void cancelImport();
 
 signals:
@@ -46,11 +52,14 @@ private:
   void log(const QString& line);
   void chooseFile();
   void showAbout();
+  void buildUnitMenu();
 
   std::unique_ptr<Ui::MainWindow> m_ui;
   AssetTreeModel* m_assets = nullptr;
   ImportJob* m_import = nullptr;
   QProgressDialog* m_progress = nullptr;
+  QActionGroup* m_unitGroup = nullptr;
+  double m_unitScale = 0.0;
 };
 
 } // namespace mlod

@@ -68,6 +68,8 @@ public:
 
 private:
   bool take(void* out, std::size_t size) {
+    if (size == 0)
+      return true; // an empty vector's data() may be null, and memcpy must not see it
     if (size > m_in.size() - m_offset)
       return false;
     std::memcpy(out, m_in.data() + m_offset, size);

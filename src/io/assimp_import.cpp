@@ -208,12 +208,10 @@ public:
     for (unsigned a = 0; a < m_scene.mNumAnimations; ++a)
       if (Error error = buildClip(a))
         return error;
-    if (m_isBvh) {
-      if (m_scene.mNumMeshes > 0)
-        m_asset.warnings.push_back("the skeleton mesh that Assimp generates for BVH files was left out");
-    } else if (Error error = buildMeshes()) {
-      return error;
-    }
+    // note: Assimp's BVH loader adds a generated skeleton mesh; it is no character mesh.
+    if (!m_isBvh)
+      if (Error error = buildMeshes())
+        return error;
     if (m_asset.clips.empty() && m_asset.meshes.empty())
       return Error("it holds no animation and no triangle mesh");
     if (Error error = m_asset.validate())

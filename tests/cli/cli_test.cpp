@@ -67,6 +67,13 @@ TEST(Cli, RunawayImportIsReported) {
   EXPECT_EQ(run.err.rfind("error: ", 0), 0u) << run.err;
 }
 
+// Guards a file that makes Assimp segfault (found by libFuzzer): exit 2 with the reason.
+TEST(Cli, ImporterCrashIsReported) {
+  const test::CliRun run = runMotionlod({"info", test::dataPath("bad/assimp_x_crash.x")});
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("the importer crashed on this file (signal 11"), std::string::npos) << run.err;
+}
+
 // Guards argument errors: a bad unit scale and a missing command exit 2.
 TEST(Cli, BadArguments) {
   const test::CliRun unit = runMotionlod({"info", test::modelPath("BVH/01_01.bvh"), "--unit-scale", "-3"});

@@ -54,7 +54,7 @@ private slots:
     const QModelIndex clips = model->index(1, 0, asset);
     QCOMPARE(model->data(model->index(0, AssetTreeModel::DetailColumn, clips)).toString(),
              QString("480 frames · 120 fps · 3.99 s"));
-    QVERIFY(window.logText().contains("Imported cmu_01_01_excerpt.bvh: 38 joints, 1 clips, 0 meshes"));
+    QVERIFY(window.logText().contains("Imported cmu_01_01_excerpt.bvh: 38 joints, 1 clip, 0 meshes"));
     QVERIFY(window.statusBar()->currentMessage().contains("Imported"));
   }
 
@@ -112,6 +112,29 @@ private slots:
     QTest::qWait(200);
     QCOMPARE(spy.count(), 1);
     QCOMPARE(window.assetModel()->assetCount(), 1);
+  }
+
+  // The import unit applies to the next import and is remembered (QSettings).
+  void importUnitAppliesAndPersists() {
+    {
+      MainWindow window;
+      auto* cmu = window.findChild<QAction*>("actionUnit_cmu");
+      QVERIFY(cmu);
+      cmu->trigger();
+      QVERIFY(cmu->isChecked());
+      QVERIFY(qAbs(window.importUnitScale() - 2.54 / 0.45) < 1e-9);
+      QCOMPARE(importAndWait(window, MLOD_SAMPLE).value(0).toBool(), true);
+      const mlod::Asset* asset = window.assetModel()->assetAt(0);
+      QVERIFY(asset);
+      QVERIFY(qAbs(asset->unitScale - 2.54 / 0.45) < 1e-9);
+      // LeftUpLeg's offset is (1.36306, -1.79463, 0.83929) file units.
+      const glm::vec3 offset = asset->skeleton.joints[std::size_t(asset->skeleton.find("LeftUpLeg"))].rest.translation;
+      QVERIFY(qAbs(offset.x - 1.36306f * 2.54f / 0.45f) < 1e-3f);
+    }
+    MainWindow reopened;
+    QVERIFY(qAbs(reopened.importUnitScale() - 2.54 / 0.45) < 1e-9);
+    reopened.findChild<QAction*>("actionUnitFromFile")->trigger();
+    QCOMPARE(reopened.importUnitScale(), 0.0);
   }
 
   // The common actions have their standard shortcuts and tooltips.

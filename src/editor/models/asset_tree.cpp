@@ -4,6 +4,10 @@
 
 namespace mlod {
 
+QString countText(qsizetype count, const char* singular, const char* plural) {
+  return QString("%1 %2").arg(count).arg(QString::fromUtf8(count == 1 ? singular : plural));
+}
+
 namespace {
 QList<QStandardItem*> row(const QString& name, const QString& detail, const QString& tooltip = {}) {
   auto* nameItem = new QStandardItem(name);
@@ -27,12 +31,12 @@ QModelIndex AssetTreeModel::addAsset(const std::shared_ptr<const Asset>& asset) 
   const QString file = QString::fromStdString(asset->sourcePath);
   QList<QStandardItem*> top =
       row(QFileInfo(file).fileName(),
-          tr("%1 · %2 cm/unit").arg(QString::fromStdString(asset->format)).arg(asset->unitScale),
+          tr("%1 cm/unit · %2").arg(asset->unitScale).arg(QString::fromStdString(asset->format)),
           tr("%1\nUnit: %2 cm per file unit (%3)").arg(file).arg(asset->unitScale).arg(QString::fromStdString(asset->unitSource)));
 
   const Skeleton& skeleton = asset->skeleton;
   QList<QStandardItem*> skeletonRow =
-      row(tr("Skeleton"), tr("%n joints", nullptr, skeleton.jointCount()), tr("Joints in parent-before-child order"));
+      row(tr("Skeleton"), countText(skeleton.jointCount(), "joint", "joints"), tr("Joints in parent-before-child order"));
   std::vector<QStandardItem*> jointItems;
   for (const Joint& joint : skeleton.joints) {
     const glm::vec3& offset = joint.rest.translation;
@@ -46,13 +50,13 @@ QModelIndex AssetTreeModel::addAsset(const std::shared_ptr<const Asset>& asset) 
   }
   top.front()->appendRow(skeletonRow);
 
-  QList<QStandardItem*> clipsRow = row(tr("Clips"), tr("%n clips", nullptr, int(asset->clips.size())));
+  QList<QStandardItem*> clipsRow = row(tr("Clips"), countText(qsizetype(asset->clips.size()), "clip", "clips"));
   for (const Clip& clip : asset->clips)
     clipsRow.front()->appendRow(row(QString::fromStdString(clip.name),
                                     tr("%1 frames · %2 fps · %3 s").arg(clip.frameCount).arg(clip.fps).arg(clip.durationSeconds(), 0, 'f', 2)));
   top.front()->appendRow(clipsRow);
 
-  QList<QStandardItem*> meshesRow = row(tr("Meshes"), tr("%n meshes", nullptr, int(asset->meshes.size())));
+  QList<QStandardItem*> meshesRow = row(tr("Meshes"), countText(qsizetype(asset->meshes.size()), "mesh", "meshes"));
   for (const SkinnedMesh& mesh : asset->meshes)
     meshesRow.front()->appendRow(row(QString::fromStdString(mesh.name),
                                      tr("%1 vertices · %2 triangles · %3 bones")

@@ -10,6 +10,9 @@
 
 namespace mlod {
 
+// "1 joint", "38 joints": English plurals for counts shown in the UI.
+QString countText(qsizetype count, const char* singular, const char* plural);
+
 class AssetTreeModel : public QStandardItemModel {
   Q_OBJECT
 public:

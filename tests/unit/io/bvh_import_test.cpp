@@ -92,6 +92,7 @@ TEST(BvhImport, EndSitesFramesAndRate) {
   EXPECT_EQ(clip.hasRotation, (std::vector<std::uint8_t>{1, 1, 0}));
   EXPECT_EQ(clip.rotationChannelCount(), 2);
   EXPECT_TRUE(asset.meshes.empty()); // Assimp's generated BVH skeleton mesh is left out
+  EXPECT_TRUE(asset.warnings.empty());
 }
 
 // Guards a one-frame clip, a valid edge case.

@@ -79,6 +79,29 @@ TEST(IsolatedImport, CancelStopsTheWorker) {
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30));
 }
 
+// Guards the hang libFuzzer found in Assimp 5.2's SMD parser: the worker is stopped.
+TEST(IsolatedImport, AssimpSmdHangIsStopped) {
+  IsolationLimits limits;
+  limits.timeoutSeconds = 2.0;
+  const Result<Asset> asset = importAssetIsolated(test::dataPath("bad/assimp_smd_hang.smd"), {}, limits);
+  ASSERT_FALSE(asset.ok());
+  EXPECT_NE(asset.message().find("stopped after 2 s"), std::string::npos) << asset.message();
+}
+
+// Guards the crash path: inputs libFuzzer found that make Assimp 5.2 segfault. Under
+// ASan the worker's own handler exits instead of dying by the signal.
+TEST(IsolatedImport, AssimpCrashIsReported) {
+  for (const char* file : {"bad/assimp_x_crash.x", "bad/assimp_md5mesh_crash.md5mesh"}) {
+    SCOPED_TRACE(file);
+    const Result<Asset> asset = importAssetIsolated(test::dataPath(file));
+    ASSERT_FALSE(asset.ok());
+    const std::string& message = asset.message();
+    EXPECT_TRUE(message.find("crashed on this file (signal 11") != std::string::npos ||
+                message.find("stopped without an answer") != std::string::npos)
+        << message;
+  }
+}
+
 // Guards special files: a FIFO is refused at once instead of blocking the reader.
 TEST(IsolatedImport, FifoIsRefused) {
   const std::string fifo = test::writeTemp("walk.bvh", "") + ".fifo";
