@@ -15,21 +15,7 @@ double errorRoundingBound(const JointTrack& track) {
 }
 
 namespace {
-// Frame-to-frame errors, each rounded up to a multiple of a power-of-two quantum and
-// summed exactly in 64-bit integers: prefix[t] * quantum >= sum of s(u) for u in (0, t],
-// with no rounding that grows with the clip's length.
-struct StepBound {
-  std::vector<std::uint64_t> prefix; // per frame
-  double quantum = 1.0;              // cm·degrees per unit of prefix
-  double slack = 0.0;                // margin kept below T (cm·degrees)
-  bool usable = false;               // false at T within the margin (T = 0 above all)
-
-  // Units of prefix that fit in `budget` cm·degrees; saturates.
-  std::uint64_t units(double budget) const {
-    const double u = std::floor(budget / quantum);
-    return u >= 9.0e18 ? std::numeric_limits<std::uint64_t>::max() / 2 : static_cast<std::uint64_t>(u);
-  }
-};
+using StepBound = ClusteringTable::StepBound;
 
 StepBound buildStepBound(const JointTrack& track, double threshold, std::int64_t& evaluations) {
   StepBound bound;
@@ -169,12 +155,17 @@ int scanBackward(const JointTrack& track, const StepBound& bound, double thresho
 }
 } // namespace
 
-ClusteringTable::ClusteringTable(const JointTrack& track, double threshold, bool withStarts)
+std::uint64_t ClusteringTable::StepBound::units(double budget) const {
+  const double u = std::floor(budget / quantum);
+  return u >= 9.0e18 ? std::numeric_limits<std::uint64_t>::max() / 2 : static_cast<std::uint64_t>(u);
+}
+
+ClusteringTable::ClusteringTable(const JointTrack& track, double threshold, TableRows rows)
     : m_track(&track), m_threshold(threshold) {
   assert(threshold >= 0.0 && std::isfinite(threshold));
   const int n = track.frameCount();
-  m_ends.resize(static_cast<std::size_t>(n));
-  if (withStarts)
+  m_ends.assign(static_cast<std::size_t>(n), -1);
+  if (rows == TableRows::EndsAndStarts)
     m_starts.resize(static_cast<std::size_t>(n));
   // A joint whose largest possible error is within T: whole-clip runs, no table work.
   m_wholeClip = threshold >= track.maxError();
@@ -183,12 +174,18 @@ ClusteringTable::ClusteringTable(const JointTrack& track, double threshold, bool
     std::fill(m_starts.begin(), m_starts.end(), 0);
     return;
   }
-  const StepBound bound = buildStepBound(track, threshold, m_evaluations);
+  m_bound = buildStepBound(track, threshold, m_evaluations);
+  if (rows == TableRows::EndsOnDemand)
+    return;
   for (int ref = 0; ref < n; ++ref) {
-    m_ends[static_cast<std::size_t>(ref)] = scanForward(track, bound, threshold, ref, m_evaluations);
-    if (withStarts)
-      m_starts[static_cast<std::size_t>(ref)] = scanBackward(track, bound, threshold, ref, m_evaluations);
+    m_ends[static_cast<std::size_t>(ref)] = computeRowEnd(ref);
+    if (rows == TableRows::EndsAndStarts)
+      m_starts[static_cast<std::size_t>(ref)] = scanBackward(track, m_bound, threshold, ref, m_evaluations);
   }
+}
+
+int ClusteringTable::computeRowEnd(int ref) const {
+  return scanForward(*m_track, m_bound, m_threshold, ref, m_evaluations);
 }
 
 } // namespace mlod

@@ -26,13 +26,22 @@
 
 namespace mlod {
 
+// Which runs a table finds.
+enum class TableRows {
+  EndsOnDemand,  // each row's end when first asked for (the greedy STEPs need few at large T)
+  Ends,          // every row's end
+  EndsAndStarts, // every row's end and start (the optimal mode)
+};
+
 class ClusteringTable {
 public:
   ClusteringTable() = default;
-  // Builds the runs of every row of `track` (which must outlive the table) for threshold
-  // `threshold` (cm·degrees, >= 0). `withStarts` also finds the runs' starts. A threshold
-  // at or above track.maxError() makes every run the whole clip with no evaluation.
-  ClusteringTable(const JointTrack& track, double threshold, bool withStarts);
+  // The runs of the rows of `track` (which must outlive the table) for threshold
+  // `threshold` (cm·degrees, >= 0). A threshold at or above track.maxError() makes every
+  // run the whole clip with no evaluation.
+  ClusteringTable(const JointTrack& track, double threshold, TableRows rows);
+  ClusteringTable(const JointTrack& track, double threshold, bool withStarts)
+      : ClusteringTable(track, threshold, withStarts ? TableRows::EndsAndStarts : TableRows::Ends) {}
 
   int frameCount() const { return static_cast<int>(m_ends.size()); }
   double threshold() const { return m_threshold; }
@@ -40,11 +49,21 @@ public:
   bool wholeClip() const { return m_wholeClip; }
 
   // The last frame e of the longest run [ref, e] with E(t, ref) <= T for all t in it.
-  int rowEnd(int ref) const { return m_ends[static_cast<std::size_t>(ref)]; }
-  // The first frame s of the longest run [s, ref] with E(t, ref) <= T. Needs withStarts.
+  // With EndsOnDemand the first call for a row computes it: such a table is not for
+  // sharing between threads.
+  int rowEnd(int ref) const {
+    int& end = m_ends[static_cast<std::size_t>(ref)];
+    if (end < 0)
+      end = computeRowEnd(ref);
+    return end;
+  }
+  // rowEnd(ref) when already known, else -1 (never computes).
+  int knownRowEnd(int ref) const { return m_ends[static_cast<std::size_t>(ref)]; }
+  // The first frame s of the longest run [s, ref] with E(t, ref) <= T. Needs EndsAndStarts.
   int rowStart(int ref) const { return m_starts[static_cast<std::size_t>(ref)]; }
+  // Every row's end (-1 for rows not computed yet with EndsOnDemand).
   const std::vector<int>& rowEnds() const { return m_ends; }
-  const std::vector<int>& rowStarts() const { return m_starts; } // empty without starts
+  const std::vector<int>& rowStarts() const { return m_starts; } // empty without EndsAndStarts
 
   // Table entry E(t, ref), evaluated on demand (the same kernel the runs came from).
   double entry(int t, int ref) const { return m_track->error(t, ref); }
@@ -52,13 +71,27 @@ public:
   // Exact error evaluations spent building the runs (a statistic for benchmarks and tests).
   std::int64_t evaluations() const { return m_evaluations; }
 
+  // Frame-to-frame errors, each rounded up to a multiple of a power-of-two quantum and
+  // summed exactly in 64-bit integers: prefix[t] * quantum >= the sum of s(u) for u in
+  // (0, t], with no rounding that grows with the clip's length.
+  struct StepBound {
+    std::vector<std::uint64_t> prefix; // per frame
+    double quantum = 1.0;              // cm·degrees per unit of prefix
+    double slack = 0.0;                // margin kept below T (cm·degrees)
+    bool usable = false;               // false at T within the margin (T = 0 above all)
+    std::uint64_t units(double budget) const; // units of prefix that fit in `budget`; saturates
+  };
+
 private:
+  int computeRowEnd(int ref) const;
+
   const JointTrack* m_track = nullptr;
   double m_threshold = 0.0;
   bool m_wholeClip = false;
-  std::vector<int> m_ends;
+  StepBound m_bound;
+  mutable std::vector<int> m_ends;
   std::vector<int> m_starts;
-  std::int64_t m_evaluations = 0;
+  mutable std::int64_t m_evaluations = 0;
 };
 
 // The largest absolute rounding error of one JointTrack::error() value against the exact

@@ -4,6 +4,7 @@
 
 #include "core/jpc/cluster_set.h"
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -16,5 +17,11 @@ namespace mlod {
 // kMinClusterFrames are dropped. Returns the clusters' frame ranges, sorted by first
 // frame. O(n log n) time, O(n) memory.
 std::vector<FrameRange> greedyRanges(std::span<const int> rowEnds);
+
+// The same selection, asking rowEnd(ref) only for rows that may still hold the longest
+// range: a row is first taken at its most optimistic length (to the clip's end) and asked
+// when that surfaces, so rows inside a long cluster chosen early are never computed (at
+// large thresholds, most of them). The same result as the overload above.
+std::vector<FrameRange> greedyRanges(int frameCount, const std::function<int(int)>& rowEnd);
 
 } // namespace mlod

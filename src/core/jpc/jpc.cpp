@@ -20,10 +20,11 @@ JointClustering clusterJoint(const JointTrack& track, double threshold, JpcMode 
   if (track.frameCount() < kMinClusterFrames)
     return out;
   const bool optimal = mode == JpcMode::Optimal;
-  const ClusteringTable table(track, threshold, optimal);
-  out.evaluations = table.evaluations();
+  const ClusteringTable table(track, threshold, optimal ? TableRows::EndsAndStarts : TableRows::EndsOnDemand);
   const std::vector<FrameRange> ranges =
-      optimal ? optimalRanges(table.rowStarts(), table.rowEnds()) : greedyRanges(table.rowEnds());
+      optimal ? optimalRanges(table.rowStarts(), table.rowEnds())
+              : greedyRanges(track.frameCount(), [&](int ref) { return table.rowEnd(ref); });
+  out.evaluations = table.evaluations();
   out.clusters.reserve(ranges.size());
   for (const FrameRange& range : ranges) {
     const KeyPosture key = keyPosture(track, range, threshold, &table);

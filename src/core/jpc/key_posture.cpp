@@ -11,7 +11,9 @@
 namespace mlod {
 
 namespace {
-constexpr int kChunk = 256; // frames of a row per call of the approximate kernel
+constexpr int kChunk = 256;             // frames of a row per call of the approximate kernel
+constexpr int kLandmarks = 8;           // landmark rows of a long cluster
+constexpr int kLandmarkMinFrames = 64;  // clusters shorter than this take no landmarks
 
 // Consecutive identical frames inside the range: one evaluation serves them all.
 struct Run {
@@ -69,7 +71,8 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
   const auto ruledOutByTable = [&](int k) {
     if (!table)
       return false;
-    return table->rowEnd(k) < range.last || (table->hasStarts() && table->rowStart(k) > range.first);
+    const int end = table->knownRowEnd(k); // never computes a row here
+    return (end >= 0 && end < range.last) || (table->hasStarts() && table->rowStart(k) > range.first);
   };
 
   double bestSum = std::numeric_limits<double>::infinity();
@@ -137,9 +140,48 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
   std::sort(order.begin(), order.end(),
             [&](std::size_t x, std::size_t y) { return bound[x] != bound[y] ? bound[x] < bound[y] : x < y; });
 
+  // Landmarks (long clusters): a few approximate rows p, chosen farthest-first, bound each
+  // row k below frame by frame, sum_t max_p |E(t, p) - E(k, p)|, far tighter than one
+  // pivot's sum (the metric has a few dimensions: a direction and a rotation).
+  const double delta = track.approximationBound();
+  const int length = range.length();
+  const int landmarks = length >= kLandmarkMinFrames ? kLandmarks : 0;
+  std::vector<float> landmarkRows(static_cast<std::size_t>(landmarks) * static_cast<std::size_t>(length));
+  if (landmarks > 0) {
+    std::vector<float> nearest(static_cast<std::size_t>(length), std::numeric_limits<float>::infinity());
+    int frame = runs[pivot].frame;
+    for (int p = 0; p < landmarks; ++p) {
+      float* row = &landmarkRows[static_cast<std::size_t>(p) * static_cast<std::size_t>(length)];
+      track.approximateErrors(frame, range.first, length, row);
+      std::size_t farthest = 0;
+      for (std::size_t t = 0; t < nearest.size(); ++t) {
+        nearest[t] = std::min(nearest[t], row[t]);
+        if (nearest[t] > nearest[farthest])
+          farthest = t;
+      }
+      frame = range.first + static_cast<int>(farthest);
+    }
+  }
+  // Per term, the exact error is at least |row difference| - 2 (delta + eta) - eta; the
+  // float sums lose far less than 1e-4 relative.
+  const double landmarkSlack = 2.0 * delta + 3.0 * eta;
+  const auto landmarkRules = [&](int k, double upper) {
+    float at[kLandmarks];
+    const std::size_t column = static_cast<std::size_t>(k - range.first);
+    for (int p = 0; p < landmarks; ++p)
+      at[p] = landmarkRows[static_cast<std::size_t>(p) * static_cast<std::size_t>(length) + column];
+    double lower = 0.0;
+    for (int first = 0; first < length; first += kChunk) {
+      const int chunk = std::min(kChunk, length - first);
+      lower += landmarkDistanceSum(landmarkRows.data(), landmarks, static_cast<std::size_t>(length), at, first, chunk);
+      if (lower - (first + chunk) * landmarkSlack - 1e-4 * lower > upper)
+        return true;
+    }
+    return false;
+  };
+
   // Approximate phase: the float kernel over every frame gives each surviving row its
   // sum to within m delta; rows that cannot beat the best upper bound drop out early.
-  const double delta = track.approximationBound();
   struct Survivor {
     double lower; // of the row's exact sum
     std::size_t run;
@@ -161,6 +203,8 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
     if (bound[i] - margin > upperBest)
       continue;
     if (ruledOutByTable(k))
+      continue;
+    if (landmarks > 0 && landmarkRules(k, upperBest))
       continue;
     double sum = 0.0, largest = 0.0;
     bool dropped = false;

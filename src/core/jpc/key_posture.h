@@ -27,8 +27,10 @@ struct KeyPosture {
 // out of far fewer: rows of identical postures have identical sums (only the first can
 // win), and with one pivot row p evaluated, the triangle inequality gives every row k the
 // lower bound sum_t |E(t, p) - E(k, p)| (sorted prefix sums, O(log m) per row); rows are
-// tried by increasing bound and dropped once the bound passes the best sum so far. The
-// rows left are summed with the float SIMD kernel (JointTrack::approximateErrors), which
+// tried by increasing bound and dropped once the bound passes the best sum so far. Long
+// clusters add 8 landmark rows (farthest-first) for the per-frame bound
+// sum_t max_p |E(t, p) - E(k, p)|, which drops most of the rest. The rows left are summed
+// with the float SIMD kernel (JointTrack::approximateErrors), which
 // brackets each exact sum within m x its error bound; only rows whose bracket still
 // reaches the best one are summed exactly (ascending t, as eq. (7) says). Every margin
 // covers rounding, so the key is the one the full table would give.

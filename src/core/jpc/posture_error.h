@@ -22,7 +22,9 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <numbers>
 #include <span>
@@ -53,6 +55,12 @@ inline double rotationAngleDegrees(const glm::dquat& a, const glm::dquat& b) {
   const double plus = std::sqrt(pw * pw + px * px + py * py + pz * pz);
   return 4.0 * std::atan2(minus, plus) * kDegreesPerRadian;
 }
+
+// Landmark lower bounds (key_posture.cpp): for t in [first, first + count), count <= 256,
+// the sum of max over p < landmarks of |rows[p * stride + t] - at[p]|. Float SIMD; the
+// sum is within 2e-5 relative of the exact sum of those float terms.
+double landmarkDistanceSum(const float* rows, int landmarks, std::size_t stride, const float* at, int first,
+                           int count);
 
 // What the rest pose says about one joint's error: its child directions and its weight.
 struct JointGeometry {

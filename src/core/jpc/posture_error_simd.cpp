@@ -4,6 +4,7 @@
 #include "core/jpc/posture_error.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(MLOD_NO_TARGET_CLONES)
@@ -90,7 +91,36 @@ void approximateKernel(const KernelInput& in, int ref, int first, int count, flo
     addRotationAngles(w + f, x + f, y + f, z + f, w[r], x[r], y[r], z[r], in.rotationScale, count, out);
   }
 }
+MLOD_TARGET_CLONES
+double landmarkKernel(const float* rows, int landmarks, std::size_t stride, const float* at, int first, int count) {
+  float largest[256];
+  std::fill(largest, largest + count, 0.0f);
+  for (int p = 0; p < landmarks; ++p) {
+    const float* row = rows + static_cast<std::size_t>(p) * stride + first;
+    const float value = at[p];
+    for (int t = 0; t < count; ++t)
+      largest[t] = std::max(largest[t], std::fabs(row[t] - value));
+  }
+  // eight running sums: vectorises without reassociating a single sum
+  float lanes[8] = {};
+  int t = 0;
+  for (; t + 8 <= count; t += 8)
+    for (int l = 0; l < 8; ++l)
+      lanes[l] += largest[t + l];
+  double sum = 0.0;
+  for (; t < count; ++t)
+    sum += largest[t];
+  for (float lane : lanes)
+    sum += lane;
+  return sum;
+}
 } // namespace
+
+double landmarkDistanceSum(const float* rows, int landmarks, std::size_t stride, const float* at, int first,
+                           int count) {
+  assert(count >= 0 && count <= 256);
+  return landmarkKernel(rows, landmarks, stride, at, first, count);
+}
 
 void JointTrack::approximateErrors(int ref, int first, int count, float* out) const {
   KernelInput in;
