@@ -27,7 +27,7 @@ void SimplifyCommand::attach(CLI::App& app) {
                       "error threshold E per LOD level, cm·degrees (E / 57.3 ~ cm), comma-separated: 5,50,100,300")
       ->required()
       ->delimiter(',');
-  command->add_option("--alpha", alpha, "orientation weight alpha of every joint, cm (default 5)");
+  command->add_option("--alpha", alpha, "orientation weight alpha of every joint, cm, >= 0 (default 5)");
   command->add_option("--joint", jointThresholds, "NAME=E: joint NAME's threshold at every level (repeatable)");
   command->add_option("--mode", mode,
                       "greedy: the paper's longest-range-first clusters; optimal: the clusters that cover the most "
@@ -45,16 +45,20 @@ std::string formatNumber(double value) {
   return out.str();
 }
 
+// A whole string as a number (NaN and inf included: the checks after name them).
+bool parseNumber(const std::string& text, double& out_value) {
+  char* end = nullptr;
+  out_value = std::strtod(text.c_str(), &end);
+  return !text.empty() && end == text.c_str() + text.size();
+}
+
 // NAME=E -> (NAME, E); the name may itself hold '='.
 bool parseJointThreshold(const std::string& text, std::string& out_name, double& out_threshold) {
   const std::size_t equals = text.rfind('=');
   if (equals == std::string::npos || equals == 0 || equals + 1 == text.size())
     return false;
   out_name = text.substr(0, equals);
-  const std::string number = text.substr(equals + 1);
-  char* end = nullptr;
-  out_threshold = std::strtod(number.c_str(), &end);
-  return end == number.c_str() + number.size();
+  return parseNumber(text.substr(equals + 1), out_threshold);
 }
 
 // The clip named `selector`, else the one at index `selector`; -1 when neither.
@@ -73,34 +77,33 @@ int findClip(const Asset& asset, const std::string& selector) {
 
 void printTable(const JpcReport& report, const Clip& clip, int clusterable) {
   std::printf("file:     %s\n", report.file.c_str());
-  std::printf("clip:     %s (%d frames at %g fps), %d of %d joints clusterable\n", report.clip.c_str(), report.frames,
-              report.fps, clusterable, clip.jointCount);
-  std::printf("settings: mode %s, alpha %g cm, unit %g cm per file unit\n\n", toString(report.mode), report.alpha,
-              report.unitScale);
-  const auto header = [&](const char* first) {
-    std::printf("%-30s", first);
-    for (const JpcLevelResult& level : report.levels)
-      std::printf(" %12s", ("E=" + formatNumber(level.threshold)).c_str());
-    std::printf("\n");
-  };
-  const auto row = [&](const std::string& name, auto&& value) {
-    std::printf("%-30s", name.c_str());
-    for (const JpcLevelResult& level : report.levels)
-      std::printf(" %12s", value(level).c_str());
-    std::printf("\n");
-  };
+  std::printf("clip:     %s (%d frames at %g fps), %d of %d joints with a rotation channel\n", report.clip.c_str(),
+              report.frames, report.fps, clusterable, clip.jointCount);
+  std::printf("settings: mode %s, alpha %g cm, unit %g cm per file unit; E in cm·degrees\n\n",
+              toString(report.mode), report.alpha, report.unitScale);
   const auto fixed = [](double value, int digits) {
     char text[64];
     std::snprintf(text, sizeof text, "%.*f", digits, value);
     return std::string(text);
   };
-  std::printf("Average simplified joints (%%), as the paper's Table 1 (Original = 0.0 by definition):\n");
+  // One row: a label, the Original column (no simplification: `original`), one per level.
+  const auto row = [&](const std::string& label, const std::string& original, auto&& value) {
+    std::printf("%-32s %10s", label.c_str(), original.c_str());
+    for (const JpcLevelResult& level : report.levels)
+      std::printf(" %12s", value(level).c_str());
+    std::printf("\n");
+  };
+  const auto header = [&](const char* first) {
+    row(first, "Original", [&](const JpcLevelResult& l) { return "E=" + formatNumber(l.threshold); });
+  };
+  std::printf("Average simplified joints (%%), as in the paper's Table 1:\n");
   header("Motion");
-  row(report.clip + " (Original 0.0)", [&](const JpcLevelResult& l) { return fixed(l.simplifiedPercent, 1); });
-  row("clusters", [&](const JpcLevelResult& l) { return std::to_string(l.clusterCount); });
-  row("max E (cm·deg)", [&](const JpcLevelResult& l) { return fixed(l.maxError, 2); });
-  row("max joint position error (cm)", [&](const JpcLevelResult& l) { return fixed(l.maxJointPositionErrorCm, 3); });
-  row("mean joint position error (cm)",
+  row(report.clip, "0.0", [&](const JpcLevelResult& l) { return fixed(l.simplifiedPercent, 1); });
+  std::printf("\n");
+  row("clusters", "0", [&](const JpcLevelResult& l) { return std::to_string(l.clusterCount); });
+  row("max E (cm deg)", "0", [&](const JpcLevelResult& l) { return fixed(l.maxError, 2); });
+  row("max joint position error (cm)", "0", [&](const JpcLevelResult& l) { return fixed(l.maxJointPositionErrorCm, 3); });
+  row("mean joint position error (cm)", "0",
       [&](const JpcLevelResult& l) { return fixed(l.meanJointPositionErrorCm, 3); });
   std::printf("\nPer joint: simplified %% (clusters)\n");
   header("Joint");
@@ -108,7 +111,7 @@ void printTable(const JpcReport& report, const Clip& clip, int clusterable) {
     if (report.levels.empty() || !report.levels.front().joints[j].clusterable)
       continue;
     const std::string name = report.jointNames[j] + (report.levels.front().joints[j].locked ? " (locked)" : "");
-    row(name, [&](const JpcLevelResult& l) {
+    row(name, "0.0", [&](const JpcLevelResult& l) {
       const JointMetrics& m = l.joints[j];
       return fixed(m.simplifiedPercent, 1) + " (" + std::to_string(m.clusters) + ")";
     });
@@ -124,14 +127,28 @@ int SimplifyCommand::run() const {
     printError(file, "--mode '" + mode + "' is neither greedy nor optimal");
     return kExitBadInput;
   }
-  for (std::size_t i = 0; i < thresholds.size(); ++i)
-    if (Error error = validateThreshold(thresholds[i], "--threshold " + formatNumber(thresholds[i]))) {
+  std::vector<double> levelThresholds;
+  for (std::size_t i = 0; i < thresholds.size(); ++i) {
+    const std::string what = thresholds.size() == 1 ? "--threshold" : "--threshold entry " + std::to_string(i + 1);
+    double value = 0.0;
+    if (!parseNumber(thresholds[i], value)) {
+      printError(file, what + " '" + thresholds[i] + "' is not a number (cm·degrees)");
+      return kExitBadInput;
+    }
+    if (Error error = validateThreshold(value, what)) {
       printError(file, error.message());
       return kExitBadInput;
     }
+    levelThresholds.push_back(value);
+  }
+  double alphaValue = 0.0;
+  if (!parseNumber(alpha, alphaValue) || !std::isfinite(alphaValue) || alphaValue < 0.0) {
+    printError(file, "--alpha is '" + alpha + "'; it must be a finite number >= 0 (cm)");
+    return kExitBadInput;
+  }
   JpcSettings settings;
   settings.mode = *jpcMode;
-  settings.alpha = alpha;
+  settings.alpha = alphaValue;
   for (const std::string& text : jointThresholds) {
     std::string name;
     double threshold = 0.0;
@@ -139,11 +156,7 @@ int SimplifyCommand::run() const {
       printError(file, "--joint '" + text + "' is not NAME=E (a joint name and a threshold in cm·degrees)");
       return kExitBadInput;
     }
-    settings.joints[name].thresholds.assign(thresholds.size(), threshold);
-  }
-  if (!std::isfinite(alpha) || alpha < 0.0) {
-    printError(file, "--alpha is " + formatNumber(alpha) + "; it must be finite and >= 0 (cm)");
-    return kExitBadInput;
+    settings.joints[name].thresholds.assign(levelThresholds.size(), threshold);
   }
 
   const std::optional<Asset> asset = importForCommand(file, import);
@@ -165,7 +178,7 @@ int SimplifyCommand::run() const {
   settings.zeroLength = 1e-6 * asset->unitScale; // DESIGN.md: 1e-6 file units
 
   const auto start = std::chrono::steady_clock::now();
-  Result<std::vector<JpcLevelResult>> levels = simplifyClip(asset->skeleton, selected, settings, thresholds);
+  Result<std::vector<JpcLevelResult>> levels = simplifyClip(asset->skeleton, selected, settings, levelThresholds);
   if (!levels) {
     printError(file, levels.message());
     return kExitBadInput;
@@ -176,7 +189,7 @@ int SimplifyCommand::run() const {
   report.frames = selected.frameCount;
   report.fps = selected.fps;
   report.mode = settings.mode;
-  report.alpha = alpha;
+  report.alpha = alphaValue;
   report.unitScale = asset->unitScale;
   for (const Joint& joint : asset->skeleton.joints)
     report.jointNames.push_back(joint.name);

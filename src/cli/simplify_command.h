@@ -15,8 +15,8 @@ namespace mlod::cli {
 struct SimplifyCommand {
   std::string file;
   std::string clip;                     // name or index; empty = the first clip
-  std::vector<double> thresholds;       // cm·degrees, one per level
-  double alpha = 5.0;                   // cm
+  std::vector<std::string> thresholds;  // cm·degrees, one per level (parsed in run(): errors name the file)
+  std::string alpha = "5";              // cm
   std::vector<std::string> jointThresholds; // NAME=E, for every level
   std::string mode = "greedy";
   bool json = false;
