@@ -16,3 +16,4 @@ fi
 echo "== no display: the command-line pipeline on $sample"
 build/bin/motionlod --version
 build/bin/motionlod info "$sample" --unit-scale cmu
+build/bin/motionlod simplify "$sample" --unit-scale cmu --threshold 5,50,100,300
