@@ -4,7 +4,6 @@
 #include "core/jpc/jpc_report.h"
 
 #include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,15 +15,16 @@ namespace mlod::cli {
 
 void SimplifyCommand::attach(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
-      "simplify",
-      "Joint posture clustering (JPC) of one clip: simplified joints %, clusters and errors per threshold "
-      "(the paper's Table 1)");
-  command->add_option("FILE", file,
-                      "motion or character file (any format Assimp reads); .mlod projects are not supported yet")
+      "simplify", "Joint posture clustering (JPC) of one clip: simplified joints %, clusters and errors per threshold "
+                  "(the paper's Table 1)");
+  command
+      ->add_option("FILE", file,
+                   "motion or character file (any format Assimp reads); .mlod projects are not supported yet")
       ->required();
   command->add_option("--clip", clip, "the clip, by name or index (default: the first)");
-  command->add_option("--threshold", thresholds,
-                      "error threshold E per LOD level, cm·degrees (E / 57.3 ~ cm), comma-separated: 5,50,100,300")
+  command
+      ->add_option("--threshold", thresholds,
+                   "error threshold E per LOD level, cm·degrees (E / 57.3 ~ cm), comma-separated: 5,50,100,300")
       ->required()
       ->delimiter(',');
   command->add_option("--alpha", alpha, "orientation weight alpha of every joint, cm, >= 0 (default 5)");
@@ -79,8 +79,8 @@ void printTable(const JpcReport& report, const Clip& clip, int clusterable) {
   std::printf("file:     %s\n", report.file.c_str());
   std::printf("clip:     %s (%d frames at %g fps), %d of %d joints with a rotation channel\n", report.clip.c_str(),
               report.frames, report.fps, clusterable, clip.jointCount);
-  std::printf("settings: mode %s, alpha %g cm, unit %g cm per file unit; E in cm·degrees\n\n",
-              toString(report.mode), report.alpha, report.unitScale);
+  std::printf("settings: mode %s, alpha %g cm, unit %g cm per file unit; E in cm·degrees\n\n", toString(report.mode),
+              report.alpha, report.unitScale);
   const auto fixed = [](double value, int digits) {
     char text[64];
     std::snprintf(text, sizeof text, "%.*f", digits, value);
@@ -102,7 +102,8 @@ void printTable(const JpcReport& report, const Clip& clip, int clusterable) {
   std::printf("\n");
   row("clusters", "0", [&](const JpcLevelResult& l) { return std::to_string(l.clusterCount); });
   row("max E (cm deg)", "0", [&](const JpcLevelResult& l) { return fixed(l.maxError, 2); });
-  row("max joint position error (cm)", "0", [&](const JpcLevelResult& l) { return fixed(l.maxJointPositionErrorCm, 3); });
+  row("max joint position error (cm)", "0",
+      [&](const JpcLevelResult& l) { return fixed(l.maxJointPositionErrorCm, 3); });
   row("mean joint position error (cm)", "0",
       [&](const JpcLevelResult& l) { return fixed(l.meanJointPositionErrorCm, 3); });
   std::printf("\nPer joint: simplified %% (clusters)\n");
@@ -159,6 +160,10 @@ int SimplifyCommand::run() const {
     settings.joints[name].thresholds.assign(levelThresholds.size(), threshold);
   }
 
+  if (file.size() >= 5 && file.compare(file.size() - 5, 5, ".mlod") == 0) {
+    printError(file, ".mlod projects are not supported yet: give the motion file itself");
+    return kExitBadInput;
+  }
   const std::optional<Asset> asset = importForCommand(file, import);
   if (!asset)
     return kExitBadInput;

@@ -9,7 +9,6 @@
 #include "io/importer.h"
 
 #include <benchmark/benchmark.h>
-
 #include <chrono>
 #include <map>
 #include <stdexcept>
@@ -45,14 +44,17 @@ const JpcClip& prepared(const std::string& file, JpcMode mode) {
   auto found = cache.find({file, mode});
   if (found == cache.end()) {
     const Asset& asset = cmuAsset(file);
-    found = cache.emplace(std::make_pair(file, mode),
-                          *JpcClip::prepare(asset.skeleton, asset.clips.front(), settingsFor(mode)))
+    found = cache
+                .emplace(std::make_pair(file, mode),
+                         *JpcClip::prepare(asset.skeleton, asset.clips.front(), settingsFor(mode)))
                 .first;
   }
   return found->second;
 }
 
-int jointIndex(const std::string& file, const char* name) { return cmuAsset(file).skeleton.find(name); }
+int jointIndex(const std::string& file, const char* name) {
+  return cmuAsset(file).skeleton.find(name);
+}
 
 // Scalar double kernel, eq. (1): a row of the table at a time.
 void BM_ErrorKernelExact(benchmark::State& state, const char* joint) {
@@ -100,10 +102,26 @@ void BM_ClusterJoint(benchmark::State& state, const char* joint, JpcMode mode) {
   }
   state.counters["exact_evaluations"] = static_cast<double>(evaluations);
 }
-BENCHMARK_CAPTURE(BM_ClusterJoint, Head_greedy, "Head", JpcMode::Greedy)->Arg(5)->Arg(50)->Arg(300)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_ClusterJoint, Head_optimal, "Head", JpcMode::Optimal)->Arg(5)->Arg(50)->Arg(300)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_ClusterJoint, Hips_greedy, "Hips", JpcMode::Greedy)->Arg(5)->Arg(50)->Arg(300)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_ClusterJoint, RThumb_greedy, "RThumb", JpcMode::Greedy)->Arg(5)->Arg(50)->Arg(300)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ClusterJoint, Head_greedy, "Head", JpcMode::Greedy)
+    ->Arg(5)
+    ->Arg(50)
+    ->Arg(300)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ClusterJoint, Head_optimal, "Head", JpcMode::Optimal)
+    ->Arg(5)
+    ->Arg(50)
+    ->Arg(300)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ClusterJoint, Hips_greedy, "Hips", JpcMode::Greedy)
+    ->Arg(5)
+    ->Arg(50)
+    ->Arg(300)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ClusterJoint, RThumb_greedy, "RThumb", JpcMode::Greedy)
+    ->Arg(5)
+    ->Arg(50)
+    ->Arg(300)
+    ->Unit(benchmark::kMillisecond);
 
 // The slowest joint of 01_01 at each threshold, greedy: the worst case of an edit.
 void BM_ClusterJointSlowest(benchmark::State& state) {
@@ -140,11 +158,20 @@ void BM_SimplifyClip(benchmark::State& state, JpcMode mode, std::vector<double> 
   }
 }
 BENCHMARK_CAPTURE(BM_SimplifyClip, greedy_T300, JpcMode::Greedy, std::vector<double>{300.0})
-    ->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_SimplifyClip, greedy_T0_5_50_100_300, JpcMode::Greedy, std::vector<double>{0, 5, 50, 100, 300})
-    ->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_SimplifyClip, optimal_T0_5_50_100_300, JpcMode::Optimal, std::vector<double>{0, 5, 50, 100, 300})
-    ->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // Preparing a clip (tracks, child directions): once per clip or alpha edit.
 void BM_PrepareClip(benchmark::State& state) {

@@ -22,8 +22,8 @@ std::vector<std::string> keysOf(const nlohmann::json& object) {
 // Guards the JSON document: keys exactly as DESIGN.md lists them, one entry per threshold,
 // the defaults (greedy, alpha 5), the CMU clip's figures.
 TEST(CliSimplify, JsonKeysAndValues) {
-  const test::CliRun run = runMotionlod({"simplify", test::modelPath("BVH/01_01.bvh"), "--threshold", "5,300",
-                                         "--unit-scale", "cmu", "--json"});
+  const test::CliRun run = runMotionlod(
+      {"simplify", test::modelPath("BVH/01_01.bvh"), "--threshold", "5,300", "--unit-scale", "cmu", "--json"});
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json doc = nlohmann::json::parse(run.out);
   EXPECT_EQ(keysOf(doc), (std::vector<std::string>{"alpha", "clip", "file", "fps", "frames", "mode", "seconds",
@@ -35,14 +35,16 @@ TEST(CliSimplify, JsonKeysAndValues) {
   EXPECT_NEAR(doc["unit_scale"].get<double>(), 5.6444, 1e-3);
   ASSERT_EQ(doc["thresholds"].size(), 2u);
   const nlohmann::json& level = doc["thresholds"][1];
-  EXPECT_EQ(keysOf(level), (std::vector<std::string>{"clusters", "joints", "max_error", "max_joint_position_error_cm",
-                                                     "mean_joint_position_error_cm", "simplified_joint_percent",
-                                                     "threshold"}));
+  EXPECT_EQ(keysOf(level),
+            (std::vector<std::string>{"clusters", "joints", "max_error", "max_joint_position_error_cm",
+                                      "mean_joint_position_error_cm", "simplified_joint_percent", "threshold"}));
   EXPECT_EQ(level["threshold"], 300.0);
   EXPECT_LE(level["max_error"].get<double>(), 300.0);
-  EXPECT_GT(level["simplified_joint_percent"].get<double>(), doc["thresholds"][0]["simplified_joint_percent"].get<double>());
+  EXPECT_GT(level["simplified_joint_percent"].get<double>(),
+            doc["thresholds"][0]["simplified_joint_percent"].get<double>());
   EXPECT_EQ(level["joints"].size(), 31u); // the joints with a rotation channel
-  EXPECT_EQ(keysOf(level["joints"][0]), (std::vector<std::string>{"clusters", "max_error", "name", "simplified_percent"}));
+  EXPECT_EQ(keysOf(level["joints"][0]),
+            (std::vector<std::string>{"clusters", "max_error", "name", "simplified_percent"}));
   EXPECT_EQ(level["joints"][0]["name"], "Hips");
 }
 
@@ -72,8 +74,8 @@ TEST(CliSimplify, OptionsReachTheAlgorithm) {
 
 // Guards the readable output: a Table 1 layout with an Original column and the figures.
 TEST(CliSimplify, TableLikeThePaper) {
-  const test::CliRun run = runMotionlod(
-      {"simplify", test::modelPath("BVH/01_01.bvh"), "--threshold", "5,50", "--unit-scale", "cmu"});
+  const test::CliRun run =
+      runMotionlod({"simplify", test::modelPath("BVH/01_01.bvh"), "--threshold", "5,50", "--unit-scale", "cmu"});
   ASSERT_EQ(run.status, 0) << run.err;
   for (const char* text : {"Original", "E=5", "E=50", "clusters", "max joint position error (cm)", "LHipJoint"})
     EXPECT_NE(run.out.find(text), std::string::npos) << text << "\n" << run.out;
@@ -97,6 +99,7 @@ TEST(CliSimplify, BadInputExitsTwoWithMessage) {
       {{"simplify", file, "--threshold", "5", "--joint", "Head"}, "NAME=E"},
       {{"simplify", file, "--threshold", "5", "--clip", "7"}, "no clip '7'"},
       {{"simplify", "/no/such/file.bvh", "--threshold", "5"}, ""},
+      {{"simplify", "/no/such/project.mlod", "--threshold", "5"}, ".mlod projects are not supported yet"},
   };
   for (const auto& c : cases) {
     const test::CliRun run = runMotionlod(c.arguments);

@@ -7,8 +7,8 @@ namespace mlod {
 
 int ClusterSet::clusterAt(int joint, int frame) const {
   const std::vector<Cluster>& clusters = joints[static_cast<std::size_t>(joint)];
-  const auto after = std::upper_bound(clusters.begin(), clusters.end(), frame,
-                                      [](int f, const Cluster& c) { return f < c.first; });
+  const auto after =
+      std::upper_bound(clusters.begin(), clusters.end(), frame, [](int f, const Cluster& c) { return f < c.first; });
   if (after == clusters.begin())
     return -1;
   const auto candidate = after - 1;

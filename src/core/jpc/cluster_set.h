@@ -28,7 +28,7 @@ inline constexpr int kMinClusterFrames = 3; // the paper: "The cluster length mu
 
 class ClusterSet {
 public:
-  int frameCount = 0;                      // frames of the clip the clusters belong to
+  int frameCount = 0;                       // frames of the clip the clusters belong to
   std::vector<std::vector<Cluster>> joints; // per skeleton joint; empty = never simplified
 
   int jointCount() const { return static_cast<int>(joints.size()); }

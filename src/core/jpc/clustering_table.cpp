@@ -55,8 +55,7 @@ constexpr int kLastBlock = 64;
 //   slack covering 2 eta and the rounding of the budget;
 // - the approximate kernel, when it is more than its bound away from T;
 // - the exact kernel.
-int scanForward(const JointTrack& track, const StepBound& bound, double threshold, int ref,
-                std::int64_t& evaluations) {
+int scanForward(const JointTrack& track, const StepBound& bound, double threshold, int ref, std::int64_t& evaluations) {
   const int n = track.frameCount();
   const double delta = track.approximationBound();
   float approximate[kLastBlock];

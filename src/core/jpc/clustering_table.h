@@ -75,10 +75,10 @@ public:
   // summed exactly in 64-bit integers: prefix[t] * quantum >= the sum of s(u) for u in
   // (0, t], with no rounding that grows with the clip's length.
   struct StepBound {
-    std::vector<std::uint64_t> prefix; // per frame
-    double quantum = 1.0;              // cm·degrees per unit of prefix
-    double slack = 0.0;                // margin kept below T (cm·degrees)
-    bool usable = false;               // false at T within the margin (T = 0 above all)
+    std::vector<std::uint64_t> prefix;        // per frame
+    double quantum = 1.0;                     // cm·degrees per unit of prefix
+    double slack = 0.0;                       // margin kept below T (cm·degrees)
+    bool usable = false;                      // false at T within the margin (T = 0 above all)
     std::uint64_t units(double budget) const; // units of prefix that fit in `budget`; saturates
   };
 

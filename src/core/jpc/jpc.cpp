@@ -67,8 +67,8 @@ Result<JpcClip> JpcClip::prepare(const Skeleton& skeleton, const Clip& clip, con
 }
 
 int JpcClip::clusterableCount() const {
-  return static_cast<int>(std::count_if(m_joints.begin(), m_joints.end(),
-                                        [](const JointEntry& entry) { return entry.clusterable; }));
+  return static_cast<int>(
+      std::count_if(m_joints.begin(), m_joints.end(), [](const JointEntry& entry) { return entry.clusterable; }));
 }
 
 const JointTrack& JpcClip::track(int joint) const {
@@ -127,8 +127,8 @@ JpcLevelResult measureLevel(const JpcClip& prepared, const Skeleton& skeleton, c
 }
 
 Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const Clip& clip,
-                                                 const JpcSettings& settings,
-                                                 std::span<const double> levelThresholds, int threads) {
+                                                 const JpcSettings& settings, std::span<const double> levelThresholds,
+                                                 int threads) {
   for (std::size_t level = 0; level < levelThresholds.size(); ++level)
     if (Error error = validateThreshold(levelThresholds[level], levelThresholds.size() == 1
                                                                     ? std::string("threshold")

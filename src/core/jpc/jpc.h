@@ -19,9 +19,8 @@
 #include "core/jpc/posture_error.h"
 #include "core/skeleton.h"
 
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <span>
 #include <string>
 #include <vector>
@@ -32,8 +31,8 @@ namespace mlod {
 struct JointClustering {
   std::vector<Cluster> clusters; // sorted, disjoint, >= 3 frames each, key inside
   int clusteredFrames = 0;
-  double maxError = 0.0;          // max E(t, key) over the clustered frames; 0 without clusters
-  std::int64_t evaluations = 0;   // error evaluations spent (statistic)
+  double maxError = 0.0;        // max E(t, key) over the clustered frames; 0 without clusters
+  std::int64_t evaluations = 0; // error evaluations spent (statistic)
 };
 
 // Clusters one joint at threshold T (cm·degrees, >= 0): the clustering table, the ranges
@@ -85,7 +84,7 @@ private:
 struct JointMetrics {
   bool clusterable = false;
   bool locked = false;
-  double threshold = 0.0;         // T_j, cm·degrees
+  double threshold = 0.0; // T_j, cm·degrees
   int clusters = 0;
   int clusteredFrames = 0;
   double simplifiedPercent = 0.0; // 100 x clustered frames / frames
@@ -100,8 +99,8 @@ struct JpcLevelResult {
   // 100 x clustered joint-frames / (clusterable joints x frames): the paper's Table 1.
   double simplifiedPercent = 0.0;
   int clusterCount = 0;
-  double maxError = 0.0;                 // over every joint, cm·degrees
-  double maxJointPositionErrorCm = 0.0;  // forward kinematics of M' against M, every joint and frame
+  double maxError = 0.0;                // over every joint, cm·degrees
+  double maxJointPositionErrorCm = 0.0; // forward kinematics of M' against M, every joint and frame
   double meanJointPositionErrorCm = 0.0;
 };
 
@@ -110,8 +109,8 @@ struct JpcLevelResult {
 // `threads` threads (0 = all hardware threads); the result does not depend on it.
 // Errors: invalid settings, thresholds or clip.
 Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const Clip& clip,
-                                                 const JpcSettings& settings,
-                                                 std::span<const double> levelThresholds, int threads = 0);
+                                                 const JpcSettings& settings, std::span<const double> levelThresholds,
+                                                 int threads = 0);
 
 // Gathers one level's clusters (one JointClustering per joint, from JpcClip::cluster())
 // into a ClusterSet with its metrics; the joint-position error is forward kinematics of

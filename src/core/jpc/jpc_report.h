@@ -23,11 +23,11 @@ struct JpcReport {
   int frames = 0;
   double fps = 0.0;
   JpcMode mode = JpcMode::Greedy;
-  double alpha = kDefaultJpcAlpha; // cm
-  double unitScale = 1.0;          // cm per file unit
+  double alpha = kDefaultJpcAlpha;     // cm
+  double unitScale = 1.0;              // cm per file unit
   std::vector<std::string> jointNames; // per skeleton joint
   std::vector<JpcLevelResult> levels;
-  double seconds = 0.0;            // clustering and measuring, import excluded
+  double seconds = 0.0; // clustering and measuring, import excluded
 };
 
 std::string jpcReportJson(const JpcReport& report, int indent = 2);

@@ -21,7 +21,9 @@ Error validateNonNegative(double value, const std::string& what, const char* uni
 }
 } // namespace
 
-const char* toString(JpcMode mode) { return mode == JpcMode::Optimal ? "optimal" : "greedy"; }
+const char* toString(JpcMode mode) {
+  return mode == JpcMode::Optimal ? "optimal" : "greedy";
+}
 
 std::optional<JpcMode> parseJpcMode(const std::string& text) {
   if (text == "greedy")
@@ -67,8 +69,8 @@ Error JpcSettings::validate(const Skeleton& skeleton) const {
         return error;
     for (std::size_t level = 0; level < settings.thresholds.size(); ++level)
       if (settings.thresholds[level])
-        if (Error error = validateThreshold(*settings.thresholds[level], "threshold of joint '" + name +
-                                                                             "' at level " + std::to_string(level)))
+        if (Error error = validateThreshold(*settings.thresholds[level],
+                                            "threshold of joint '" + name + "' at level " + std::to_string(level)))
           return error;
   }
   return {};

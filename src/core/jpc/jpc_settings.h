@@ -24,8 +24,8 @@ enum class JpcMode {
   Optimal, // the partition that covers the most frames, then has the fewest clusters
 };
 
-const char* toString(JpcMode mode);                              // "greedy", "optimal"
-std::optional<JpcMode> parseJpcMode(const std::string& text);   // inverse of toString()
+const char* toString(JpcMode mode);                           // "greedy", "optimal"
+std::optional<JpcMode> parseJpcMode(const std::string& text); // inverse of toString()
 
 // Per-joint settings (DESIGN.md section 3). Everything absent falls back to JpcSettings.
 struct JointSettings {

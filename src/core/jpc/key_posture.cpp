@@ -11,9 +11,9 @@
 namespace mlod {
 
 namespace {
-constexpr int kChunk = 256;             // frames of a row per call of the approximate kernel
-constexpr int kLandmarks = 8;           // landmark rows of a long cluster
-constexpr int kLandmarkMinFrames = 64;  // clusters shorter than this take no landmarks
+constexpr int kChunk = 256;            // frames of a row per call of the approximate kernel
+constexpr int kLandmarks = 8;          // landmark rows of a long cluster
+constexpr int kLandmarkMinFrames = 64; // clusters shorter than this take no landmarks
 
 // Consecutive identical frames inside the range: one evaluation serves them all.
 struct Run {
@@ -38,8 +38,8 @@ struct RowResult {
 };
 
 // eq. (7) for row k, summed in ascending t; stops as soon as row k cannot win.
-RowResult evaluateRow(const JointTrack& track, const std::vector<Run>& runs, int k, double threshold,
-                      double bestSum, int bestKey, std::int64_t& evaluations) {
+RowResult evaluateRow(const JointTrack& track, const std::vector<Run>& runs, int k, double threshold, double bestSum,
+                      int bestKey, std::int64_t& evaluations) {
   RowResult row;
   for (const Run& run : runs) {
     const double error = track.error(run.frame, k);
@@ -131,9 +131,10 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
   std::vector<double> bound(count);
   for (std::size_t i = 0; i < count; ++i) {
     const double v = pivotErrors[i];
-    const std::size_t below = static_cast<std::size_t>(
-        std::lower_bound(sortedErrors.begin(), sortedErrors.end(), v) - sortedErrors.begin());
-    bound[i] = (v * prefixCount[below] - prefixSum[below]) + ((total - prefixSum[below]) - v * (m - prefixCount[below]));
+    const std::size_t below =
+        static_cast<std::size_t>(std::lower_bound(sortedErrors.begin(), sortedErrors.end(), v) - sortedErrors.begin());
+    bound[i] =
+        (v * prefixCount[below] - prefixSum[below]) + ((total - prefixSum[below]) - v * (m - prefixCount[below]));
   }
   std::vector<std::size_t> order(count);
   std::iota(order.begin(), order.end(), std::size_t{0});

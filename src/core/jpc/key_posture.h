@@ -5,8 +5,8 @@
 // sum_t E(t, k), summed in ascending t; ties: the earliest k. So E(t, key) <= T holds for
 // every frame of the cluster.
 
-#include "core/jpc/clustering_table.h"
 #include "core/jpc/cluster_set.h"
+#include "core/jpc/clustering_table.h"
 #include "core/jpc/posture_error.h"
 
 #include <cstdint>
@@ -14,9 +14,9 @@
 namespace mlod {
 
 struct KeyPosture {
-  int key = -1;          // frame; -1 when no row of the range is within the threshold
-  double errorSum = 0.0; // sum_t E(t, key) over the range, cm·degrees
-  double maxError = 0.0; // max_t E(t, key) over the range, cm·degrees
+  int key = -1;                 // frame; -1 when no row of the range is within the threshold
+  double errorSum = 0.0;        // sum_t E(t, key) over the range, cm·degrees
+  double maxError = 0.0;        // max_t E(t, key) over the range, cm·degrees
   std::int64_t evaluations = 0; // error evaluations spent (statistic)
 };
 

@@ -58,7 +58,7 @@ struct KeyEntry {
   std::int64_t value; // the best h(a) over the key's whole window start
   int start;          // where that best is
   int key;
-  int end;            // the key's window end: usable while b <= end
+  int end; // the key's window end: usable while b <= end
   bool operator<(const KeyEntry& other) const {
     if (value != other.value)
       return value < other.value;
@@ -76,7 +76,7 @@ std::vector<FrameRange> optimalRanges(std::span<const int> rowStarts, std::span<
   // one integer orders by most frames covered, then fewest clusters.
   const std::int64_t W = n + 1;
   std::vector<std::int64_t> best(static_cast<std::size_t>(n) + 1, 0); // best[i]: frames [0, i)
-  std::vector<int> choice(static_cast<std::size_t>(n), -1); // cluster start ending at b, or -1
+  std::vector<int> choice(static_cast<std::size_t>(n), -1);           // cluster start ending at b, or -1
   // h(a) = best[a] - a W: a cluster [a, b] scores h(a) + (b + 1) W - 1.
   MaxTree h(n);
   std::priority_queue<KeyEntry> keys; // keys k <= b - 2 whose window reaches b (lazy removal)

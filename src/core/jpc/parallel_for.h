@@ -14,8 +14,7 @@ namespace mlod {
 // Calls task(i) for every i in [0, count), on up to `threads` threads (0 = one per
 // hardware thread). The first exception a task throws is rethrown here after every
 // thread has stopped.
-template <typename Task>
-void parallelFor(int count, int threads, Task&& task) {
+template <typename Task> void parallelFor(int count, int threads, Task&& task) {
   if (count <= 0)
     return;
   if (threads <= 0)

@@ -116,7 +116,8 @@ JointTrack::JointTrack(const JointGeometry& geometry, double alpha, std::span<co
   for (std::size_t t = 0; t < frames; ++t) {
     for (std::size_t d = 0; d < directions; ++d)
       for (std::size_t axis = 0; axis < 3; ++axis)
-        m_approximate[(3 * d + axis) * frames + t] = static_cast<float>(m_directions[t * directions + d][static_cast<glm::length_t>(axis)]);
+        m_approximate[(3 * d + axis) * frames + t] =
+            static_cast<float>(m_directions[t * directions + d][static_cast<glm::length_t>(axis)]);
     const glm::dquat& q = m_rotations[t];
     const double components[4] = {q.w, q.x, q.y, q.z};
     for (std::size_t c = 0; c < 4; ++c)

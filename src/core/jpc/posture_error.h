@@ -19,13 +19,12 @@
 
 #include "core/skeleton.h"
 
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <numbers>
 #include <span>
 #include <vector>
@@ -59,8 +58,7 @@ inline double rotationAngleDegrees(const glm::dquat& a, const glm::dquat& b) {
 // Landmark lower bounds (key_posture.cpp): for t in [first, first + count), count <= 256,
 // the sum of max over p < landmarks of |rows[p * stride + t] - at[p]|. Float SIMD; the
 // sum is within 2e-5 relative of the exact sum of those float terms.
-double landmarkDistanceSum(const float* rows, int landmarks, std::size_t stride, const float* at, int first,
-                           int count);
+double landmarkDistanceSum(const float* rows, int landmarks, std::size_t stride, const float* at, int first, int count);
 
 // What the rest pose says about one joint's error: its child directions and its weight.
 struct JointGeometry {
@@ -140,10 +138,10 @@ private:
   double m_radius = 0.0;
   double m_alpha = 0.0;
   double m_maxError = 0.0;
-  std::vector<glm::dquat> m_rotations; // per frame
+  std::vector<glm::dquat> m_rotations;  // per frame
   std::vector<glm::dvec3> m_directions; // [frame * directionCount + d]
-  std::vector<int> m_runFirst;         // per frame
-  std::vector<int> m_runLast;          // per frame
+  std::vector<int> m_runFirst;          // per frame
+  std::vector<int> m_runLast;           // per frame
   // Float copies for approximateErrors(), one array per component:
   // [(3 d + axis) * frames + t] for the directions, then w, x, y, z of the rotations.
   std::vector<float> m_approximate;

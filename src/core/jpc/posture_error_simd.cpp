@@ -28,7 +28,8 @@ inline float atan2Approximate(float y, float x) {
   const bool reduce = lo > 0.41421356f * hi;
   const float z0 = (reduce ? lo - hi : lo) / (reduce ? lo + hi : std::max(hi, 1e-30f));
   const float z = z0 * z0;
-  float p = (((8.05374449538e-2f * z - 1.38776856032e-1f) * z + 1.99777106478e-1f) * z - 3.33329491539e-1f) * z * z0 + z0;
+  float p =
+      (((8.05374449538e-2f * z - 1.38776856032e-1f) * z + 1.99777106478e-1f) * z - 3.33329491539e-1f) * z * z0 + z0;
   p += reduce ? 0.25f * kPi : 0.0f;
   p = y > ax ? 0.5f * kPi - p : p;
   return x < 0.0f ? kPi - p : p;

@@ -7,7 +7,6 @@
 #include "core/skeleton.h"
 
 #include <glm/glm.hpp>
-
 #include <span>
 #include <vector>
 

@@ -32,8 +32,7 @@ TEST(JpcClustering, RampGreedyAndOptimal) {
     EXPECT_EQ(table.rowEnd(ref), std::min(ref + 2, 9)) << ref;
     EXPECT_EQ(table.rowStart(ref), std::max(ref - 2, 0)) << ref;
   }
-  EXPECT_EQ(clustersOf(track, 20.5, JpcMode::Greedy),
-            (std::vector<Cluster>{{0, 2, 1}, {3, 5, 4}, {6, 8, 7}}));
+  EXPECT_EQ(clustersOf(track, 20.5, JpcMode::Greedy), (std::vector<Cluster>{{0, 2, 1}, {3, 5, 4}, {6, 8, 7}}));
   EXPECT_EQ(clustersOf(track, 20.5, JpcMode::Optimal), (std::vector<Cluster>{{0, 4, 2}, {5, 9, 7}}));
   // Below one step nothing clusters; past 9 steps everything does, keyed in the middle.
   EXPECT_TRUE(clustersOf(track, 9.0, JpcMode::Greedy).empty());
@@ -71,8 +70,7 @@ TEST(JpcClustering, HoldGreedyAndOptimal) {
 // 1000 for the others: key frame 0.
 TEST(JpcClustering, OscillationGreedyAndOptimal) {
   const Skeleton chain = test::makeChain(3, 10.0f);
-  const Clip clip =
-      test::chainClip(chain, 9, [](int t) { return axisAngle(t % 2 == 0 ? 10.0f : -10.0f, {0, 0, 1}); });
+  const Clip clip = test::chainClip(chain, 9, [](int t) { return axisAngle(t % 2 == 0 ? 10.0f : -10.0f, {0, 0, 1}); });
   const JointTrack track = test::chainTrack(clip, 0.0);
   EXPECT_NEAR(track.error(1, 0), 200.0, 1e-3);
   EXPECT_TRUE(clustersOf(track, 199.0, JpcMode::Greedy).empty());

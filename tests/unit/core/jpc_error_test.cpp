@@ -4,7 +4,6 @@
 #include "unit/core/jpc_fixtures.h"
 
 #include <gtest/gtest.h>
-
 #include <random>
 
 namespace mlod {
@@ -85,10 +84,10 @@ TEST(JpcError, ZeroLengthChildrenAreFollowedDownEveryBranch) {
     skeleton.joints.push_back(joint);
   };
   add("root", -1, {0, 0, 0});
-  add("hip", 0, {0, 0, 0}, axisAngle(90.0f, {0, 0, 1}));      // zero-length, turned 90 degrees about z
-  add("left", 1, {-10, 0, 0});                                  // seen from root: rotated to (0, -10, 0)
-  add("pelvis", 1, {0, 0, 0});                                  // zero-length again
-  add("right", 3, {0, 0, 4});                                   // seen from root: (0, 0, 4)
+  add("hip", 0, {0, 0, 0}, axisAngle(90.0f, {0, 0, 1})); // zero-length, turned 90 degrees about z
+  add("left", 1, {-10, 0, 0});                           // seen from root: rotated to (0, -10, 0)
+  add("pelvis", 1, {0, 0, 0});                           // zero-length again
+  add("right", 3, {0, 0, 4});                            // seen from root: (0, 0, 4)
   add("spine", 0, {0, 5, 0});
   ASSERT_FALSE(skeleton.validate());
   const std::vector<JointGeometry> geometry = jointGeometry(skeleton);
@@ -108,10 +107,14 @@ TEST(JpcError, ChainSwingAndTwistValues) {
   const Skeleton chain = test::makeChain(3, 10.0f);
   const Clip clip = test::chainClip(chain, 4, [](int t) {
     switch (t) {
-    case 0: return glm::quat(1, 0, 0, 0);
-    case 1: return axisAngle(30.0f, {0, 0, 1}); // swing
-    case 2: return axisAngle(40.0f, {0, 1, 0}); // twist about the child direction
-    default: return axisAngle(90.0f, {1, 0, 0});
+    case 0:
+      return glm::quat(1, 0, 0, 0);
+    case 1:
+      return axisAngle(30.0f, {0, 0, 1}); // swing
+    case 2:
+      return axisAngle(40.0f, {0, 1, 0}); // twist about the child direction
+    default:
+      return axisAngle(90.0f, {1, 0, 0});
     }
   });
   const JointTrack withAlpha = test::chainTrack(clip, 5.0);
@@ -200,7 +203,8 @@ TEST(JpcError, ApproximateKernelOnRealData) {
         std::vector<int> refs;
         for (int ref = 0; ref < clip.frameCount; ref += std::max(1, clip.frameCount / 13))
           refs.push_back(ref);
-        checkApproximation(track, refs, std::string(file) + " " + asset.skeleton.joints[static_cast<std::size_t>(j)].name);
+        checkApproximation(track, refs,
+                           std::string(file) + " " + asset.skeleton.joints[static_cast<std::size_t>(j)].name);
         if (HasFatalFailure())
           return;
       }

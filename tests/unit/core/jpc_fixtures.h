@@ -8,11 +8,10 @@
 #include "io/importer.h"
 #include "unit/core/fixtures.h"
 
-#include <glm/gtc/quaternion.hpp>
-
 #include <functional>
-#include <stdexcept>
+#include <glm/gtc/quaternion.hpp>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -38,9 +37,9 @@ inline Clip chainClip(const Skeleton& chain, int frames, const std::function<glm
 // j1's error track in chainClip().
 inline JointTrack chainTrack(const Clip& clip, double alpha) {
   const std::vector<JointGeometry> geometry = jointGeometry(makeChain(3, 10.0f));
-  return JointTrack(geometry[1], alpha,
-                    std::span<const glm::quat>(&clip.rotations[clip.index(1, 0)],
-                                               static_cast<std::size_t>(clip.frameCount)));
+  return JointTrack(
+      geometry[1], alpha,
+      std::span<const glm::quat>(&clip.rotations[clip.index(1, 0)], static_cast<std::size_t>(clip.frameCount)));
 }
 
 // A real file, imported once (CMU clips at 5.6444 cm per unit, as the paper's Table 1

@@ -32,7 +32,9 @@ std::vector<JpcLevelResult> simplify(const Asset& asset, const JpcSettings& sett
   return std::move(result).value();
 }
 
-bool sameRotation(const glm::quat& a, const glm::quat& b) { return a == b || a == -b; }
+bool sameRotation(const glm::quat& a, const glm::quat& b) {
+  return a == b || a == -b;
+}
 
 // Guards the invariant E_j(t, key) <= T_j for every clustered frame, the shape of the
 // clusters, the metrics' arithmetic and the T = 0 rule, in both modes and for alpha 0 and 5.
@@ -64,8 +66,8 @@ TEST(JpcProperties, BoundShapeAndMetricsOnRealData) {
             for (const Cluster& c : list) {
               for (int t = c.first; t <= c.last; ++t) {
                 const double e = prepared.track(j).error(t, c.key);
-                ASSERT_LE(e, level.threshold) << asset.skeleton.joints[static_cast<std::size_t>(j)].name << " frame "
-                                              << t << " key " << c.key;
+                ASSERT_LE(e, level.threshold)
+                    << asset.skeleton.joints[static_cast<std::size_t>(j)].name << " frame " << t << " key " << c.key;
                 jointMax = std::max(jointMax, e);
                 if (level.threshold == 0.0 && alpha > 0.0) {
                   ASSERT_TRUE(sameRotation(clip.rotation(j, t), clip.rotation(j, c.key)));

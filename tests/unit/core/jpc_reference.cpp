@@ -71,7 +71,8 @@ std::vector<FrameRange> referenceGreedyRanges(std::vector<int> rowEnds) {
         alive[static_cast<std::size_t>(s)] = false;
     }
   }
-  std::sort(clusters.begin(), clusters.end(), [](const FrameRange& a, const FrameRange& b) { return a.first < b.first; });
+  std::sort(clusters.begin(), clusters.end(),
+            [](const FrameRange& a, const FrameRange& b) { return a.first < b.first; });
   return clusters;
 }
 

@@ -11,7 +11,6 @@
 #include "unit/core/jpc_reference.h"
 
 #include <gtest/gtest.h>
-
 #include <random>
 
 namespace mlod {

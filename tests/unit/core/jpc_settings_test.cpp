@@ -6,11 +6,10 @@
 #include "core/jpc/simplified_motion.h"
 #include "unit/core/jpc_fixtures.h"
 
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include <cmath>
+#include <gtest/gtest.h>
 #include <limits>
+#include <nlohmann/json.hpp>
 
 namespace mlod {
 namespace {
