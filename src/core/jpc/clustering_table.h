@@ -4,8 +4,8 @@
 // diagonal whose error to `ref` stays within the threshold T, so the table keeps, per row,
 // the end of the run after the diagonal (the paper's "available range", upper triangle)
 // and, on request, its start before the diagonal (the optimal mode's key windows). Any
-// entry is available on demand through entry(). Memory: 8 bytes per frame (4 without
-// starts) plus a 16-byte-per-frame scratch while building.
+// entry is available on demand through entry(). Memory: 8 bytes per frame for the step
+// bound below, plus 4 for the ends and 4 for the starts.
 //
 // note: the runs are exact, entry for entry as a full table would give them, but most
 // entries are never evaluated. E is a pseudometric (posture_error.h), so with the

@@ -76,7 +76,7 @@ std::vector<JointGeometry> jointGeometry(const Skeleton& skeleton, double zeroLe
 
 // One joint's motion, prepared for many error evaluations: rotations renormalised in
 // double precision and the child directions rotated, once per frame. Memory:
-// (48 + 36 x directions) bytes per frame.
+// (56 + 36 x directions) bytes per frame.
 class JointTrack {
 public:
   JointTrack() = default;
