@@ -1,0 +1,173 @@
+#pragma once
+// A clip as the runtime plays it at one LOD level (DESIGN.md section 5; Ahn & Wohn,
+// "Motion Level-of-Detail", section 4): per joint, its clusters (runs of frames frozen at
+// one key posture, with the key's local matrix precomputed), the rotations of the frames
+// outside clusters, and the translation and scale tracks of the joints that animate them
+// (the root's translation above all). A clip built without clusters is "full detail":
+// the same data, the same evaluator.
+//
+// Time: frames are uniform, frame i plays at i / fps seconds. Between frames, rotations are
+// normalised-lerped (the shorter way: stored rotations are sign-aligned at build time) and
+// translations and scales lerped. A "frame position" is time x fps, in frames.
+// Lengths are in cm. Immutable once built; any number of characters share one.
+//
+// What a cluster changes: a joint j with cluster [first, last] holds the key frame's
+// rotation at every frame of the cluster, so at frame positions f in [first, last] its
+// rotation is constant; this is M'(t) of the paper. Translations and scales are never
+// clustered, so a joint is *frozen* (its whole local matrix constant) only inside a
+// cluster and when its translation and scale tracks are constant.
+//
+// Unfreeze blending (DESIGN.md section 5): when a cluster [first, last] of a joint ends
+// before the clip does, its rotation jumps within one frame from the key to the next
+// frame's. With blendFrames = N > 0 the jump is spread over N frames: for frame positions
+// f in [last, last + N) the joint's rotation is
+//     nlerp(identity, D, 1 - (f - last) / N) * S(f),
+// where S(f) is M'(f) with frame `last` reading its original rotation q(last) instead of
+// the key, and D = key * q(last)^-1: the cluster's own error at its last frame. It equals
+// the key at f = last and M'(f) from f = last + N on, and differs from M'(f) inside by at
+// most the angle of D, an error M' already makes inside the cluster; each frame it moves by
+// the original motion plus 1/N of that angle. Windows of consecutive clusters that
+// overlap compose (older offsets outermost).
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace mlod {
+
+// One cluster of a joint: inclusive frames [first, last], frozen at frame `key`'s rotation.
+struct LodCluster {
+  std::int32_t first = 0;
+  std::int32_t last = 0;
+  std::int32_t key = 0;
+};
+
+// What a LodClip is built from: plain arrays (the core's builder fills them from a Clip and
+// a ClusterSet; an engine's asset pipeline can fill them from its own types).
+struct LodClipSource {
+  double fps = 30.0;          // frames per second, finite, > 0
+  std::int32_t frameCount = 0; // >= 1
+  std::int32_t jointCount = 0; // >= 1, <= 32767
+  bool looping = false;       // wraps in the runtime (period: frameCount - 1 frames)
+  // Joint-major tracks, [joint * frameCount + frame]: local rotations (unit quaternions),
+  // translations (cm) and scales. A joint whose track holds one value throughout is static
+  // in that channel; joints without a channel in the source simply hold their rest value.
+  std::span<const glm::quat> rotations;
+  std::span<const glm::vec3> translations;
+  std::span<const glm::vec3> scales;
+  // The clusters of every joint, joint after joint; joint j's are
+  // clusters[clusterBegin[j] .. clusterBegin[j + 1]), sorted and disjoint, each >= 3 frames
+  // with its key inside. clusterBegin has jointCount + 1 entries, or none (no clusters).
+  std::span<const LodCluster> clusters;
+  std::span<const std::uint32_t> clusterBegin;
+};
+
+class LodClip {
+public:
+  // How one joint's rotation is read for the frames i0 in [first, last] (i0 = the frame
+  // before the frame position; see framePosition()).
+  struct Segment {
+    std::int32_t first = 0;   // i0 range, inclusive
+    std::int32_t last = 0;
+    std::int32_t cluster = -1; // frozen: the cluster (index in the joint's clusters); sampled: -1
+    std::int32_t rotation = 0; // sampled: index in rotations() of R(first); R(first .. last + 1) follow
+    std::int32_t previous = -1; // the joint's latest cluster that ended at or before `first`, or -1
+  };
+  struct Cluster {
+    std::int32_t first = 0; // frames, inclusive
+    std::int32_t last = 0;
+    std::int32_t key = 0;
+    std::int32_t keyPair = 0; // index in rotations() of two copies of the key's rotation
+    glm::quat lastRotation{1.0f, 0.0f, 0.0f, 0.0f}; // q(last), the original rotation, sign-aligned with R(last + 1)
+    glm::quat exitOffset{1.0f, 0.0f, 0.0f, 0.0f};   // D = key * q(last)^-1, w >= 0; identity at the clip's end
+    glm::mat4 keyLocal{1.0f}; // the key posture's local matrix (static translation and scale)
+  };
+  enum JointFlags : std::uint8_t {
+    kRotationAnimated = 1,
+    kTranslationAnimated = 2,
+    kScaleAnimated = 4,
+  };
+
+  LodClip() = default;
+
+  // Checks `source` and builds the clip; on bad input returns nothing and, where
+  // out_error is given, says why.
+  static std::optional<LodClip> build(const LodClipSource& source, std::string* out_error = nullptr);
+
+  int jointCount() const { return m_jointCount; }
+  int frameCount() const { return m_frameCount; }
+  double fps() const { return m_fps; }
+  bool looping() const { return m_looping; }
+  // (frameCount - 1) / fps seconds: the last frame's time, and a looping clip's period.
+  double duration() const { return m_frameCount > 1 ? (m_frameCount - 1) / m_fps : 0.0; }
+  int clusterCount() const { return static_cast<int>(m_clusters.size()); }
+  // Bytes the clip holds (what an engine pays per clip and level).
+  std::size_t byteSize() const;
+
+  // Frame position (frames, in [0, frameCount - 1]) of `seconds`, and for a looping clip
+  // the number of whole periods before it (0 otherwise). A non-looping clip clamps.
+  double framePosition(double seconds, std::int64_t* out_loop = nullptr) const;
+
+  // Joint j at frame position f in [0, frameCount - 1]: the rotation of M'(f) with the
+  // unfreeze blends of `blendFrames` (0 = none), its translation and scale. The reference
+  // path (tools, tests, level changes); the evaluator gives the same values faster.
+  glm::quat rotationAt(int joint, double frame, int blendFrames = 0) const;
+  glm::vec3 translationAt(int joint, double frame) const;
+  glm::vec3 scaleAt(int joint, double frame) const;
+
+  // The layout the evaluator reads.
+  std::uint8_t flags(int joint) const { return m_flags[static_cast<std::size_t>(joint)]; }
+  // Static joints: their constant rotation (as a pair, for uniform sampling), translation,
+  // scale and local matrix.
+  std::int32_t staticRotationPair(int joint) const { return m_staticPair[static_cast<std::size_t>(joint)]; }
+  const glm::vec3& staticTranslation(int joint) const { return m_staticTranslation[static_cast<std::size_t>(joint)]; }
+  const glm::vec3& staticScale(int joint) const { return m_staticScale[static_cast<std::size_t>(joint)]; }
+  const glm::mat4& staticLocal(int joint) const { return m_staticLocal[static_cast<std::size_t>(joint)]; }
+  // Animated translation / scale: the track's first element, frameCount values; null when static.
+  const glm::vec3* translationTrack(int joint) const {
+    const std::int32_t at = m_translationTrack[static_cast<std::size_t>(joint)];
+    return at < 0 ? nullptr : &m_tracks[static_cast<std::size_t>(at)];
+  }
+  const glm::vec3* scaleTrack(int joint) const {
+    const std::int32_t at = m_scaleTrack[static_cast<std::size_t>(joint)];
+    return at < 0 ? nullptr : &m_tracks[static_cast<std::size_t>(at)];
+  }
+  std::span<const Segment> segments(int joint) const;
+  std::span<const Cluster> clusters(int joint) const;
+  std::span<const glm::quat> rotations() const { return m_rotations; }
+  // Index of the segment of `joint` that holds frame i0 (binary search).
+  int findSegment(int joint, int i0) const;
+  // i0 (the frame at or before the frame position, at most frameCount - 2) and the
+  // fraction past it.
+  void split(double frame, std::int32_t& out_i0, float& out_fraction) const;
+
+private:
+  double m_fps = 30.0;
+  std::int32_t m_frameCount = 0;
+  std::int32_t m_jointCount = 0;
+  bool m_looping = false;
+  std::vector<std::uint8_t> m_flags;
+  std::vector<std::int32_t> m_staticPair;
+  std::vector<glm::vec3> m_staticTranslation;
+  std::vector<glm::vec3> m_staticScale;
+  std::vector<glm::mat4> m_staticLocal;
+  std::vector<std::int32_t> m_translationTrack; // per joint: start in m_tracks, or -1
+  std::vector<std::int32_t> m_scaleTrack;
+  std::vector<glm::vec3> m_tracks;
+  std::vector<std::uint32_t> m_segmentBegin; // jointCount + 1
+  std::vector<Segment> m_segments;
+  std::vector<std::uint32_t> m_clusterBegin; // jointCount + 1
+  std::vector<Cluster> m_clusters;
+  std::vector<glm::quat> m_rotations;
+};
+
+// nlerp(identity, offset, weight): the offset scaled down to `weight` in [0, 1] (offset.w >= 0).
+glm::quat scaleOffset(const glm::quat& offset, float weight);
+
+} // namespace mlod

@@ -1,0 +1,593 @@
+// PoseEvaluatorJob on real motion (CMU 01_01, 38 joints, 2,752 frames at 120 fps) at the
+// thresholds of the paper's Table 1: exactly forward kinematics of M'(t) without blending,
+// folding on and off; the original at threshold 0; bounded and continuous with blending;
+// deterministic over threads; and validate() rejecting each invalid input in turn.
+
+#include "runtime/pose_evaluator.h"
+#include "unit/runtime/runtime_fixtures.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <vector>
+
+namespace mlod {
+namespace {
+
+using test::elementsNear;
+using test::levelsOf;
+using test::plainModels;
+using test::runtimeAsset;
+
+constexpr const char* kCmu = "BVH/01_01.bvh";
+constexpr float kTolerance = 1e-5f; // x max(1, |x|), cm
+
+struct Rig {
+  std::vector<std::int16_t> parents;
+  std::vector<glm::mat4> inverseBinds;
+  explicit Rig(const Skeleton& skeleton)
+      : parents(skeleton.parentIndices()), inverseBinds(paletteInverseBinds(skeleton)) {}
+  int joints() const { return static_cast<int>(parents.size()); }
+};
+
+LodClip lodClip(const Clip& clip, const ClusterSet* clusters, bool looping = false) {
+  Result<LodClip> built = buildLodClip(clip, clusters, looping);
+  if (!built)
+    throw std::runtime_error(built.message());
+  return std::move(built).value();
+}
+
+// One character played along `times` (seconds), one run per step, the clip of each step
+// from `clips`; the models and palettes of every step, step-major.
+struct Playback {
+  std::vector<glm::mat4> models;
+  std::vector<glm::mat4> palette;
+  std::int64_t rebuilds = 0;
+  std::int64_t sampled = 0;
+};
+
+Playback play(const Rig& rig, const std::vector<const LodClip*>& clips, const std::vector<double>& times,
+              int blendFrames, bool folding) {
+  const std::size_t joints = static_cast<std::size_t>(rig.joints());
+  Playback out;
+  out.models.resize(times.size() * joints);
+  out.palette.resize(times.size() * joints);
+  PoseEvaluatorContext context(1, rig.joints());
+  for (std::size_t step = 0; step < times.size(); ++step) {
+    PoseEvaluatorJob job;
+    job.parents = rig.parents;
+    job.inverseBinds = rig.inverseBinds;
+    job.clips = std::span<const LodClip* const>(&clips[step], 1);
+    job.times = std::span<const double>(&times[step], 1);
+    job.blendFrames = blendFrames;
+    job.folding = folding;
+    job.context = &context;
+    job.out_models = std::span<glm::mat4>(&out.models[step * joints], joints);
+    job.out_palette = std::span<glm::mat4>(&out.palette[step * joints], joints);
+    if (!job.run())
+      throw std::runtime_error("the job did not validate");
+    out.rebuilds += context.planRebuilds();
+    out.sampled += context.jointsSampled();
+  }
+  return out;
+}
+
+Playback play(const Rig& rig, const LodClip& clip, const std::vector<double>& times, int blendFrames, bool folding) {
+  return play(rig, std::vector<const LodClip*>(times.size(), &clip), times, blendFrames, folding);
+}
+
+// Frame positions first, first + step, ... up to last, as times of `clip`.
+std::vector<double> timesAlong(const Clip& clip, double first, double last, double step = 1.0) {
+  std::vector<double> times;
+  for (double f = first; f <= last + 1e-9; f += step)
+    times.push_back(f / clip.fps);
+  return times;
+}
+
+// Every model matrix within tolerance of plain FK of `reference` at the same frame
+// position; the palette within the rounding of model x inverse bind. Returns the worst
+// element ratio; fails the test on the first mismatch.
+float expectPlainKinematics(const Skeleton& skeleton, const Clip& reference, const Rig& rig, const Playback& played,
+                            const std::vector<double>& times, const std::string& what) {
+  const std::size_t joints = static_cast<std::size_t>(rig.joints());
+  std::vector<glm::mat4> expected;
+  float worst = 0.0f, worstLiteral = 0.0f;
+  for (std::size_t step = 0; step < times.size(); ++step) {
+    plainModels(skeleton, reference, times[step] * reference.fps, expected);
+    for (std::size_t j = 0; j < joints; ++j) {
+      float ratio = 0.0f, literal = 0.0f;
+      const glm::mat4& model = played.models[step * joints + j];
+      const bool near = elementsNear(model, expected[j], kTolerance, &ratio, &literal);
+      worstLiteral = std::max(worstLiteral, literal);
+      if (!near) {
+        ADD_FAILURE() << what << ": joint " << j << " at frame position " << times[step] * reference.fps
+                      << " differs from plain FK of M'(t) by " << ratio << " x max(1, |x|)";
+        return ratio;
+      }
+      worst = std::max(worst, ratio);
+      // palette = model x inverse bind: compare with the product of the evaluator's own
+      // model, within float rounding of that product's terms
+      const glm::mat4 product = model * rig.inverseBinds[j];
+      const glm::mat4& palette = played.palette[step * joints + j];
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) {
+          float magnitude = 1.0f;
+          for (int k = 0; k < 4; ++k)
+            magnitude += std::abs(model[k][r] * rig.inverseBinds[j][c][k]);
+          if (!(std::abs(palette[c][r] - product[c][r]) <= kTolerance * magnitude)) {
+            ADD_FAILURE() << what << ": palette of joint " << j << " at frame position "
+                          << times[step] * reference.fps << " is not model x inverse bind";
+            return ratio;
+          }
+        }
+    }
+  }
+  ::testing::Test::RecordProperty(what + " worst ratio to the coordinate alone", std::to_string(worstLiteral));
+  return worst;
+}
+
+// Guards the central equivalence (DESIGN.md section 5): without blending, at every frame
+// and at every threshold, the evaluator is forward kinematics of M'(t), folding on or off.
+TEST(PoseEvaluator, EveryFrameEqualsKinematicsOfSimplifiedMotion) {
+  const Asset& asset = runtimeAsset(kCmu);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const std::vector<double> times = timesAlong(clip, 0.0, clip.frameCount - 1);
+  for (const JpcLevelResult& level : levelsOf(kCmu)) {
+    const Clip simplified = simplifiedClip(clip, level.clusters);
+    const LodClip lod = lodClip(clip, &level.clusters);
+    for (bool folding : {true, false}) {
+      const Playback played = play(rig, lod, times, 0, folding);
+      const std::string what = "E=" + std::to_string(level.threshold) + (folding ? " folded" : " unfolded");
+      const float worst = expectPlainKinematics(asset.skeleton, simplified, rig, played, times, what);
+      RecordProperty(what, std::to_string(worst));
+    }
+  }
+}
+
+// Guards interpolation between frames, across cluster starts and ends included: at half
+// frames the evaluator is FK of M' nlerped between the two frames.
+TEST(PoseEvaluator, HalfFramesEqualInterpolatedSimplifiedMotion) {
+  const Asset& asset = runtimeAsset(kCmu);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const std::vector<double> times = timesAlong(clip, 0.5, clip.frameCount - 1.5);
+  for (const JpcLevelResult& level : levelsOf(kCmu)) {
+    if (level.threshold != 50.0 && level.threshold != 300.0)
+      continue;
+    const Clip simplified = simplifiedClip(clip, level.clusters);
+    const LodClip lod = lodClip(clip, &level.clusters);
+    const Playback played = play(rig, lod, times, 0, true);
+    expectPlainKinematics(asset.skeleton, simplified, rig, played, times, "E=" + std::to_string(level.threshold));
+  }
+}
+
+// Guards "the original at threshold 0" and full detail: both equal FK of the clip itself.
+TEST(PoseEvaluator, ThresholdZeroAndFullDetailEqualTheOriginal) {
+  const Asset& asset = runtimeAsset(kCmu);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const std::vector<double> times = timesAlong(clip, 0.0, clip.frameCount - 1);
+  const JpcLevelResult& zero = levelsOf(kCmu).front();
+  ASSERT_EQ(zero.threshold, 0.0);
+  ASSERT_GT(zero.clusterCount, 0) << "CMU 01_01 has joints that never move: T = 0 clusters them";
+  const LodClip atZero = lodClip(clip, &zero.clusters);
+  const LodClip full = lodClip(clip, nullptr);
+  EXPECT_EQ(full.clusterCount(), 0);
+  expectPlainKinematics(asset.skeleton, clip, rig, play(rig, atZero, times, 0, true), times, "E=0");
+  expectPlainKinematics(asset.skeleton, clip, rig, play(rig, full, times, 0, true), times, "full detail");
+}
+
+// Guards the incremental plan (rebuilt only below the joints whose cluster starts or
+// ends): stepping through the clip gives bit for bit what a fresh plan per frame gives,
+// and a whole crowd in one run (one character per frame) gives the same again.
+TEST(PoseEvaluator, IncrementalPlansEqualFreshOnes) {
+  const Asset& asset = runtimeAsset(kCmu);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const JpcLevelResult& level = levelsOf(kCmu)[2];
+  const LodClip lod = lodClip(clip, &level.clusters);
+  const std::vector<double> times = timesAlong(clip, 0.0, clip.frameCount - 1);
+  const std::size_t joints = static_cast<std::size_t>(rig.joints());
+  for (bool folding : {true, false}) {
+    const Playback sequential = play(rig, lod, times, 0, folding);
+    EXPECT_LT(sequential.rebuilds, static_cast<std::int64_t>(times.size())) << "some frames reuse the plan";
+    std::vector<const LodClip*> clips(times.size(), &lod);
+    std::vector<glm::mat4> models(times.size() * joints), palette(times.size() * joints);
+    PoseEvaluatorContext context(static_cast<int>(times.size()), rig.joints());
+    PoseEvaluatorJob job;
+    job.parents = rig.parents;
+    job.inverseBinds = rig.inverseBinds;
+    job.clips = clips;
+    job.times = times;
+    job.folding = folding;
+    job.context = &context;
+    job.out_models = models;
+    job.out_palette = palette;
+    ASSERT_TRUE(job.run());
+    EXPECT_EQ(context.planRebuilds(), static_cast<std::int64_t>(times.size()));
+    EXPECT_EQ(std::memcmp(models.data(), sequential.models.data(), models.size() * sizeof(glm::mat4)), 0);
+    EXPECT_EQ(std::memcmp(palette.data(), sequential.palette.data(), palette.size() * sizeof(glm::mat4)), 0);
+  }
+}
+
+// Guards determinism over threads, and the palette-only mode (no model output): the
+// palette is bit for bit the same either way.
+TEST(PoseEvaluator, ThreadsAndPaletteOnlyChangeNothing) {
+  const Asset& asset = runtimeAsset(kCmu);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const LodClip lod = lodClip(clip, &levelsOf(kCmu)[2].clusters, true);
+  const LodClip full = lodClip(clip, nullptr, true);
+  const int characters = 301;
+  const std::size_t n = static_cast<std::size_t>(characters) * static_cast<std::size_t>(rig.joints());
+  std::vector<const LodClip*> clips(static_cast<std::size_t>(characters));
+  std::vector<double> starts(static_cast<std::size_t>(characters));
+  for (int c = 0; c < characters; ++c) {
+    clips[static_cast<std::size_t>(c)] = c % 3 == 0 ? &full : &lod;
+    starts[static_cast<std::size_t>(c)] = std::fmod(c * 0.618034 * lod.duration(), lod.duration());
+  }
+  struct Run {
+    std::vector<glm::mat4> models, palette;
+  };
+  const auto crowd = [&](int threads, bool withModels) {
+    WorkerPool pool(threads);
+    PoseEvaluatorContext context(characters, rig.joints(), threads);
+    Run run;
+    if (withModels)
+      run.models = std::vector<glm::mat4>(n, glm::mat4(0.0f));
+    run.palette = std::vector<glm::mat4>(n, glm::mat4(0.0f));
+    std::vector<double> times = starts;
+    for (int frame = 0; frame < 40; ++frame) {
+      for (int c = 0; c < characters; ++c)
+        times[static_cast<std::size_t>(c)] = starts[static_cast<std::size_t>(c)] + frame / 60.0;
+      PoseEvaluatorJob job;
+      job.parents = rig.parents;
+      job.inverseBinds = rig.inverseBinds;
+      job.clips = clips;
+      job.times = times;
+      job.blendFrames = 4;
+      job.pool = &pool;
+      job.context = &context;
+      job.out_models = run.models;
+      job.out_palette = run.palette;
+      if (!job.run())
+        ADD_FAILURE() << "the job did not validate";
+    }
+    return run;
+  };
+  const Run one = crowd(1, true);
+  const Run two = crowd(2, true);
+  const Run three = crowd(3, false);
+  EXPECT_EQ(std::memcmp(one.models.data(), two.models.data(), n * sizeof(glm::mat4)), 0);
+  EXPECT_EQ(std::memcmp(one.palette.data(), two.palette.data(), n * sizeof(glm::mat4)), 0);
+  EXPECT_EQ(std::memcmp(one.palette.data(), three.palette.data(), n * sizeof(glm::mat4)), 0);
+}
+
+// Guards what the LOD is for: at a high threshold fewer joints are sampled than at full
+// detail, where every animated joint is, every frame.
+TEST(PoseEvaluator, LodSamplesFewerJoints) {
+  const Asset& asset = runtimeAsset(kCmu);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const std::vector<double> times = timesAlong(clip, 0.0, clip.frameCount - 1);
+  const LodClip full = lodClip(clip, nullptr);
+  int animated = 0;
+  for (int j = 0; j < full.jointCount(); ++j)
+    animated += full.flags(j) != 0 ? 1 : 0;
+  const Playback fullPlay = play(rig, full, times, 0, true);
+  EXPECT_EQ(fullPlay.sampled, static_cast<std::int64_t>(animated) * static_cast<std::int64_t>(times.size()));
+  EXPECT_EQ(fullPlay.rebuilds, 1) << "without clusters the first plan holds for the whole clip";
+  const LodClip lod = lodClip(clip, &levelsOf(kCmu).back().clusters);
+  const Playback lodPlay = play(rig, lod, times, 0, true);
+  EXPECT_LT(lodPlay.sampled * 2, fullPlay.sampled) << "at E = 300 most joint-frames are frozen";
+}
+
+// Per joint and frame position: does joint j or an ancestor lie in an unfreeze window of
+// `blendFrames` frames after one of its clusters?
+std::vector<std::uint8_t> blendWindows(const Skeleton& skeleton, const ClusterSet& clusters,
+                                       const std::vector<double>& frames, int blendFrames) {
+  const std::size_t joints = static_cast<std::size_t>(skeleton.jointCount());
+  std::vector<std::uint8_t> out(frames.size() * joints, 0);
+  for (std::size_t step = 0; step < frames.size(); ++step)
+    for (std::size_t j = 0; j < joints; ++j) {
+      bool inside = false;
+      for (const Cluster& cluster : clusters.joints[j])
+        inside = inside || (cluster.last < clusters.frameCount - 1 && frames[step] >= cluster.last &&
+                            frames[step] < cluster.last + blendFrames);
+      const int parent = skeleton.joints[j].parent;
+      out[step * joints + j] = inside || (parent >= 0 && out[step * joints + static_cast<std::size_t>(parent)]);
+    }
+  return out;
+}
+
+float distance(const glm::mat4& a, const glm::mat4& b) { return glm::length(glm::vec3(a[3]) - glm::vec3(b[3])); }
+
+// Guards unfreeze blending (DESIGN.md section 5): equal to M'(t) outside blend windows;
+// inside them every joint within the level's joint-position fidelity of M'(t); and no
+// joint jumping between consecutive frames by more than the original motion does plus
+// that figure. At the bench's step (1/60 s on a 120 fps clip) and at every frame.
+TEST(PoseEvaluator, BlendingStaysWithinFidelityAndOutsideWindowsEqualsSimplified) {
+  const Asset& asset = runtimeAsset(kCmu);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const std::size_t joints = static_cast<std::size_t>(rig.joints());
+  const std::vector<glm::vec3> original = jointPositions(asset.skeleton, clip);
+  for (const JpcLevelResult& level : levelsOf(kCmu)) {
+    if (level.threshold == 0.0)
+      continue;
+    const Clip simplified = simplifiedClip(clip, level.clusters);
+    const LodClip lod = lodClip(clip, &level.clusters);
+    const float fidelity = static_cast<float>(level.maxJointPositionErrorCm);
+    for (int blendFrames : {4, 10}) {
+      for (double step : {1.0, 2.0}) {
+        const std::vector<double> times = timesAlong(clip, 0.0, clip.frameCount - 1, step);
+        std::vector<double> frames(times.size());
+        for (std::size_t s = 0; s < times.size(); ++s)
+          frames[s] = times[s] * clip.fps;
+        const Playback played = play(rig, lod, times, blendFrames, true);
+        const std::vector<std::uint8_t> windows = blendWindows(asset.skeleton, level.clusters, frames, blendFrames);
+        std::vector<glm::mat4> expected;
+        std::size_t inside = 0;
+        float worstInside = 0.0f;
+        const std::string what = "E=" + std::to_string(level.threshold) + " N=" + std::to_string(blendFrames);
+        for (std::size_t s = 0; s < times.size(); ++s) {
+          plainModels(asset.skeleton, simplified, frames[s], expected);
+          for (std::size_t j = 0; j < joints; ++j) {
+            const glm::mat4& model = played.models[s * joints + j];
+            if (windows[s * joints + j]) {
+              ++inside;
+              const float error = distance(model, expected[j]);
+              worstInside = std::max(worstInside, error);
+              ASSERT_LE(error, fidelity) << what << ": joint " << j << " at frame " << frames[s];
+            } else {
+              ASSERT_TRUE(elementsNear(model, expected[j], kTolerance))
+                  << what << ": joint " << j << " at frame " << frames[s] << " is outside every window";
+            }
+            if (s > 0) {
+              const long f1 = std::lround(frames[s]), f0 = std::lround(frames[s - 1]);
+              const float moved = glm::length(original[static_cast<std::size_t>(f1) * joints + j] -
+                                              original[static_cast<std::size_t>(f0) * joints + j]);
+              const float jump = distance(model, played.models[(s - 1) * joints + j]);
+              ASSERT_LE(jump, moved + fidelity + 1e-3f) << what << ": joint " << j << " jumps at frame " << frames[s];
+            }
+          }
+        }
+        EXPECT_GT(inside, 0u) << what << ": some joint-frames lie in windows";
+        RecordProperty(what + " step " + std::to_string(step) + ": worst cm inside windows (fidelity " +
+                           std::to_string(fidelity) + ")",
+                       std::to_string(worstInside));
+      }
+    }
+  }
+}
+
+// Guards level changes: switching a character between levels blends (no joint jumps more
+// than the motion plus both levels' fidelity), stays within both fidelities of the new
+// level, and after the blend equals the new level's M'(t) (outside its unfreeze windows).
+TEST(PoseEvaluator, LevelChangesBlend) {
+  const Asset& asset = runtimeAsset(kCmu);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const std::size_t joints = static_cast<std::size_t>(rig.joints());
+  const std::vector<JpcLevelResult>& levels = levelsOf(kCmu);
+  const JpcLevelResult& fine = levels[1];
+  const JpcLevelResult& coarse = levels[3];
+  const LodClip fineClip = lodClip(clip, &fine.clusters);
+  const LodClip coarseClip = lodClip(clip, &coarse.clusters);
+  const Clip fineSimplified = simplifiedClip(clip, fine.clusters);
+  const Clip coarseSimplified = simplifiedClip(clip, coarse.clusters);
+  const std::vector<glm::vec3> original = jointPositions(asset.skeleton, clip);
+  const float bound = static_cast<float>(fine.maxJointPositionErrorCm + coarse.maxJointPositionErrorCm);
+  const int blendFrames = 6;
+  const std::vector<double> times = timesAlong(clip, 0.0, clip.frameCount - 1);
+  // a level switch every 97 frames
+  std::vector<const LodClip*> clips(times.size());
+  for (std::size_t s = 0; s < times.size(); ++s)
+    clips[s] = (s / 97) % 2 == 0 ? &coarseClip : &fineClip;
+  const Playback played = play(rig, clips, times, blendFrames, true);
+  std::vector<double> frames(times.size());
+  for (std::size_t s = 0; s < times.size(); ++s)
+    frames[s] = static_cast<double>(s);
+  const std::vector<std::uint8_t> fineWindows = blendWindows(asset.skeleton, fine.clusters, frames, blendFrames);
+  const std::vector<std::uint8_t> coarseWindows = blendWindows(asset.skeleton, coarse.clusters, frames, blendFrames);
+  std::vector<glm::mat4> expected;
+  int switches = 0;
+  for (std::size_t s = 1; s < times.size(); ++s) {
+    const bool coarseNow = clips[s] == &coarseClip;
+    plainModels(asset.skeleton, coarseNow ? coarseSimplified : fineSimplified, frames[s], expected);
+    const std::size_t sinceSwitch = s % 97;
+    switches += sinceSwitch == 0 ? 1 : 0;
+    for (std::size_t j = 0; j < joints; ++j) {
+      const glm::mat4& model = played.models[s * joints + j];
+      const float moved = glm::length(original[s * joints + j] - original[(s - 1) * joints + j]);
+      ASSERT_LE(distance(model, played.models[(s - 1) * joints + j]), moved + bound + 1e-3f)
+          << "joint " << j << " jumps at frame " << s;
+      ASSERT_LE(distance(model, expected[j]), bound) << "joint " << j << " at frame " << s;
+      const bool window = (coarseNow ? coarseWindows : fineWindows)[s * joints + j];
+      if (s >= 97 && sinceSwitch >= static_cast<std::size_t>(blendFrames) && !window) {
+        ASSERT_TRUE(elementsNear(model, expected[j], kTolerance))
+            << "joint " << j << " at frame " << s << ", " << sinceSwitch << " frames after a switch";
+      }
+    }
+  }
+  EXPECT_GT(switches, 20);
+}
+
+Clip withoutFirstFrame(const Clip& clip) {
+  Clip out = clip;
+  out.frameCount = clip.frameCount - 1;
+  out.rotations.clear();
+  out.translations.clear();
+  out.scales.clear();
+  for (int j = 0; j < clip.jointCount; ++j)
+    for (int t = 1; t < clip.frameCount; ++t) {
+      out.rotations.push_back(clip.rotation(j, t));
+      out.translations.push_back(clip.translation(j, t));
+      out.scales.push_back(clip.scale(j, t));
+    }
+  return out;
+}
+
+// Guards the loop wrap: a looping clip blends from its last pose to its first over N
+// frames (no pop: the first frame after the wrap shows the last pose), then plays the clip.
+TEST(PoseEvaluator, LoopingClipsBlendAtTheWrap) {
+  const Asset& asset = runtimeAsset(kCmu);
+  // CMU 01_01's frame 0 is a calibration pose (hands 70 cm from frame 1's): loop the walk
+  // from frame 1 on
+  const Clip clip = withoutFirstFrame(asset.clips.front());
+  const Rig rig(asset.skeleton);
+  const std::size_t joints = static_cast<std::size_t>(rig.joints());
+  const LodClip looping = lodClip(clip, nullptr, true);
+  const double last = clip.frameCount - 1;
+  const int blendFrames = 8;
+  const std::vector<double> times = timesAlong(clip, last - 4, last + 2 * blendFrames);
+  // positions relative to the root: its translation wraps unblended (root motion is the caller's)
+  const auto relative = [&](const Playback& played, std::size_t s, std::size_t j) {
+    return glm::vec3(played.models[s * joints + j][3]) - glm::vec3(played.models[s * joints][3]);
+  };
+  const Playback blended = play(rig, looping, times, blendFrames, true);
+  const Playback popped = play(rig, looping, times, 0, true);
+  float blendedJump = 0.0f, poppedJump = 0.0f;
+  std::vector<glm::mat4> expected;
+  for (std::size_t s = 1; s < times.size(); ++s) {
+    const double frame = times[s] * clip.fps;
+    for (std::size_t j = 0; j < joints; ++j) {
+      blendedJump = std::max(blendedJump, glm::length(relative(blended, s, j) - relative(blended, s - 1, j)));
+      poppedJump = std::max(poppedJump, glm::length(relative(popped, s, j) - relative(popped, s - 1, j)));
+    }
+    if (std::abs(frame - last) < 1e-6) {
+      // at the wrap the pose is still the last frame's
+      plainModels(asset.skeleton, clip, last, expected);
+      for (std::size_t j = 0; j < joints; ++j)
+        EXPECT_LT(glm::length(relative(blended, s, j) - (glm::vec3(expected[j][3]) - glm::vec3(expected[0][3]))), 1e-3f)
+            << "joint " << j;
+    }
+    if (frame - last >= blendFrames) {
+      plainModels(asset.skeleton, clip, frame - last, expected);
+      for (std::size_t j = 0; j < joints; ++j)
+        ASSERT_TRUE(elementsNear(blended.models[s * joints + j], expected[j], kTolerance))
+            << "joint " << j << " after the wrap's blend, frame " << frame - last;
+    }
+  }
+  EXPECT_GT(poppedJump, 5.0f) << "01_01 does not loop: its wrap pops";
+  EXPECT_LT(blendedJump, 0.5f * poppedJump);
+}
+
+// Guards validate(): each invalid input in turn fails, and run() then writes nothing.
+TEST(PoseEvaluator, RejectsInvalidJobs) {
+  const Asset& asset = runtimeAsset(kCmu);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const LodClip lod = lodClip(clip, nullptr);
+  const LodClip looping = lodClip(clip, nullptr, true);
+  const std::size_t joints = static_cast<std::size_t>(rig.joints());
+  std::vector<const LodClip*> clips{&lod, &lod};
+  std::vector<double> times{0.0, 1.0};
+  std::vector<glm::mat4> models(2 * joints), palette(2 * joints, glm::mat4(7.0f));
+  PoseEvaluatorContext context(2, rig.joints());
+  const auto valid = [&] {
+    PoseEvaluatorJob job;
+    job.parents = rig.parents;
+    job.inverseBinds = rig.inverseBinds;
+    job.clips = clips;
+    job.times = times;
+    job.context = &context;
+    job.out_models = models;
+    job.out_palette = palette;
+    return job;
+  };
+  ASSERT_TRUE(valid().validate());
+  std::vector<PoseEvaluatorJob> invalid;
+  {
+    PoseEvaluatorJob job = valid();
+    job.context = nullptr; // no context
+    invalid.push_back(job);
+  }
+  {
+    PoseEvaluatorJob job = valid();
+    job.out_palette = {}; // no palette
+    invalid.push_back(job);
+  }
+  {
+    PoseEvaluatorJob job = valid();
+    job.out_palette = std::span<glm::mat4>(palette.data(), joints); // palette of one character
+    invalid.push_back(job);
+  }
+  {
+    PoseEvaluatorJob job = valid();
+    job.out_models = std::span<glm::mat4>(models.data(), 2 * joints - 1); // models one short
+    invalid.push_back(job);
+  }
+  const LodClip* none[2] = {&lod, nullptr};
+  {
+    PoseEvaluatorJob job = valid();
+    job.clips = none; // a null clip
+    invalid.push_back(job);
+  }
+  {
+    PoseEvaluatorJob job = valid();
+    job.clips = std::span<const LodClip* const>(clips.data(), 1); // clips and times differ
+    invalid.push_back(job);
+  }
+  const double late[2] = {0.0, lod.duration() + 0.01};
+  const double early[2] = {-0.001, 0.0};
+  const double nan[2] = {0.0, std::nan("")};
+  for (const double* bad : {late, early, nan}) {
+    PoseEvaluatorJob job = valid();
+    job.times = std::span<const double>(bad, 2); // time out of range
+    invalid.push_back(job);
+  }
+  {
+    PoseEvaluatorJob job = valid();
+    job.inverseBinds = std::span<const glm::mat4>(rig.inverseBinds.data(), joints - 1); // inverse binds short
+    invalid.push_back(job);
+  }
+  std::vector<glm::mat4> projective = rig.inverseBinds;
+  projective[3][0][3] = 0.5f;
+  {
+    PoseEvaluatorJob job = valid();
+    job.inverseBinds = projective; // not affine
+    invalid.push_back(job);
+  }
+  std::vector<std::int16_t> cyclic = rig.parents;
+  cyclic[2] = 5;
+  {
+    PoseEvaluatorJob job = valid();
+    job.parents = cyclic; // a child before its parent
+    invalid.push_back(job);
+  }
+  PoseEvaluatorContext small(1, rig.joints());
+  PoseEvaluatorContext otherSkeleton(2, rig.joints() - 1);
+  for (PoseEvaluatorContext* bad : {&small, &otherSkeleton}) {
+    PoseEvaluatorJob job = valid();
+    job.context = bad; // a context for fewer characters / another skeleton
+    invalid.push_back(job);
+  }
+  WorkerPool pool(2);
+  {
+    PoseEvaluatorJob job = valid();
+    job.pool = &pool; // more threads than the context has scratch for
+    invalid.push_back(job);
+  }
+  {
+    PoseEvaluatorJob job = valid();
+    job.blendFrames = -1;
+    invalid.push_back(job);
+  }
+  for (std::size_t i = 0; i < invalid.size(); ++i) {
+    EXPECT_FALSE(invalid[i].validate()) << "case " << i;
+    EXPECT_FALSE(invalid[i].run()) << "case " << i;
+  }
+  EXPECT_EQ(palette[0], glm::mat4(7.0f)) << "a failed run writes nothing";
+  // a looping clip takes any time >= 0
+  const LodClip* loopingClips[2] = {&looping, &looping};
+  const double later[2] = {0.0, 10 * looping.duration() + 0.3};
+  PoseEvaluatorJob job = valid();
+  job.clips = loopingClips;
+  job.times = later;
+  EXPECT_TRUE(job.run());
+}
+
+} // namespace
+} // namespace mlod
