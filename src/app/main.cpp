@@ -1,6 +1,7 @@
 // motionlod-studio: the editor's thin main.
 
 #include "core/version.h"
+#include "editor/document/document.h"
 #include "editor/main_window.h"
 #include "io/import_options.h"
 
@@ -34,9 +35,12 @@ int main(int argc, char** argv) {
   const QCommandLineOption sample("sample", "Import the bundled sample clip (CMU mocap, in its unit) at start.");
   const QCommandLineOption unit("unit-scale", "cm per file unit for the imports, or a preset: cm, m, mm, inch, cmu.",
                                 "S");
-  const QCommandLineOption screenshot("screenshot", "Save the window to PNG once the imports are done, then quit.", "PNG");
-  parser.addOptions({open, sample, unit, screenshot});
-  parser.addPositionalArgument("files", "Files to import.", "[files...]");
+  const QCommandLineOption screenshot("screenshot",
+                                      "Save the window to PNG once the imports and clustering are done, then quit.", "PNG");
+  const QCommandLineOption joint("joint", "Select joint NAME once loaded (for --screenshot).", "NAME");
+  const QCommandLineOption level("level", "Show LOD level N once loaded (for --screenshot).", "N");
+  parser.addOptions({open, sample, unit, screenshot, joint, level});
+  parser.addPositionalArgument("files", "Projects (.mlod) to open or files to import.", "[files...]");
   parser.process(app);
 
   // Each file with the unit it is imported in (0 = the window's import unit).
@@ -57,20 +61,37 @@ int main(int argc, char** argv) {
     for (auto& file : files)
       file.second = file.second > 0.0 ? file.second : *scale;
   }
+  window.resize(1600, 1000);
   window.show();
+  if (!parser.isSet(screenshot))
+    window.offerRecovery();
 
   auto pending = std::make_shared<QList<QPair<QString, double>>>(files);
   const QString shotPath = parser.value(screenshot);
   int status = 0;
-  auto next = [&window, pending, shotPath, &status]() {
+  const QString jointName = parser.value(joint);
+  const int levelIndex = parser.value(level).toInt();
+  auto next = [&window, pending, shotPath, jointName, levelIndex, &status]() {
     if (!pending->isEmpty()) {
       const auto [file, scale] = pending->takeFirst();
+      if (file.endsWith(".mlod")) {
+        if (!window.openProject(file))
+          status = 2;
+        return; // projectOpened() calls next
+      }
       if (scale > 0.0)
         window.importFileWithUnit(file, scale);
       else
         window.importFile(file);
       return;
     }
+    mlod::Document* document = window.document();
+    if (!jointName.isEmpty() && document->currentAssetPtr() && document->currentJoint() < 0)
+      document->setCurrentJoint(document->currentAssetPtr()->skeleton.find(jointName.toStdString()));
+    if (levelIndex > 0)
+      document->setCurrentLevel(levelIndex);
+    if (document->isAnalysing() || document->isLoading())
+      return; // analysisFinished() or projectOpened() calls next
     if (!shotPath.isEmpty()) {
       const bool saved = window.grab().save(shotPath, "PNG");
       std::fprintf(saved ? stdout : stderr, "%s %s\n", saved ? "screenshot:" : "error: cannot write",
@@ -85,6 +106,12 @@ int main(int argc, char** argv) {
                        status = 2;
                      QTimer::singleShot(0, &window, next);
                    });
+  QObject::connect(window.document(), &mlod::Document::projectOpened, &window,
+                   [&](bool, const QString&) { QTimer::singleShot(0, &window, next); });
+  QObject::connect(window.document(), &mlod::Document::analysisFinished, &window, [&](bool, const QString&) {
+    if (pending->isEmpty())
+      QTimer::singleShot(0, &window, next);
+  });
   QTimer::singleShot(0, &window, next);
   const int code = app.exec();
   return status != 0 ? status : code;

@@ -1,31 +1,49 @@
 #include "editor/main_window.h"
 
 #include "core/version.h"
+#include "editor/charts/statistics_view.h"
+#include "editor/document/autosave.h"
+#include "editor/document/document.h"
 #include "editor/import_job.h"
 #include "editor/models/asset_tree.h"
+#include "editor/models/joint_tree_model.h"
+#include "editor/models/levels_model.h"
+#include "editor/views/clustering_table_view.h"
+#include "editor/views/trajectory_view.h"
 #include "ui_main_window.h"
 
 #include <QActionGroup>
 #include <QCloseEvent>
 #include <QDateTime>
 #include <QDockWidget>
+#include <QDoubleSpinBox>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QInputDialog>
+#include <QLabel>
 #include <QMessageBox>
 #include <QProgressDialog>
+#include <QPushButton>
 #include <QSettings>
+#include <QTableView>
+#include <QToolButton>
+#include <QTreeView>
+#include <QUndoStack>
+#include <QVBoxLayout>
 
 namespace mlod {
 
 MainWindow::MainWindow(QWidget* parent)
-    : QMainWindow(parent), m_ui(std::make_unique<Ui::MainWindow>()), m_assets(new AssetTreeModel(this)),
-      m_import(new ImportJob(this)) {
+    : QMainWindow(parent), m_ui(std::make_unique<Ui::MainWindow>()), m_document(new Document(this)),
+      m_assets(new AssetTreeModel(this)), m_import(new ImportJob(this)), m_autosave(new Autosave(m_document, {}, this)) {
   m_ui->setupUi(this);
   m_ui->assetTree->setModel(m_assets);
   m_ui->menuView->addAction(m_ui->assetsDock->toggleViewAction());
   m_ui->menuView->addAction(m_ui->logDock->toggleViewAction());
   m_ui->summaryLabel->setText(tr("<h2>Motion LOD Studio</h2><p>Import a character or a motion-capture clip with "
-                                 "<b>File → Import…</b> (Ctrl+O) to begin.</p>"));
+                                 "<b>File → Import…</b> (Ctrl+O), or open a project (Ctrl+Shift+O), to begin.</p>"));
 
   connect(m_ui->actionOpen, &QAction::triggered, this, &MainWindow::chooseFile);
   connect(m_ui->actionQuit, &QAction::triggered, this, &QWidget::close);
@@ -35,19 +53,57 @@ MainWindow::MainWindow(QWidget* parent)
   connect(m_ui->assetTree->selectionModel(), &QItemSelectionModel::currentChanged, this,
           [this](const QModelIndex& current) {
             QModelIndex top = current;
-            while (top.parent().isValid())
+            int clip = 0;
+            while (top.parent().isValid()) {
+              // A clip row (under "Clips") picks that clip.
+              if (top.parent().parent().isValid() && !top.parent().parent().parent().isValid() &&
+                  top.parent().row() == 1)
+                clip = top.row();
               top = top.parent();
-            if (const Asset* asset = m_assets->assetAt(top.row()))
+            }
+            if (const Asset* asset = m_assets->assetAt(top.row())) {
               showAsset(*asset);
+              m_document->setCurrentAsset(top.row(), std::min(clip, std::max(0, int(asset->clips.size()) - 1)));
+            }
           });
+  connect(m_ui->assetTree, &QTreeView::doubleClicked, this, [this](const QModelIndex& index) {
+    QModelIndex top = index;
+    while (top.parent().isValid())
+      top = top.parent();
+    if (!m_assets->isMissing(top.row()))
+      return;
+    const QString path = QFileDialog::getOpenFileName(this, tr("Where is %1 now?").arg(m_document->assetFilePath(top.row())));
+    if (!path.isEmpty())
+      m_document->relinkAsset(top.row(), path);
+  });
+  connect(m_document, &Document::assetsChanged, this, [this] {
+    QStringList paths;
+    for (int i = 0; i < m_document->assetCount(); ++i)
+      paths << m_document->assetFilePath(i);
+    std::vector<std::shared_ptr<const Asset>> assets;
+    for (int i = 0; i < m_document->assetCount(); ++i)
+      assets.push_back(m_document->asset(i));
+    m_assets->setAssets(assets, paths);
+    m_ui->assetTree->resizeColumnToContents(AssetTreeModel::NameColumn);
+    if (const Asset* asset = m_document->currentAssetPtr())
+      showAsset(*asset);
+  });
+  connect(m_document, &Document::message, this, &MainWindow::log);
 
   buildUnitMenu();
-  resizeDocks({m_ui->assetsDock}, {340}, Qt::Horizontal);
-  resizeDocks({m_ui->logDock}, {160}, Qt::Vertical);
+  buildDocks();
+  buildActions();
+  resizeDocks({m_ui->assetsDock, findChild<QDockWidget*>("clusteringDock")}, {470, 600}, Qt::Horizontal);
+  resizeDocks({m_ui->logDock}, {400}, Qt::Vertical);
+  resizeDocks({m_ui->logDock, findChild<QDockWidget*>("statisticsDock")}, {360, 1240}, Qt::Horizontal);
+  resizeDocks({m_ui->assetsDock, findChild<QDockWidget*>("skeletonDock"), findChild<QDockWidget*>("levelsDock")},
+              {160, 420, 200}, Qt::Vertical);
   QSettings settings;
   restoreGeometry(settings.value("mainWindow/geometry").toByteArray());
   restoreState(settings.value("mainWindow/state").toByteArray());
   statusBar()->showMessage(tr("Ready"));
+  refreshStatus();
+  refreshTitle();
 }
 
 MainWindow::~MainWindow() = default;
@@ -116,6 +172,7 @@ void MainWindow::importFileWithUnit(const QString& path, double unitScale) {
   statusBar()->showMessage(tr("Importing %1 …").arg(QFileInfo(path).fileName()));
   ImportOptions options;
   options.unitScale = unitScale;
+  m_pendingScale = unitScale;
   m_import->start(path, options);
   if (!m_progress) {
     m_progress = new QProgressDialog(this);
@@ -137,7 +194,8 @@ void MainWindow::cancelImport() { m_import->cancel(); }
 void MainWindow::onImported(const QString& path, std::shared_ptr<const Asset> asset) {
   if (m_progress)
     m_progress->reset();
-  const QModelIndex index = m_assets->addAsset(asset);
+  m_document->addAsset(asset, path, m_pendingScale);
+  const QModelIndex index = m_assets->index(m_assets->rowCount() - 1, 0);
   m_ui->assetTree->expand(index);
   m_ui->assetTree->setCurrentIndex(index);
   m_ui->assetTree->resizeColumnToContents(AssetTreeModel::NameColumn);
@@ -214,11 +272,405 @@ void MainWindow::showAbout() {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
+  m_autosave->discard(); // a clean close leaves nothing to recover
+  m_document->cancelAnalysis();
   QSettings settings;
   settings.setValue("mainWindow/geometry", saveGeometry());
   settings.setValue("mainWindow/state", saveState());
   cancelImport();
   QMainWindow::closeEvent(event);
+}
+
+// ---- docks, actions, views ----------------------------------------------------------
+
+QDockWidget* MainWindow::addDock(const QString& name, const QString& title, QWidget* widget, Qt::DockWidgetArea area) {
+  auto* dock = new QDockWidget(title, this);
+  dock->setObjectName(name); // saveState() keys the layout by it
+  dock->setWidget(widget);
+  addDockWidget(area, dock);
+  m_ui->menuView->addAction(dock->toggleViewAction());
+  return dock;
+}
+
+void MainWindow::buildDocks() {
+  // Skeleton: the joint tree with its delegates; multi-select edits every selected joint.
+  m_jointModel = new JointTreeModel(m_document, this);
+  m_skeletonView = new QTreeView;
+  m_skeletonView->setObjectName("skeletonView");
+  m_skeletonView->setModel(m_jointModel);
+  m_skeletonView->setItemDelegate(new JointDelegate(m_skeletonView));
+  m_skeletonView->setSelectionMode(QAbstractItemView::ExtendedSelection);
+  m_skeletonView->setSelectionBehavior(QAbstractItemView::SelectRows);
+  m_skeletonView->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed |
+                                  QAbstractItemView::SelectedClicked);
+  m_skeletonView->setUniformRowHeights(true);
+  m_skeletonView->header()->setStretchLastSection(false);
+  m_skeletonView->setToolTip(tr("Joints: α, threshold at the current level, lock and simplified %. Double-click or F2 to "
+                                "edit; the edit applies to every selected joint"));
+  m_jointModel->setSelectionProvider([this](int) { return selectedJoints(); });
+  connect(m_jointModel, &QAbstractItemModel::modelReset, this, [this] {
+    m_skeletonView->expandAll();
+    m_skeletonView->setColumnWidth(JointTreeModel::NameColumn, 200);
+    for (int column = 1; column < JointTreeModel::ColumnCount; ++column)
+      m_skeletonView->setColumnWidth(column, column == JointTreeModel::LockColumn ? 44 : 64);
+  });
+  connect(m_skeletonView->selectionModel(), &QItemSelectionModel::currentChanged, this,
+          [this](const QModelIndex& current) { m_document->setCurrentJoint(m_jointModel->jointAt(current)); });
+  addDock("skeletonDock", tr("Skeleton"), m_skeletonView, Qt::LeftDockWidgetArea);
+
+  // LOD levels, with the project's alpha beside them.
+  auto* levelsPanel = new QWidget;
+  auto* levelsLayout = new QVBoxLayout(levelsPanel);
+  levelsLayout->setContentsMargins(2, 2, 2, 2);
+  m_levelsModel = new LevelsModel(m_document, this);
+  m_levelsView = new QTableView;
+  m_levelsView->setObjectName("levelsView");
+  m_levelsView->setModel(m_levelsModel);
+  m_levelsView->setSelectionBehavior(QAbstractItemView::SelectRows);
+  m_levelsView->setSelectionMode(QAbstractItemView::SingleSelection);
+  m_levelsView->horizontalHeader()->setStretchLastSection(true);
+  m_levelsView->verticalHeader()->hide();
+  connect(m_levelsView->selectionModel(), &QItemSelectionModel::currentRowChanged, this,
+          [this](const QModelIndex& current) {
+            if (current.isValid())
+              m_document->setCurrentLevel(current.row());
+          });
+  levelsLayout->addWidget(m_levelsView);
+  auto* buttons = new QHBoxLayout;
+  const auto button = [&](const QString& name, const QString& text, const QString& tip) {
+    auto* b = new QToolButton;
+    b->setObjectName(name);
+    b->setText(text);
+    b->setToolTip(tip);
+    buttons->addWidget(b);
+    return b;
+  };
+  connect(button("addLevelButton", tr("+"), tr("Add a level (twice the last threshold) — Ctrl+Shift+L")), &QToolButton::clicked,
+          this, [this] { findChild<QAction*>("actionAddLevel")->trigger(); });
+  connect(button("removeLevelButton", tr("−"), tr("Remove the current level")), &QToolButton::clicked, this,
+          [this] { m_document->removeLevel(m_document->currentLevel()); });
+  connect(button("levelUpButton", tr("↑"), tr("Move the current level up")), &QToolButton::clicked, this, [this] {
+    const int level = m_document->currentLevel();
+    m_document->moveLevel(level, level - 1);
+  });
+  connect(button("levelDownButton", tr("↓"), tr("Move the current level down")), &QToolButton::clicked, this, [this] {
+    const int level = m_document->currentLevel();
+    m_document->moveLevel(level, level + 1);
+  });
+  buttons->addStretch();
+  buttons->addWidget(new QLabel(tr("α")));
+  m_alphaBox = new QDoubleSpinBox;
+  m_alphaBox->setObjectName("alphaBox");
+  m_alphaBox->setRange(0.0, 1000.0);
+  m_alphaBox->setDecimals(2);
+  m_alphaBox->setSingleStep(0.5);
+  m_alphaBox->setSuffix(tr(" cm"));
+  m_alphaBox->setValue(m_document->project().alpha);
+  m_alphaBox->setToolTip(tr("Orientation weight α of every joint without its own, cm (default 5)"));
+  connect(m_alphaBox, &QDoubleSpinBox::valueChanged, this, [this](double value) { m_document->setAlpha(value); });
+  buttons->addWidget(m_alphaBox);
+  levelsLayout->addLayout(buttons);
+  addDock("levelsDock", tr("LOD Levels"), levelsPanel, Qt::LeftDockWidgetArea);
+
+  m_clusteringView = new ClusteringTableView;
+  m_clusteringView->setObjectName("clusteringView");
+  QDockWidget* table = addDock("clusteringDock", tr("Clustering Table"), m_clusteringView, Qt::RightDockWidgetArea);
+  connect(m_clusteringView, &ClusteringTableView::hovered, this, [this](int t, int ref, double error) {
+    m_frameLabel->setText(tr("frame %1 · t_ref %2 · E %3 cm·°").arg(t).arg(ref).arg(error, 0, 'f', 2));
+  });
+  m_trajectoryView = new TrajectoryView;
+  m_trajectoryView->setObjectName("trajectoryView");
+  QDockWidget* trajectory = addDock("trajectoryDock", tr("Trajectory"), m_trajectoryView, Qt::RightDockWidgetArea);
+  splitDockWidget(table, trajectory, Qt::Vertical);
+  m_statisticsView = new StatisticsView;
+  m_statisticsView->setObjectName("statisticsView");
+  QDockWidget* statistics = addDock("statisticsDock", tr("Statistics"), m_statisticsView, Qt::BottomDockWidgetArea);
+  splitDockWidget(m_ui->logDock, statistics, Qt::Horizontal);
+
+  // The 3D viewport belongs to a later issue; its dock is here so layouts keep a place for it.
+  auto* viewport = new QLabel(tr("The 3D viewport (original and simplified side by side, crowd) is not built yet."));
+  viewport->setObjectName("viewportPlaceholder");
+  viewport->setAlignment(Qt::AlignCenter);
+  viewport->setWordWrap(true);
+  QDockWidget* viewportDock = addDock("viewportDock", tr("Viewport"), viewport, Qt::RightDockWidgetArea);
+  tabifyDockWidget(trajectory, viewportDock);
+  trajectory->raise();
+
+  m_clipLabel = new QLabel;
+  m_frameLabel = new QLabel;
+  m_levelLabel = new QLabel;
+  m_jointLabel = new QLabel;
+  m_clipLabel->setToolTip(tr("The clip in view"));
+  m_frameLabel->setToolTip(tr("The table entry under the cursor"));
+  m_levelLabel->setToolTip(tr("The LOD level every view shows (PgUp / PgDown)"));
+  m_jointLabel->setToolTip(tr("The selected joint at the current level: threshold (cm·degrees), simplified %, clusters, max E"));
+  for (QLabel* label : {m_clipLabel, m_frameLabel, m_levelLabel, m_jointLabel})
+    statusBar()->addPermanentWidget(label);
+
+  connect(m_document, &Document::currentChanged, this, &MainWindow::refreshViews);
+  connect(m_document, &Document::settingsChanged, this, [this] {
+    const QSignalBlocker block(m_alphaBox);
+    m_alphaBox->setValue(m_document->project().alpha);
+    refreshStatus();
+  });
+  connect(m_document, &Document::analysisFinished, this, [this](bool ok, const QString& message) {
+    if (m_analysisProgress)
+      m_analysisProgress->reset();
+    refreshViews();
+    if (ok && m_document->analysis())
+      statusBar()->showMessage(message, 4000);
+  });
+  connect(m_document, &Document::analysisStarted, this, [this] {
+    if (!m_analysisProgress) {
+      m_analysisProgress = new QProgressDialog(tr("Clustering joints …"), tr("Cancel"), 0, 100, this);
+      m_analysisProgress->setObjectName("analysisProgress");
+      m_analysisProgress->setWindowTitle(tr("Clustering"));
+      m_analysisProgress->setMinimumDuration(500); // quick edits never flash a dialog
+      m_analysisProgress->setAutoClose(false);
+      m_analysisProgress->setAutoReset(false);
+      connect(m_analysisProgress, &QProgressDialog::canceled, m_document, &Document::cancelAnalysis);
+    }
+    m_analysisProgress->reset();
+    m_analysisProgress->setValue(0);
+  });
+  connect(m_document, &Document::analysisProgress, this, [this](int done, int total) {
+    if (m_analysisProgress && m_document->isAnalysing() && total > 0)
+      m_analysisProgress->setValue(std::min(99, 100 * done / total));
+  });
+  connect(m_document->undoStack(), &QUndoStack::cleanChanged, this, &MainWindow::refreshTitle);
+}
+
+void MainWindow::buildActions() {
+  QUndoStack* stack = m_document->undoStack();
+  QAction* undo = stack->createUndoAction(this, tr("&Undo"));
+  undo->setObjectName("actionUndo");
+  undo->setShortcut(QKeySequence::Undo);
+  QAction* redo = stack->createRedoAction(this, tr("&Redo"));
+  redo->setObjectName("actionRedo");
+  redo->setShortcut(QKeySequence::Redo);
+  QMenu* edit = new QMenu(tr("&Edit"), this);
+  menuBar()->insertMenu(m_ui->menuView->menuAction(), edit);
+  edit->addAction(undo);
+  edit->addAction(redo);
+  edit->addSeparator();
+  const auto action = [&](QMenu* menu, const QString& name, const QString& text, const QKeySequence& key,
+                          const QString& tip, auto&& slot) {
+    auto* a = new QAction(text, this);
+    a->setObjectName(name);
+    a->setShortcut(key);
+    a->setToolTip(tip);
+    a->setStatusTip(tip);
+    connect(a, &QAction::triggered, this, slot);
+    menu->addAction(a);
+    addAction(a); // shortcuts work wherever the focus is
+    return a;
+  };
+  action(edit, "actionLockJoints", tr("&Lock / Unlock Selected Joints"), QKeySequence("Ctrl+L"),
+         tr("Locked joints are never simplified"), [this] {
+           const std::vector<int> joints = selectedJoints();
+           if (joints.empty())
+             return;
+           const auto& settings = m_document->project().assets[std::size_t(m_document->currentAsset())].joints;
+           const auto found = settings.find(m_document->currentAssetPtr()->skeleton.joints[std::size_t(joints[0])].name);
+           m_document->setJointsLocked(joints, !(found != settings.end() && found->second.locked));
+         });
+  action(edit, "actionApplyToChildren", tr("Apply to &Children"), QKeySequence("Ctrl+Shift+C"),
+         tr("Copy the current joint's α, thresholds and lock to all its descendants"),
+         [this] { m_document->applyToChildren(m_document->currentJoint()); });
+  action(edit, "actionClearJointThreshold", tr("Use the Level's &Threshold"), QKeySequence("Ctrl+Backspace"),
+         tr("Remove the selected joints' own threshold at the current level"),
+         [this] { m_document->setJointThreshold(selectedJoints(), m_document->currentLevel(), std::nullopt); });
+  edit->addSeparator();
+  action(edit, "actionAddLevel", tr("&Add Level"), QKeySequence("Ctrl+Shift+L"),
+         tr("Add a LOD level with twice the last threshold (cm·degrees)"), [this] {
+           const auto& levels = m_document->project().levelThresholds;
+           m_document->addLevel(levels.empty() || levels.back() <= 0.0 ? 5.0 : levels.back() * 2.0);
+         });
+  action(edit, "actionRemoveLevel", tr("&Remove Current Level"), QKeySequence(), tr("Remove the current LOD level"),
+         [this] { m_document->removeLevel(m_document->currentLevel()); });
+  action(edit, "actionNextLevel", tr("&Next Level"), QKeySequence(Qt::Key_PageDown), tr("Show the next LOD level"),
+         [this] { m_document->setCurrentLevel(m_document->currentLevel() + 1); });
+  action(edit, "actionPreviousLevel", tr("&Previous Level"), QKeySequence(Qt::Key_PageUp), tr("Show the previous LOD level"),
+         [this] { m_document->setCurrentLevel(m_document->currentLevel() - 1); });
+
+  // Projects, in the File menu above Import.
+  QMenu* file = m_ui->menuFile;
+  QAction* first = file->actions().value(0);
+  const auto fileAction = [&](const QString& name, const QString& text, const QKeySequence& key, const QString& tip,
+                              auto&& slot) {
+    auto* a = new QAction(text, this);
+    a->setObjectName(name);
+    a->setShortcut(key);
+    a->setToolTip(tip);
+    connect(a, &QAction::triggered, this, slot);
+    file->insertAction(first, a);
+    return a;
+  };
+  fileAction("actionOpenProject", tr("&Open Project…"), QKeySequence("Ctrl+Shift+O"), tr("Open a Motion LOD project (.mlod)"),
+             [this] {
+               const QString path = QFileDialog::getOpenFileName(this, tr("Open project"),
+                                                                 QSettings().value("project/lastDir").toString(),
+                                                                 tr("Motion LOD projects (*.mlod)"));
+               if (!path.isEmpty())
+                 openProject(path);
+             });
+  m_recentMenu = new QMenu(tr("Recent &Projects"), this);
+  m_recentMenu->setObjectName("menuRecent");
+  file->insertMenu(first, m_recentMenu);
+  const auto saveAs = [this] {
+    const QString path = QFileDialog::getSaveFileName(this, tr("Save project"), QSettings().value("project/lastDir").toString(),
+                                                      tr("Motion LOD projects (*.mlod)"));
+    if (!path.isEmpty())
+      saveProject(path.endsWith(".mlod") ? path : path + ".mlod");
+  };
+  fileAction("actionSave", tr("&Save Project"), QKeySequence::Save, tr("Save the project (atomically)"), [this, saveAs] {
+    if (m_document->fileName().isEmpty())
+      saveAs();
+    else
+      saveProject(m_document->fileName());
+  });
+  fileAction("actionSaveAs", tr("Save Project &As…"), QKeySequence::SaveAs, tr("Save the project under a new name"), saveAs);
+  file->insertSeparator(first);
+  refreshRecentMenu();
+}
+
+std::vector<int> MainWindow::selectedJoints() const {
+  std::vector<int> joints;
+  for (const QModelIndex& index : m_skeletonView->selectionModel()->selectedRows())
+    joints.push_back(m_jointModel->jointAt(index));
+  if (joints.empty() && m_document->currentJoint() >= 0)
+    joints.push_back(m_document->currentJoint());
+  std::sort(joints.begin(), joints.end());
+  return joints;
+}
+
+void MainWindow::refreshViews() {
+  const auto analysis = m_document->analysis();
+  const int joint = m_document->currentJoint();
+  const int level = m_document->currentLevel();
+  m_clusteringView->setAnalysis(analysis, joint, level);
+  m_trajectoryView->setAnalysis(analysis, joint, level);
+  m_statisticsView->setAnalysis(analysis, level);
+  const QModelIndex row = m_levelsModel->index(level, 0);
+  if (m_levelsView->currentIndex().row() != level) {
+    const QSignalBlocker block(m_levelsView->selectionModel());
+    m_levelsView->setCurrentIndex(row);
+  }
+  const QModelIndex jointIndex = m_jointModel->indexOfJoint(joint);
+  if (jointIndex.isValid() && m_skeletonView->currentIndex() != jointIndex &&
+      m_jointModel->jointAt(m_skeletonView->currentIndex()) != joint)
+    m_skeletonView->setCurrentIndex(jointIndex);
+  refreshStatus();
+}
+
+QString MainWindow::statusText() const {
+  return QStringList{m_clipLabel->text(), m_levelLabel->text(), m_jointLabel->text()}.join(" | ");
+}
+
+void MainWindow::refreshStatus() {
+  const Clip* clip = m_document->currentClipPtr();
+  m_clipLabel->setText(clip ? tr("%1 · %2 frames at %3 fps").arg(QString::fromStdString(clip->name)).arg(clip->frameCount).arg(clip->fps)
+                            : tr("no clip"));
+  const int level = m_document->currentLevel();
+  const auto& levels = m_document->project().levelThresholds;
+  m_levelLabel->setText(tr("L%1 · E = %2 cm·°").arg(level).arg(levels[std::size_t(level)]));
+  const auto analysis = m_document->analysis();
+  const int joint = m_document->currentJoint();
+  if (analysis && joint >= 0 && joint < analysis->prepared->jointCount() && level < analysis->levelCount()) {
+    const JointMetrics& m = analysis->levels[std::size_t(level)].joints[std::size_t(joint)];
+    m_jointLabel->setText(m.clusterable ? tr("%1: T %2 cm·°, %3% simplified, %4 clusters, max E %5 cm·°%6")
+                                              .arg(QString::fromStdString(analysis->prepared->jointName(joint)))
+                                              .arg(m.threshold)
+                                              .arg(m.simplifiedPercent, 0, 'f', 1)
+                                              .arg(m.clusters)
+                                              .arg(m.maxError, 0, 'f', 2)
+                                              .arg(m.locked ? tr(" (locked)") : QString())
+                                        : tr("%1: no rotation channel").arg(QString::fromStdString(analysis->prepared->jointName(joint))));
+  } else {
+    m_jointLabel->setText(tr("no joint selected"));
+  }
+}
+
+void MainWindow::refreshTitle() {
+  const QString name = m_document->fileName().isEmpty() ? tr("Untitled") : QFileInfo(m_document->fileName()).fileName();
+  setWindowTitle(tr("%1[*] — Motion LOD Studio").arg(name));
+  setWindowModified(m_document->isModified());
+}
+
+void MainWindow::refreshRecentMenu() {
+  m_recentMenu->clear();
+  const QStringList recent = QSettings().value("project/recent").toStringList();
+  for (const QString& path : recent)
+    m_recentMenu->addAction(QFileInfo(path).fileName(), this, [this, path] { openProject(path); })->setToolTip(path);
+  m_recentMenu->setEnabled(!recent.isEmpty());
+}
+
+void MainWindow::addRecent(const QString& path) {
+  QSettings settings;
+  QStringList recent = settings.value("project/recent").toStringList();
+  recent.removeAll(path);
+  recent.prepend(path);
+  while (recent.size() > 8)
+    recent.removeLast();
+  settings.setValue("project/recent", recent);
+  settings.setValue("project/lastDir", QFileInfo(path).absolutePath());
+  refreshRecentMenu();
+}
+
+void MainWindow::showError(const QString& title, const QString& text, const QString& detail) {
+  log(tr("error: %1").arg(detail));
+  // Non-modal, so scripted sessions and tests are never blocked by it.
+  auto* box = new QMessageBox(QMessageBox::Warning, title, text, QMessageBox::Ok, this);
+  box->setObjectName("errorBox");
+  box->setInformativeText(detail);
+  box->setAttribute(Qt::WA_DeleteOnClose);
+  box->open();
+}
+
+bool MainWindow::openProject(const QString& path) {
+  QString error;
+  if (!m_document->open(path, &error)) {
+    showError(tr("Cannot open project"), tr("%1 was not opened; nothing was changed.").arg(QFileInfo(path).fileName()),
+              tr("%1: %2").arg(path, error));
+    return false;
+  }
+  log(tr("Opened project %1").arg(path));
+  addRecent(QFileInfo(path).absoluteFilePath());
+  refreshTitle();
+  return true;
+}
+
+bool MainWindow::saveProject(const QString& path) {
+  QString error;
+  if (!m_document->save(path, &error)) {
+    showError(tr("Cannot save project"), tr("The project was not saved; the file on disk is as it was."),
+              tr("%1: %2").arg(path, error));
+    return false;
+  }
+  m_autosave->discard();
+  log(tr("Saved project %1").arg(path));
+  addRecent(QFileInfo(path).absoluteFilePath());
+  refreshTitle();
+  return true;
+}
+
+bool MainWindow::offerRecovery(bool ask) {
+  if (!m_autosave->hasRecovery())
+    return false;
+  if (ask && QMessageBox::question(this, tr("Recover unsaved work?"),
+                                   tr("The last session ended without saving. Recover its project from the autosave?")) !=
+                 QMessageBox::Yes) {
+    m_autosave->discard();
+    return false;
+  }
+  QString error;
+  if (!m_document->recover(m_autosave->path(), &error)) {
+    showError(tr("Cannot recover"), tr("The autosave could not be read; it was kept at %1.").arg(m_autosave->path()), error);
+    return false;
+  }
+  log(tr("Recovered the project from %1").arg(m_autosave->path()));
+  refreshTitle();
+  return true;
 }
 
 } // namespace mlod

@@ -1,6 +1,7 @@
 #pragma once
 // The studio's main window: builds the window, wires actions, restores the layout.
-// Work happens in ImportJob and the models; this class only connects them.
+// Work happens in the Document (edits, figures, files), ImportJob and the views; this class
+// only connects them.
 
 #include "core/asset.h"
 #include "io/import_options.h"
@@ -11,12 +12,25 @@
 
 namespace Ui { class MainWindow; }
 class QActionGroup;
+class QDockWidget;
+class QDoubleSpinBox;
+class QLabel;
+class QMenu;
 class QProgressDialog;
+class QTableView;
+class QTreeView;
 
 namespace mlod {
 
 class AssetTreeModel;
+class Autosave;
+class ClusteringTableView;
+class Document;
 class ImportJob;
+class JointTreeModel;
+class LevelsModel;
+class StatisticsView;
+class TrajectoryView;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -24,13 +38,33 @@ public:
   explicit MainWindow(QWidget* parent = nullptr);
   ~MainWindow() override;
 
+  Document* document() const { return m_document; }
   AssetTreeModel* assetModel() const { return m_assets; }
   ImportJob* importJob() const { return m_import; }
+  Autosave* autosave() const { return m_autosave; }
   bool isImporting() const;
   // cm per file unit for the next imports; 0 = each file's own (ImportOptions::unitScale).
   void setImportUnitScale(double cmPerUnit);
   double importUnitScale() const { return m_unitScale; }
   QString logText() const;
+
+  // The views, for tests and scripted checks.
+  QTreeView* skeletonView() const { return m_skeletonView; }
+  JointTreeModel* jointModel() const { return m_jointModel; }
+  QTableView* levelsView() const { return m_levelsView; }
+  ClusteringTableView* clusteringView() const { return m_clusteringView; }
+  TrajectoryView* trajectoryView() const { return m_trajectoryView; }
+  StatisticsView* statisticsView() const { return m_statisticsView; }
+  QDoubleSpinBox* alphaBox() const { return m_alphaBox; }
+  QProgressDialog* analysisProgress() const { return m_analysisProgress; }
+  QString statusText() const; // the permanent status-bar figures
+
+  // Projects: errors show in a non-modal message box and the log; the document is kept.
+  bool openProject(const QString& path);
+  bool saveProject(const QString& path);
+  // A recovery file left by a session that did not close cleanly: asks (unless `ask` is
+  // false) and opens it as an unsaved project.
+  bool offerRecovery(bool ask = true);
 
 public slots:
   // Imports a file in the background with the import unit chosen in the menu (or, when
@@ -53,13 +87,41 @@ private:
   void chooseFile();
   void showAbout();
   void buildUnitMenu();
+  void buildDocks();
+  void buildActions();
+  void refreshViews();
+  void refreshStatus();
+  void refreshTitle();
+  void refreshRecentMenu();
+  void addRecent(const QString& path);
+  void showError(const QString& title, const QString& text, const QString& detail);
+  std::vector<int> selectedJoints() const;
+  QDockWidget* addDock(const QString& name, const QString& title, QWidget* widget, Qt::DockWidgetArea area);
 
   std::unique_ptr<Ui::MainWindow> m_ui;
+  Document* m_document = nullptr;
   AssetTreeModel* m_assets = nullptr;
   ImportJob* m_import = nullptr;
+  Autosave* m_autosave = nullptr;
   QProgressDialog* m_progress = nullptr;
+  QProgressDialog* m_analysisProgress = nullptr;
   QActionGroup* m_unitGroup = nullptr;
   double m_unitScale = 0.0;
+  double m_pendingScale = 0.0;
+
+  QTreeView* m_skeletonView = nullptr;
+  JointTreeModel* m_jointModel = nullptr;
+  QTableView* m_levelsView = nullptr;
+  LevelsModel* m_levelsModel = nullptr;
+  ClusteringTableView* m_clusteringView = nullptr;
+  TrajectoryView* m_trajectoryView = nullptr;
+  StatisticsView* m_statisticsView = nullptr;
+  QDoubleSpinBox* m_alphaBox = nullptr;
+  QMenu* m_recentMenu = nullptr;
+  QLabel* m_clipLabel = nullptr;
+  QLabel* m_frameLabel = nullptr;
+  QLabel* m_levelLabel = nullptr;
+  QLabel* m_jointLabel = nullptr;
 };
 
 } // namespace mlod

@@ -29,9 +29,10 @@ AssetTreeModel::AssetTreeModel(QObject* parent) : QStandardItemModel(0, ColumnCo
 QModelIndex AssetTreeModel::addAsset(const std::shared_ptr<const Asset>& asset) {
   m_assets.push_back(asset);
   const QString file = QString::fromStdString(asset->sourcePath);
+  const QString kind = asset->meshes.empty() ? tr("motion") : tr("character");
   QList<QStandardItem*> top =
       row(QFileInfo(file).fileName(),
-          tr("%1 cm/unit · %2").arg(asset->unitScale).arg(QString::fromStdString(asset->format)),
+          tr("%1 · %2 cm/unit · %3").arg(kind).arg(asset->unitScale).arg(QString::fromStdString(asset->format)),
           tr("%1\nUnit: %2 cm per file unit (%3)").arg(file).arg(asset->unitScale).arg(QString::fromStdString(asset->unitSource)));
 
   const Skeleton& skeleton = asset->skeleton;
@@ -64,6 +65,26 @@ QModelIndex AssetTreeModel::addAsset(const std::shared_ptr<const Asset>& asset) 
   top.front()->appendRow(meshesRow);
   appendRow(top);
   return indexFromItem(top.front());
+}
+
+void AssetTreeModel::setAssets(const std::vector<std::shared_ptr<const Asset>>& assets, const QStringList& paths) {
+  removeRows(0, rowCount());
+  m_assets.clear();
+  for (std::size_t i = 0; i < assets.size(); ++i) {
+    if (assets[i]) {
+      addAsset(assets[i]);
+      continue;
+    }
+    const QString path = i < std::size_t(paths.size()) ? paths[qsizetype(i)] : QString();
+    QList<QStandardItem*> missing = row(QFileInfo(path).fileName(), tr("missing: double-click to relink"),
+                                        tr("%1 was not found or could not be imported.\nDouble-click to choose "
+                                           "where the file is now.")
+                                            .arg(path));
+    missing.front()->setForeground(QColor(200, 40, 40));
+    missing.back()->setForeground(QColor(200, 40, 40));
+    appendRow(missing);
+    m_assets.push_back(nullptr);
+  }
 }
 
 const Asset* AssetTreeModel::assetAt(int rowIndex) const {

@@ -21,6 +21,10 @@ public:
 
   // Adds a row for the asset and returns its index.
   QModelIndex addAsset(const std::shared_ptr<const Asset>& asset);
+  // Replaces every row: one per asset, in order; a null asset is a missing file at `paths[i]`
+  // (its row says so and how to relink it).
+  void setAssets(const std::vector<std::shared_ptr<const Asset>>& assets, const QStringList& paths);
+  bool isMissing(int row) const { return row >= 0 && row < assetCount() && !m_assets[std::size_t(row)]; }
   const Asset* assetAt(int row) const;
   int assetCount() const { return static_cast<int>(m_assets.size()); }
 

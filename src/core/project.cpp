@@ -1,0 +1,231 @@
+#include "core/project.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace mlod {
+
+using nlohmann::json;
+
+JpcSettings Project::jpcSettings(int asset, double unitScale) const {
+  JpcSettings settings;
+  settings.alpha = alpha;
+  settings.mode = mode;
+  settings.zeroLength = 1e-6 * unitScale; // DESIGN.md section 4: 1e-6 file units
+  if (asset >= 0 && asset < static_cast<int>(assets.size()))
+    settings.joints = assets[static_cast<std::size_t>(asset)].joints;
+  return settings;
+}
+
+namespace {
+bool nonNegative(double value) { return std::isfinite(value) && value >= 0.0; }
+} // namespace
+
+Error Project::validate() const {
+  if (!nonNegative(alpha))
+    return Error("alpha must be a finite number >= 0 (cm)");
+  if (levelThresholds.empty())
+    return Error("a project needs at least one LOD level");
+  for (std::size_t i = 0; i < levelThresholds.size(); ++i)
+    if (Error error = validateThreshold(levelThresholds[i], "level " + std::to_string(i) + " threshold"))
+      return error;
+  for (std::size_t a = 0; a < assets.size(); ++a) {
+    const ProjectAsset& asset = assets[a];
+    const std::string where = "asset " + std::to_string(a);
+    if (asset.path.empty())
+      return Error(where + " has no path");
+    if (!nonNegative(asset.unitScale))
+      return Error(where + ": unit scale must be a finite number >= 0 (cm per file unit)");
+    for (const auto& [name, joint] : asset.joints) {
+      if (joint.alpha && !nonNegative(*joint.alpha))
+        return Error(where + ", joint " + name + ": alpha must be a finite number >= 0 (cm)");
+      for (const std::optional<double>& threshold : joint.thresholds)
+        if (threshold && !nonNegative(*threshold))
+          return Error(where + ", joint " + name + ": a threshold must be a finite number >= 0 (cm·degrees)");
+    }
+  }
+  return {};
+}
+
+std::string projectToJson(const Project& project, int indent) {
+  json doc;
+  doc["format"] = kProjectFormat;
+  doc["version"] = kProjectVersion;
+  doc["alpha"] = project.alpha;
+  doc["mode"] = toString(project.mode);
+  json levels = json::array();
+  for (double threshold : project.levelThresholds)
+    levels.push_back({{"threshold", threshold}});
+  doc["levels"] = std::move(levels);
+  json assets = json::array();
+  for (const ProjectAsset& asset : project.assets) {
+    json joints = json::object();
+    for (const auto& [name, settings] : asset.joints) {
+      json entry;
+      entry["alpha"] = settings.alpha ? json(*settings.alpha) : json(nullptr);
+      json thresholds = json::array();
+      for (const std::optional<double>& t : settings.thresholds)
+        thresholds.push_back(t ? json(*t) : json(nullptr));
+      entry["thresholds"] = std::move(thresholds);
+      entry["locked"] = settings.locked;
+      joints[name] = std::move(entry);
+    }
+    assets.push_back({{"path", asset.path}, {"unit_scale", asset.unitScale}, {"joints", std::move(joints)}});
+  }
+  doc["assets"] = std::move(assets);
+  doc["current"] = {{"asset", project.view.asset},
+                    {"clip", project.view.clip},
+                    {"level", project.view.level},
+                    {"joint", project.view.joint}};
+  return doc.dump(indent);
+}
+
+namespace {
+// Field access that names what is wrong instead of throwing nlohmann's type_error at callers.
+const json& field(const json& object, const char* key, const std::string& where) {
+  if (!object.is_object() || !object.contains(key))
+    throw std::runtime_error(where + " has no \"" + key + "\"");
+  return object.at(key);
+}
+double number(const json& value, const std::string& what) {
+  if (!value.is_number())
+    throw std::runtime_error(what + " is not a number");
+  return value.get<double>();
+}
+std::optional<double> optionalNumber(const json& value, const std::string& what) {
+  if (value.is_null())
+    return std::nullopt;
+  return number(value, what);
+}
+int integer(const json& value, const std::string& what) {
+  if (!value.is_number_integer())
+    throw std::runtime_error(what + " is not an integer");
+  return value.get<int>();
+}
+std::string text(const json& value, const std::string& what) {
+  if (!value.is_string())
+    throw std::runtime_error(what + " is not a string");
+  return value.get<std::string>();
+}
+} // namespace
+
+Result<Project> projectFromJson(std::string_view textIn) {
+  const json doc = json::parse(textIn, nullptr, false);
+  if (doc.is_discarded())
+    return Error("not a Motion LOD project: the file is not valid JSON");
+  if (!doc.is_object() || !doc.contains("format") || doc["format"] != kProjectFormat)
+    return Error("not a Motion LOD project (no \"format\": \"motionlod-project\")");
+  if (!doc.contains("version") || !doc["version"].is_number_integer())
+    return Error("the project has no version number");
+  const int version = doc["version"].get<int>();
+  if (version > kProjectVersion)
+    return Error("the project is version " + std::to_string(version) + ", made by a newer Motion LOD Studio; this one reads up to version " +
+                 std::to_string(kProjectVersion));
+  if (version < 1)
+    return Error("the project version " + std::to_string(version) + " is not valid");
+  Project project;
+  try {
+    project.alpha = number(field(doc, "alpha", "the project"), "alpha");
+    const std::string mode = text(field(doc, "mode", "the project"), "mode");
+    const std::optional<JpcMode> parsed = parseJpcMode(mode);
+    if (!parsed)
+      return Error("mode '" + mode + "' is neither greedy nor optimal");
+    project.mode = *parsed;
+    const json& levels = field(doc, "levels", "the project");
+    if (!levels.is_array())
+      return Error("\"levels\" is not a list");
+    project.levelThresholds.clear();
+    for (std::size_t i = 0; i < levels.size(); ++i)
+      project.levelThresholds.push_back(
+          number(field(levels[i], "threshold", "level " + std::to_string(i)), "level " + std::to_string(i) + " threshold"));
+    const json& assets = field(doc, "assets", "the project");
+    if (!assets.is_array())
+      return Error("\"assets\" is not a list");
+    for (std::size_t a = 0; a < assets.size(); ++a) {
+      const std::string where = "asset " + std::to_string(a);
+      ProjectAsset asset;
+      asset.path = text(field(assets[a], "path", where), where + " path");
+      asset.unitScale = number(field(assets[a], "unit_scale", where), where + " unit_scale");
+      const json& joints = field(assets[a], "joints", where);
+      if (!joints.is_object())
+        return Error(where + " \"joints\" is not an object");
+      for (const auto& [name, entry] : joints.items()) {
+        const std::string jointWhere = where + ", joint " + name;
+        JointSettings settings;
+        settings.alpha = optionalNumber(field(entry, "alpha", jointWhere), jointWhere + " alpha");
+        const json& thresholds = field(entry, "thresholds", jointWhere);
+        if (!thresholds.is_array())
+          return Error(jointWhere + " \"thresholds\" is not a list");
+        for (const json& t : thresholds)
+          settings.thresholds.push_back(optionalNumber(t, jointWhere + " threshold"));
+        const json& locked = field(entry, "locked", jointWhere);
+        if (!locked.is_boolean())
+          return Error(jointWhere + " \"locked\" is not true or false");
+        settings.locked = locked.get<bool>();
+        asset.joints[name] = std::move(settings);
+      }
+      project.assets.push_back(std::move(asset));
+    }
+    if (doc.contains("current")) {
+      const json& current = doc["current"];
+      project.view.asset = integer(field(current, "asset", "\"current\""), "current asset");
+      project.view.clip = integer(field(current, "clip", "\"current\""), "current clip");
+      project.view.level = integer(field(current, "level", "\"current\""), "current level");
+      project.view.joint = text(field(current, "joint", "\"current\""), "current joint");
+    }
+  } catch (const std::exception& error) {
+    return Error(error.what());
+  }
+  if (Error error = project.validate())
+    return error;
+  return project;
+}
+
+Result<Project> loadProjectFile(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in)
+    return Error("cannot be opened for reading");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (buffer.str().empty())
+    return Error("the file is empty");
+  return projectFromJson(buffer.str());
+}
+
+std::string storedAssetPath(const std::filesystem::path& projectFile, const std::filesystem::path& assetFile) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::absolute(projectFile).parent_path().lexically_normal();
+  const fs::path asset = fs::absolute(assetFile).lexically_normal();
+  if (asset.root_name() != folder.root_name())
+    return asset.generic_string();
+  const fs::path relative = asset.lexically_relative(folder);
+  return relative.empty() ? asset.generic_string() : relative.generic_string();
+}
+
+std::filesystem::path resolveAssetPath(const std::filesystem::path& projectFile, const std::string& stored) {
+  namespace fs = std::filesystem;
+  const fs::path path(stored);
+  if (path.is_absolute())
+    return path.lexically_normal();
+  return (fs::absolute(projectFile).parent_path() / path).lexically_normal();
+}
+
+void remapLevels(Project& project, const std::vector<int>& order, const std::vector<double>& thresholds) {
+  assert(order.size() == thresholds.size());
+  for (ProjectAsset& asset : project.assets)
+    for (auto& [name, settings] : asset.joints) {
+      std::vector<std::optional<double>> remapped(order.size());
+      for (std::size_t i = 0; i < order.size(); ++i)
+        if (order[i] >= 0 && order[i] < static_cast<int>(settings.thresholds.size()))
+          remapped[i] = settings.thresholds[static_cast<std::size_t>(order[i])];
+      while (!remapped.empty() && !remapped.back())
+        remapped.pop_back();
+      settings.thresholds = std::move(remapped);
+    }
+  project.levelThresholds = thresholds;
+}
+
+} // namespace mlod

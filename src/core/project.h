@@ -1,0 +1,90 @@
+#pragma once
+// The project document (DESIGN.md section 3): which assets, how their joints are tuned, and
+// the LOD levels, saved as versioned JSON (.mlod). No Qt: the editor and the CLI both read
+// it, so `motionlod simplify PROJECT.mlod` reproduces the editor's figures.
+//
+// Units: thresholds in cm·degrees, alpha in cm, unit scale in cm per file unit.
+//
+// LOD levels: until the core LodSet type exists, a level is its motion threshold alone
+// (level i clusters at levelThresholds[i]; the "Original" column is no level). Mesh ratio
+// and switch distance arrive with LodSet.
+
+#include "core/error.h"
+#include "core/jpc/jpc_settings.h"
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mlod {
+
+// Version 1: {"format":"motionlod-project","version":1,"alpha","mode","levels":[{"threshold"}],
+//             "assets":[{"path","unit_scale","joints":{NAME:{"alpha","thresholds":[E|null],"locked"}}}],
+//             "current":{"asset","clip","level","joint"}}
+inline constexpr int kProjectVersion = 1;
+inline constexpr const char* kProjectFormat = "motionlod-project";
+
+// Per-joint settings compare by value (JointSettings has no operator== of its own).
+inline bool operator==(const JointSettings& a, const JointSettings& b) {
+  return a.alpha == b.alpha && a.thresholds == b.thresholds && a.locked == b.locked;
+}
+
+struct ProjectAsset {
+  // Where the file is: relative to the project file's folder when saved ('/' separators),
+  // absolute or relative to the working directory in memory until then.
+  std::string path;
+  double unitScale = 0.0;                      // cm per file unit; 0 = the file's own (ImportOptions)
+  std::map<std::string, JointSettings> joints; // per-joint tuning by joint name
+  friend bool operator==(const ProjectAsset&, const ProjectAsset&) = default;
+};
+
+// What the editor had in view (restored on open; not part of any figure).
+struct ProjectView {
+  int asset = -1;
+  int clip = 0;
+  int level = 0;
+  std::string joint;
+  friend bool operator==(const ProjectView&, const ProjectView&) = default;
+};
+
+struct Project {
+  std::vector<ProjectAsset> assets;
+  double alpha = kDefaultJpcAlpha; // cm, every joint without its own
+  JpcMode mode = JpcMode::Greedy;
+  std::vector<double> levelThresholds = {5.0, 50.0, 100.0, 300.0}; // per LOD level, cm·degrees (Table 1)
+  ProjectView view;
+
+  // The JPC settings of one asset whose file unit is `unitScale` cm (for the zero-length
+  // rule, 1e-6 file units): the project's alpha and mode, the asset's joints.
+  JpcSettings jpcSettings(int asset, double unitScale) const;
+
+  // Rules: alpha finite and >= 0; at least one level; every level threshold finite and
+  // >= 0; every asset has a path and a unit scale finite and >= 0; every per-joint alpha
+  // and threshold finite and >= 0.
+  Error validate() const;
+
+  friend bool operator==(const Project&, const Project&) = default;
+};
+
+// The project as JSON text (version kProjectVersion).
+std::string projectToJson(const Project& project, int indent = 2);
+// Reads what projectToJson() wrote. Errors: not JSON, not a project, a version newer than
+// kProjectVersion ("made by a newer Motion LOD Studio"), a missing or mistyped field, or
+// values that do not validate.
+Result<Project> projectFromJson(std::string_view text);
+// Reads a .mlod file (errors name what is wrong, never the path: callers add it).
+Result<Project> loadProjectFile(const std::filesystem::path& file);
+
+// An asset path as stored in a project saved at `projectFile`: relative to its folder,
+// with '/' separators (absolute when on another root).
+std::string storedAssetPath(const std::filesystem::path& projectFile, const std::filesystem::path& assetFile);
+// The file a stored path names for a project at `projectFile`.
+std::filesystem::path resolveAssetPath(const std::filesystem::path& projectFile, const std::string& stored);
+
+// A project's levels after an edit of the level list: per-joint threshold overrides follow
+// their level. `order[i]` is the old index of new level i, or -1 for a new level.
+void remapLevels(Project& project, const std::vector<int>& order, const std::vector<double>& thresholds);
+
+} // namespace mlod

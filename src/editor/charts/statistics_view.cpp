@@ -1,0 +1,181 @@
+#include "editor/charts/statistics_view.h"
+
+#include <QBarCategoryAxis>
+#include <QBarSeries>
+#include <QBarSet>
+#include <QChart>
+#include <QChartView>
+#include <QHeaderView>
+#include <QLineSeries>
+#include <QSplitter>
+#include <QTabWidget>
+#include <QTableWidget>
+#include <QVBoxLayout>
+#include <QValueAxis>
+
+namespace mlod {
+
+StatisticsView::StatisticsView(QWidget* parent)
+    : QWidget(parent), m_table(new QTableWidget(this)), m_tabs(new QTabWidget(this)), m_jointView(new QChartView(this)),
+      m_frameView(new QChartView(this)), m_errorView(new QChartView(this)) {
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  auto* splitter = new QSplitter(Qt::Vertical, this);
+  layout->addWidget(splitter);
+  splitter->addWidget(m_table);
+  splitter->addWidget(m_tabs);
+  splitter->setStretchFactor(1, 2);
+  splitter->setSizes({170, 400});
+  m_table->setObjectName("table1");
+  m_table->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  m_table->setRowCount(RowCount);
+  m_table->setVerticalHeaderLabels({tr("Simplified joints %"), tr("Clusters"), tr("Max E (cm·°)"),
+                                    tr("Max joint position error (cm)"), tr("Mean joint position error (cm)")});
+  m_table->verticalHeaderItem(SimplifiedRow)->setToolTip(tr("100 × clustered joint-frames / (clusterable joints × frames): the paper's Table 1"));
+  m_table->verticalHeaderItem(MaxErrorRow)->setToolTip(tr("Largest E(t, key) over the clustered frames, cm·degrees"));
+  m_table->verticalHeaderItem(MaxPositionRow)->setToolTip(tr("Forward kinematics of the simplified motion against the original, every joint and frame, cm"));
+  m_table->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  m_table->setToolTip(tr("The paper's Table 1 for the clip in view; `motionlod simplify` prints the same figures"));
+  for (QChartView* view : {m_jointView, m_frameView, m_errorView}) {
+    view->setRenderHint(QPainter::Antialiasing);
+    view->chart()->legend()->hide();
+    view->chart()->setMargins(QMargins(4, 4, 4, 4));
+  }
+  m_tabs->addTab(m_jointView, tr("Per joint"));
+  m_tabs->addTab(m_frameView, tr("Per frame"));
+  m_tabs->addTab(m_errorView, tr("Position error"));
+  m_jointView->setToolTip(tr("Simplified frames per joint at the current level, % of the clip"));
+  m_frameView->setToolTip(tr("Joints frozen at a key posture per frame, at the current level"));
+  m_errorView->setToolTip(tr("Max joint-position error of each level, cm (forward kinematics)"));
+}
+
+QChart* StatisticsView::jointChart() const { return m_jointView->chart(); }
+QChart* StatisticsView::frameChart() const { return m_frameView->chart(); }
+QChart* StatisticsView::errorChart() const { return m_errorView->chart(); }
+
+void StatisticsView::setAnalysis(std::shared_ptr<const Analysis> analysis, int level) {
+  m_analysis = std::move(analysis);
+  m_level = level;
+  fillTable();
+  fillCharts();
+}
+
+void StatisticsView::fillTable() {
+  const int levels = m_analysis ? m_analysis->levelCount() : 0;
+  m_table->setColumnCount(levels + 1);
+  QStringList headers{tr("Original")};
+  for (int l = 0; l < levels; ++l)
+    headers << tr("L%1 E=%2").arg(l).arg(m_analysis->levels[static_cast<std::size_t>(l)].threshold);
+  m_table->setHorizontalHeaderLabels(headers);
+  const auto set = [&](int row, int column, const QString& text) {
+    auto* item = new QTableWidgetItem(text);
+    item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+    if (column - 1 == m_level) {
+      QFont bold = item->font();
+      bold.setBold(true);
+      item->setFont(bold);
+    }
+    m_table->setItem(row, column, item);
+  };
+  // The Original column is no simplification: zero by definition.
+  for (const auto& [row, text] : {std::pair{SimplifiedRow, "0.0"}, {ClustersRow, "0"}, {MaxErrorRow, "0"},
+                                  {MaxPositionRow, "0"}, {MeanPositionRow, "0"}})
+    set(row, 0, text);
+  for (int l = 0; l < levels; ++l) {
+    const JpcLevelResult& r = m_analysis->levels[static_cast<std::size_t>(l)];
+    set(SimplifiedRow, l + 1, QString::number(r.simplifiedPercent, 'f', 1));
+    set(ClustersRow, l + 1, QString::number(r.clusterCount));
+    set(MaxErrorRow, l + 1, QString::number(r.maxError, 'f', 2));
+    set(MaxPositionRow, l + 1, QString::number(r.maxJointPositionErrorCm, 'f', 3));
+    set(MeanPositionRow, l + 1, QString::number(r.meanJointPositionErrorCm, 'f', 3));
+  }
+}
+
+void StatisticsView::fillCharts() {
+  for (QChartView* view : {m_jointView, m_frameView, m_errorView}) {
+    view->chart()->removeAllSeries();
+    for (QAbstractAxis* axis : view->chart()->axes())
+      view->chart()->removeAxis(axis);
+  }
+  if (!m_analysis || m_level >= m_analysis->levelCount())
+    return;
+  const JpcLevelResult& level = m_analysis->levels[static_cast<std::size_t>(m_level)];
+  const JpcClip& jpc = *m_analysis->prepared;
+
+  // Simplified % per clusterable joint.
+  auto* perJoint = new QBarSet(tr("simplified %"));
+  QStringList names;
+  for (int j = 0; j < jpc.jointCount(); ++j)
+    if (jpc.clusterable(j)) {
+      *perJoint << level.joints[static_cast<std::size_t>(j)].simplifiedPercent;
+      names << QString::fromStdString(jpc.jointName(j));
+    }
+  auto* bars = new QBarSeries;
+  bars->append(perJoint);
+  QChart* chart = m_jointView->chart();
+  chart->addSeries(bars);
+  auto* categories = new QBarCategoryAxis;
+  categories->append(names);
+  categories->setLabelsAngle(-90);
+  auto* percent = new QValueAxis;
+  percent->setRange(0, 100);
+  percent->setTitleText(tr("%"));
+  chart->addAxis(categories, Qt::AlignBottom);
+  chart->addAxis(percent, Qt::AlignLeft);
+  bars->attachAxis(categories);
+  bars->attachAxis(percent);
+  chart->setTitle(tr("Simplified %, level %1 (E = %2)").arg(m_level).arg(level.threshold));
+
+  // Joints frozen per frame.
+  auto* line = new QLineSeries;
+  const ClusterSet& clusters = level.clusters;
+  std::vector<int> perFrame(static_cast<std::size_t>(clusters.frameCount), 0);
+  for (const auto& joint : clusters.joints)
+    for (const Cluster& cluster : joint)
+      for (int t = cluster.first; t <= cluster.last; ++t)
+        ++perFrame[static_cast<std::size_t>(t)];
+  for (std::size_t t = 0; t < perFrame.size(); ++t)
+    line->append(static_cast<qreal>(t), perFrame[t]);
+  chart = m_frameView->chart();
+  chart->addSeries(line);
+  auto* frameAxis = new QValueAxis;
+  frameAxis->setRange(0, std::max(1, clusters.frameCount - 1));
+  frameAxis->setTitleText(tr("frame"));
+  frameAxis->setLabelFormat("%d");
+  auto* countAxis = new QValueAxis;
+  countAxis->setRange(0, jpc.clusterableCount());
+  countAxis->setTitleText(tr("simplified joints"));
+  countAxis->setLabelFormat("%d");
+  chart->addAxis(frameAxis, Qt::AlignBottom);
+  chart->addAxis(countAxis, Qt::AlignLeft);
+  line->attachAxis(frameAxis);
+  line->attachAxis(countAxis);
+  chart->setTitle(tr("Simplified joints per frame, level %1").arg(m_level));
+
+  // Max joint-position error per level.
+  auto* errors = new QBarSet(tr("max cm"));
+  QStringList levels;
+  double largest = 0.0;
+  for (int l = 0; l < m_analysis->levelCount(); ++l) {
+    const double cm = m_analysis->levels[static_cast<std::size_t>(l)].maxJointPositionErrorCm;
+    *errors << cm;
+    largest = std::max(largest, cm);
+    levels << tr("L%1").arg(l);
+  }
+  auto* errorBars = new QBarSeries;
+  errorBars->append(errors);
+  chart = m_errorView->chart();
+  chart->addSeries(errorBars);
+  auto* levelAxis = new QBarCategoryAxis;
+  levelAxis->append(levels);
+  auto* cmAxis = new QValueAxis;
+  cmAxis->setRange(0, largest > 0 ? largest * 1.1 : 1.0);
+  cmAxis->setTitleText(tr("cm"));
+  chart->addAxis(levelAxis, Qt::AlignBottom);
+  chart->addAxis(cmAxis, Qt::AlignLeft);
+  errorBars->attachAxis(levelAxis);
+  errorBars->attachAxis(cmAxis);
+  chart->setTitle(tr("Max joint-position error per level (cm)"));
+}
+
+} // namespace mlod

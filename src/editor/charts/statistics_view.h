@@ -1,0 +1,43 @@
+#pragma once
+// The Statistics dock: the paper's Table 1 for the clip in view at every level (formatted as
+// `motionlod simplify` prints it) and three charts: simplified % per joint at the current
+// level, simplified joints per frame over time, max joint-position error per level (cm).
+
+#include "editor/document/analysis.h"
+
+#include <QWidget>
+
+#include <memory>
+
+class QTableWidget;
+class QTabWidget;
+class QChartView;
+class QChart;
+
+namespace mlod {
+
+class StatisticsView : public QWidget {
+  Q_OBJECT
+public:
+  enum Row { SimplifiedRow, ClustersRow, MaxErrorRow, MaxPositionRow, MeanPositionRow, RowCount };
+  explicit StatisticsView(QWidget* parent = nullptr);
+  void setAnalysis(std::shared_ptr<const Analysis> analysis, int level);
+  QTableWidget* table() const { return m_table; }
+  QChart* jointChart() const;
+  QChart* frameChart() const;
+  QChart* errorChart() const;
+
+private:
+  void fillTable();
+  void fillCharts();
+
+  std::shared_ptr<const Analysis> m_analysis;
+  int m_level = 0;
+  QTableWidget* m_table;
+  QTabWidget* m_tabs;
+  QChartView* m_jointView;
+  QChartView* m_frameView;
+  QChartView* m_errorView;
+};
+
+} // namespace mlod

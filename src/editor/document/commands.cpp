@@ -1,0 +1,65 @@
+#include "editor/document/commands.h"
+
+#include "editor/document/document.h"
+
+namespace mlod {
+
+SetJointSettings::SetJointSettings(Document* document, int asset, Settings before, Settings after, const QString& text,
+                                   int id, std::vector<int> mergeKey)
+    : QUndoCommand(text), m_document(document), m_asset(asset), m_before(std::move(before)), m_after(std::move(after)),
+      m_id(id), m_mergeKey(std::move(mergeKey)) {}
+
+void SetJointSettings::undo() { m_document->setJointSettings(m_asset, m_before); }
+void SetJointSettings::redo() { m_document->setJointSettings(m_asset, m_after); }
+
+bool SetJointSettings::mergeWith(const QUndoCommand* other) {
+  const auto* next = static_cast<const SetJointSettings*>(other);
+  if (next->m_asset != m_asset || next->m_mergeKey != m_mergeKey)
+    return false;
+  m_after = next->m_after;
+  setObsolete(m_after == m_before);
+  return true;
+}
+
+SetLevels::SetLevels(Document* document, State before, State after, const QString& text, int id, int level)
+    : QUndoCommand(text), m_document(document), m_before(std::move(before)), m_after(std::move(after)), m_id(id),
+      m_level(level) {}
+
+void SetLevels::undo() { m_document->setLevels(m_before.thresholds, m_before.joints); }
+void SetLevels::redo() { m_document->setLevels(m_after.thresholds, m_after.joints); }
+
+bool SetLevels::mergeWith(const QUndoCommand* other) {
+  const auto* next = static_cast<const SetLevels*>(other);
+  if (next->m_level != m_level || next->m_after.thresholds.size() != m_after.thresholds.size())
+    return false;
+  m_after = next->m_after;
+  setObsolete(m_after.thresholds == m_before.thresholds && m_after.joints == m_before.joints);
+  return true;
+}
+
+SetAlpha::SetAlpha(Document* document, double before, double after)
+    : QUndoCommand(QObject::tr("Set alpha to %1 cm").arg(after)), m_document(document), m_before(before),
+      m_after(after) {}
+
+void SetAlpha::undo() { m_document->setProjectAlpha(m_before); }
+void SetAlpha::redo() { m_document->setProjectAlpha(m_after); }
+
+bool SetAlpha::mergeWith(const QUndoCommand* other) {
+  m_after = static_cast<const SetAlpha*>(other)->m_after;
+  setText(QObject::tr("Set alpha to %1 cm").arg(m_after));
+  setObsolete(m_after == m_before);
+  return true;
+}
+
+ChangeAssets::ChangeAssets(Document* document, int index, ProjectAsset entry, std::shared_ptr<const Asset> asset,
+                           bool remove)
+    : QUndoCommand(remove ? QObject::tr("Remove %1").arg(QString::fromStdString(entry.path))
+                          : QObject::tr("Import %1").arg(QString::fromStdString(entry.path))),
+      m_document(document), m_index(index), m_entry(std::move(entry)), m_asset(std::move(asset)), m_remove(remove) {}
+
+void ChangeAssets::add() { m_document->insertAsset(m_index, m_entry, m_asset); }
+void ChangeAssets::erase() { m_document->eraseAsset(m_index); }
+void ChangeAssets::undo() { m_remove ? add() : erase(); }
+void ChangeAssets::redo() { m_remove ? erase() : add(); }
+
+} // namespace mlod

@@ -1,0 +1,535 @@
+#include "editor/document/document.h"
+
+#include "editor/document/commands.h"
+#include "editor/import_job.h"
+
+#include <QDateTime>
+#include <QDir>
+#include <QFileInfo>
+#include <QSaveFile>
+#include <QtConcurrent>
+
+#include <algorithm>
+
+namespace mlod {
+
+Document::Document(QObject* parent) : QObject(parent), m_undo(new QUndoStack(this)), m_loader(new ImportJob(this)) {
+  connect(&m_watcher, &QFutureWatcherBase::finished, this, &Document::onAnalysisDone);
+  connect(m_loader, &ImportJob::finished, this, [this](const QString& path, std::shared_ptr<const Asset> asset) {
+    if (!m_toLoad.empty()) {
+      const int index = m_toLoad.front();
+      m_toLoad.erase(m_toLoad.begin());
+      m_assets[static_cast<std::size_t>(index)] = std::move(asset);
+      emit message(tr("Loaded %1").arg(path));
+      emit assetsChanged();
+      if (index == currentAsset() || currentAsset() < 0) {
+        if (currentAsset() < 0)
+          m_project.view.asset = index;
+        requestAnalysis();
+        emit currentChanged();
+      }
+    }
+    importNextMissing();
+  });
+  connect(m_loader, &ImportJob::failed, this, [this](const QString& path, const QString& reason) {
+    if (!m_toLoad.empty())
+      m_toLoad.erase(m_toLoad.begin());
+    emit message(tr("warning: %1: %2 (relink it in the Assets dock)").arg(path, reason));
+    m_openMessage += tr("%1 is missing: %2\n").arg(path, reason);
+    importNextMissing();
+  });
+}
+
+Document::~Document() {
+  if (m_cancel)
+    m_cancel->store(true);
+  m_watcher.waitForFinished();
+}
+
+QString Document::assetFilePath(int index) const {
+  const std::string& stored = m_project.assets[static_cast<std::size_t>(index)].path;
+  if (m_fileName.isEmpty())
+    return QFileInfo(QString::fromStdString(stored)).absoluteFilePath();
+  return QString::fromStdString(resolveAssetPath(m_fileName.toStdString(), stored).string());
+}
+
+const Asset* Document::currentAssetPtr() const {
+  const int index = currentAsset();
+  return index >= 0 && index < assetCount() ? m_assets[static_cast<std::size_t>(index)].get() : nullptr;
+}
+
+const Clip* Document::currentClipPtr() const {
+  const Asset* a = currentAssetPtr();
+  if (!a || currentClip() < 0 || currentClip() >= static_cast<int>(a->clips.size()))
+    return nullptr;
+  return &a->clips[static_cast<std::size_t>(currentClip())];
+}
+
+void Document::setCurrentAsset(int asset, int clip) {
+  if (asset == currentAsset() && clip == currentClip())
+    return;
+  m_project.view.asset = asset;
+  m_project.view.clip = clip;
+  m_currentJoint = -1;
+  m_project.view.joint.clear();
+  m_analysis.reset();
+  requestAnalysis();
+  emit currentChanged();
+}
+
+void Document::setCurrentLevel(int level) {
+  level = std::clamp(level, 0, static_cast<int>(m_project.levelThresholds.size()) - 1);
+  if (level == currentLevel())
+    return;
+  m_project.view.level = level;
+  emit currentChanged();
+}
+
+void Document::setCurrentJoint(int joint) {
+  if (joint == m_currentJoint)
+    return;
+  m_currentJoint = joint;
+  m_project.view.joint = jointName(joint);
+  emit currentChanged();
+}
+
+std::string Document::jointName(int joint) const {
+  const Asset* a = currentAssetPtr();
+  return a && joint >= 0 && joint < a->skeleton.jointCount() ? a->skeleton.joints[static_cast<std::size_t>(joint)].name
+                                                              : std::string();
+}
+
+// ---- intents ------------------------------------------------------------------------
+
+void Document::addAsset(std::shared_ptr<const Asset> asset, const QString& path, double unitScale) {
+  ProjectAsset entry;
+  entry.path = QFileInfo(path).absoluteFilePath().toStdString();
+  if (!m_fileName.isEmpty())
+    entry.path = storedAssetPath(m_fileName.toStdString(), entry.path);
+  entry.unitScale = unitScale;
+  m_undo->push(new ChangeAssets(this, assetCount(), std::move(entry), std::move(asset), false));
+}
+
+void Document::removeAsset(int index) {
+  if (index < 0 || index >= assetCount())
+    return;
+  m_undo->push(new ChangeAssets(this, index, m_project.assets[static_cast<std::size_t>(index)],
+                                m_assets[static_cast<std::size_t>(index)], true));
+}
+
+void Document::setAlpha(double alpha) {
+  if (alpha != m_project.alpha && std::isfinite(alpha) && alpha >= 0.0)
+    m_undo->push(new SetAlpha(this, m_project.alpha, alpha));
+}
+
+namespace {
+// Drops entries that say nothing (all defaults) so projects stay small and compare equal.
+void tidy(std::map<std::string, JointSettings>& joints) {
+  for (auto it = joints.begin(); it != joints.end();) {
+    auto& t = it->second.thresholds;
+    while (!t.empty() && !t.back())
+      t.pop_back();
+    if (!it->second.alpha && t.empty() && !it->second.locked)
+      it = joints.erase(it);
+    else
+      ++it;
+  }
+}
+} // namespace
+
+void Document::setJointAlpha(const std::vector<int>& joints, std::optional<double> alpha) {
+  if (currentAsset() < 0 || joints.empty())
+    return;
+  auto after = jointSettings(currentAsset());
+  for (int joint : joints)
+    after[jointName(joint)].alpha = alpha;
+  tidy(after);
+  if (after == jointSettings(currentAsset()))
+    return;
+  const QString text = joints.size() == 1 ? tr("Set alpha of %1").arg(QString::fromStdString(jointName(joints[0])))
+                                          : tr("Set alpha of %1 joints").arg(joints.size());
+  m_undo->push(new SetJointSettings(this, currentAsset(), jointSettings(currentAsset()), std::move(after), text,
+                                    kCommandSetJointAlpha, joints));
+}
+
+void Document::setJointThreshold(const std::vector<int>& joints, int level, std::optional<double> threshold) {
+  if (currentAsset() < 0 || joints.empty() || level < 0 || level >= static_cast<int>(m_project.levelThresholds.size()))
+    return;
+  auto after = jointSettings(currentAsset());
+  for (int joint : joints) {
+    auto& t = after[jointName(joint)].thresholds;
+    if (static_cast<int>(t.size()) <= level)
+      t.resize(static_cast<std::size_t>(level) + 1);
+    t[static_cast<std::size_t>(level)] = threshold;
+  }
+  tidy(after);
+  if (after == jointSettings(currentAsset()))
+    return;
+  std::vector<int> key = joints;
+  key.push_back(-1 - level);
+  const QString text = joints.size() == 1
+                           ? tr("Set threshold of %1 at level %2").arg(QString::fromStdString(jointName(joints[0]))).arg(level)
+                           : tr("Set threshold of %1 joints at level %2").arg(joints.size()).arg(level);
+  m_undo->push(new SetJointSettings(this, currentAsset(), jointSettings(currentAsset()), std::move(after), text,
+                                    kCommandSetJointThreshold, std::move(key)));
+}
+
+void Document::setJointsLocked(const std::vector<int>& joints, bool locked) {
+  if (currentAsset() < 0 || joints.empty())
+    return;
+  auto after = jointSettings(currentAsset());
+  for (int joint : joints)
+    after[jointName(joint)].locked = locked;
+  tidy(after);
+  if (after == jointSettings(currentAsset()))
+    return;
+  const QString what = joints.size() == 1 ? QString::fromStdString(jointName(joints[0])) : tr("%1 joints").arg(joints.size());
+  m_undo->push(new SetJointSettings(this, currentAsset(), jointSettings(currentAsset()), std::move(after),
+                                    locked ? tr("Lock %1").arg(what) : tr("Unlock %1").arg(what)));
+}
+
+void Document::applyToChildren(int joint) {
+  const Asset* a = currentAssetPtr();
+  if (!a || joint < 0 || joint >= a->skeleton.jointCount())
+    return;
+  auto after = jointSettings(currentAsset());
+  const auto found = after.find(jointName(joint));
+  const JointSettings source = found != after.end() ? found->second : JointSettings{};
+  std::vector<int> stack = a->skeleton.children(joint);
+  while (!stack.empty()) {
+    const int child = stack.back();
+    stack.pop_back();
+    after[jointName(child)] = source;
+    for (int grandChild : a->skeleton.children(child))
+      stack.push_back(grandChild);
+  }
+  tidy(after);
+  if (after == jointSettings(currentAsset()))
+    return;
+  m_undo->push(new SetJointSettings(this, currentAsset(), jointSettings(currentAsset()), std::move(after),
+                                    tr("Apply %1's settings to its children").arg(QString::fromStdString(jointName(joint)))));
+}
+
+namespace {
+SetLevels::State levelState(const Project& project) {
+  SetLevels::State state;
+  state.thresholds = project.levelThresholds;
+  for (const ProjectAsset& asset : project.assets)
+    state.joints.push_back(asset.joints);
+  return state;
+}
+SetLevels::State remapped(const Project& project, const std::vector<int>& order, const std::vector<double>& thresholds) {
+  Project copy = project;
+  remapLevels(copy, order, thresholds);
+  return levelState(copy);
+}
+} // namespace
+
+void Document::addLevel(double threshold) {
+  if (!std::isfinite(threshold) || threshold < 0.0)
+    return;
+  std::vector<int> order(m_project.levelThresholds.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = static_cast<int>(i);
+  std::vector<double> thresholds = m_project.levelThresholds;
+  order.push_back(-1);
+  thresholds.push_back(threshold);
+  m_undo->push(new SetLevels(this, levelState(m_project), remapped(m_project, order, thresholds),
+                             tr("Add level %1 (E = %2)").arg(thresholds.size() - 1).arg(threshold)));
+}
+
+void Document::removeLevel(int level) {
+  const int count = static_cast<int>(m_project.levelThresholds.size());
+  if (count <= 1 || level < 0 || level >= count)
+    return;
+  std::vector<int> order;
+  std::vector<double> thresholds;
+  for (int i = 0; i < count; ++i)
+    if (i != level) {
+      order.push_back(i);
+      thresholds.push_back(m_project.levelThresholds[static_cast<std::size_t>(i)]);
+    }
+  m_undo->push(new SetLevels(this, levelState(m_project), remapped(m_project, order, thresholds),
+                             tr("Remove level %1").arg(level)));
+}
+
+void Document::moveLevel(int from, int to) {
+  const int count = static_cast<int>(m_project.levelThresholds.size());
+  if (from < 0 || from >= count || to < 0 || to >= count || from == to)
+    return;
+  std::vector<int> order(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i)
+    order[static_cast<std::size_t>(i)] = i;
+  const int moved = order[static_cast<std::size_t>(from)];
+  order.erase(order.begin() + from);
+  order.insert(order.begin() + to, moved);
+  std::vector<double> thresholds;
+  for (int i : order)
+    thresholds.push_back(m_project.levelThresholds[static_cast<std::size_t>(i)]);
+  m_undo->push(new SetLevels(this, levelState(m_project), remapped(m_project, order, thresholds),
+                             tr("Move level %1 to %2").arg(from).arg(to)));
+}
+
+void Document::setLevelThreshold(int level, double threshold) {
+  const int count = static_cast<int>(m_project.levelThresholds.size());
+  if (level < 0 || level >= count || !std::isfinite(threshold) || threshold < 0.0 ||
+      m_project.levelThresholds[static_cast<std::size_t>(level)] == threshold)
+    return;
+  SetLevels::State after = levelState(m_project);
+  after.thresholds[static_cast<std::size_t>(level)] = threshold;
+  m_undo->push(new SetLevels(this, levelState(m_project), std::move(after),
+                             tr("Set level %1 threshold to %2").arg(level).arg(threshold), kCommandSetLevelThreshold,
+                             level));
+}
+
+// ---- setters for commands -----------------------------------------------------------
+
+std::map<std::string, JointSettings> Document::jointSettings(int asset) const {
+  return m_project.assets[static_cast<std::size_t>(asset)].joints;
+}
+
+void Document::setProjectAlpha(double alpha) {
+  m_project.alpha = alpha;
+  emit settingsChanged();
+  requestAnalysis();
+}
+
+void Document::setJointSettings(int asset, const std::map<std::string, JointSettings>& joints) {
+  m_project.assets[static_cast<std::size_t>(asset)].joints = joints;
+  emit settingsChanged();
+  if (asset == currentAsset())
+    requestAnalysis();
+}
+
+void Document::setLevels(const std::vector<double>& thresholds,
+                         const std::vector<std::map<std::string, JointSettings>>& joints) {
+  m_project.levelThresholds = thresholds;
+  for (std::size_t a = 0; a < joints.size() && a < m_project.assets.size(); ++a)
+    m_project.assets[a].joints = joints[a];
+  m_project.view.level = std::clamp(m_project.view.level, 0, static_cast<int>(thresholds.size()) - 1);
+  emit settingsChanged();
+  emit currentChanged();
+  requestAnalysis();
+}
+
+void Document::insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset) {
+  m_project.assets.insert(m_project.assets.begin() + index, entry);
+  m_assets.insert(m_assets.begin() + index, std::move(asset));
+  emit assetsChanged();
+  if (currentAsset() >= index)
+    ++m_project.view.asset;
+  if (currentAsset() < 0 || !currentAssetPtr() || currentAssetPtr()->clips.empty())
+    setCurrentAsset(index, 0);
+}
+
+void Document::eraseAsset(int index) {
+  m_project.assets.erase(m_project.assets.begin() + index);
+  m_assets.erase(m_assets.begin() + index);
+  emit assetsChanged();
+  if (currentAsset() == index)
+    setCurrentAsset(assetCount() > 0 ? 0 : -1, 0);
+  else if (currentAsset() > index)
+    --m_project.view.asset;
+}
+
+// ---- analysis -----------------------------------------------------------------------
+
+void Document::requestAnalysis() {
+  m_requestedAt = QDateTime::currentMSecsSinceEpoch();
+  if (m_running) {
+    m_pending = true;
+    return;
+  }
+  startAnalysis();
+}
+
+void Document::startAnalysis() {
+  m_pending = false;
+  const Asset* a = currentAssetPtr();
+  if (!a || currentClip() < 0 || currentClip() >= static_cast<int>(a->clips.size())) {
+    m_analysis.reset();
+    emit analysisFinished(false, tr("no clip in view"));
+    return;
+  }
+  AnalysisRequest request;
+  request.asset = m_assets[static_cast<std::size_t>(currentAsset())];
+  request.clip = currentClip();
+  request.settings = m_project.jpcSettings(currentAsset(), a->unitScale);
+  request.levelThresholds = m_project.levelThresholds;
+  if (m_analysis && m_analysis->asset == request.asset && m_analysis->clip == request.clip &&
+      m_analysis->levelThresholds == request.levelThresholds && m_analysis->settings.alpha == request.settings.alpha &&
+      m_analysis->settings.mode == request.settings.mode && m_analysis->settings.joints == request.settings.joints) {
+    emit analysisFinished(true, tr("figures unchanged"));
+    return;
+  }
+  m_running = true;
+  m_jobCommand = m_undo->index() > 0 ? m_undo->command(m_undo->index() - 1) : nullptr;
+  m_cancel = std::make_shared<std::atomic<bool>>(false);
+  m_jobError = std::make_shared<std::string>();
+  emit analysisStarted();
+  QPointer<Document> self(this);
+  auto progress = [self](int done, int total) {
+    QMetaObject::invokeMethod(
+        self.data(), [self, done, total] {
+          if (self)
+            emit self->analysisProgress(done, total);
+        },
+        Qt::QueuedConnection);
+  };
+  m_watcher.setFuture(QtConcurrent::run([request, previous = m_analysis, cancel = m_cancel, error = m_jobError,
+                                         hook = m_hook, progress]() {
+    if (hook)
+      hook(*cancel);
+    return buildAnalysis(request, previous, *cancel, progress, *error);
+  }));
+}
+
+void Document::onAnalysisDone() {
+  m_running = false;
+  std::shared_ptr<const Analysis> result = m_watcher.result();
+  const bool cancelled = m_cancel && m_cancel->load();
+  const bool ok = result != nullptr;
+  if (ok && !cancelled) {
+    m_analysis = std::move(result);
+    m_lastMs = static_cast<double>(QDateTime::currentMSecsSinceEpoch() - m_requestedAt);
+  }
+  if (m_pending && !cancelled) {
+    startAnalysis();
+    return;
+  }
+  if (cancelled) {
+    // The edit whose figures were being computed is taken back: the document is as before.
+    m_pending = false;
+    const int index = m_undo->index();
+    if (m_jobCommand && index > 0 && m_undo->command(index - 1) == m_jobCommand) {
+      const_cast<QUndoCommand*>(m_jobCommand)->setObsolete(true);
+      m_undo->undo();
+    }
+    m_jobCommand = nullptr;
+    emit message(tr("Clustering cancelled; the last edit was taken back"));
+    emit analysisFinished(false, tr("cancelled"));
+    return;
+  }
+  m_jobCommand = nullptr;
+  if (!ok) {
+    emit message(tr("warning: clustering failed: %1").arg(QString::fromStdString(*m_jobError)));
+    emit analysisFinished(false, QString::fromStdString(*m_jobError));
+    return;
+  }
+  emit analysisFinished(true, tr("%1 joint clusterings in %2 ms").arg(m_analysis->clusteredPairs).arg(m_lastMs));
+}
+
+void Document::cancelAnalysis() {
+  if (m_running && m_cancel)
+    m_cancel->store(true);
+}
+
+// ---- files --------------------------------------------------------------------------
+
+namespace {
+bool writeAtomically(const QString& path, const std::string& text, QString* out_error) {
+  QSaveFile file(path);
+  if (!file.open(QIODevice::WriteOnly)) {
+    if (out_error)
+      *out_error = file.errorString();
+    return false;
+  }
+  file.write(text.data(), static_cast<qint64>(text.size()));
+  if (!file.commit()) {
+    if (out_error)
+      *out_error = file.errorString();
+    return false;
+  }
+  return true;
+}
+} // namespace
+
+bool Document::save(const QString& path, QString* out_error) {
+  Project copy = m_project;
+  const std::string target = QFileInfo(path).absoluteFilePath().toStdString();
+  for (int i = 0; i < assetCount(); ++i)
+    copy.assets[static_cast<std::size_t>(i)].path = storedAssetPath(target, assetFilePath(i).toStdString());
+  if (!writeAtomically(path, projectToJson(copy), out_error))
+    return false;
+  m_project = std::move(copy);
+  m_fileName = QFileInfo(path).absoluteFilePath();
+  m_undo->setClean();
+  return true;
+}
+
+bool Document::saveRecovery(const QString& path, QString* out_error) const {
+  Project copy = m_project;
+  const std::string target = QFileInfo(path).absoluteFilePath().toStdString();
+  for (int i = 0; i < assetCount(); ++i) // absolute: the recovery file lives elsewhere
+    copy.assets[static_cast<std::size_t>(i)].path = QFileInfo(assetFilePath(i)).absoluteFilePath().toStdString();
+  (void)target;
+  return writeAtomically(path, projectToJson(copy), out_error);
+}
+
+bool Document::open(const QString& path, QString* out_error) {
+  Result<Project> loaded = loadProjectFile(QFileInfo(path).absoluteFilePath().toStdString());
+  if (!loaded) {
+    if (out_error)
+      *out_error = QString::fromStdString(loaded.message());
+    return false;
+  }
+  cancelAnalysis();
+  m_watcher.waitForFinished();
+  m_running = false;
+  m_undo->clear();
+  m_project = std::move(loaded).value();
+  m_fileName = QFileInfo(path).absoluteFilePath();
+  m_assets.assign(m_project.assets.size(), nullptr);
+  m_analysis.reset();
+  m_currentJoint = -1;
+  m_openMessage.clear();
+  m_toLoad.clear();
+  for (int i = 0; i < assetCount(); ++i)
+    m_toLoad.push_back(i);
+  emit assetsChanged();
+  emit settingsChanged();
+  emit currentChanged();
+  importNextMissing();
+  return true;
+}
+
+bool Document::recover(const QString& path, QString* out_error) {
+  if (!open(path, out_error))
+    return false;
+  m_fileName.clear(); // the recovery file is no home for the project: Save asks where
+  m_undo->resetClean();
+  return true;
+}
+
+bool Document::isLoading() const { return !m_toLoad.empty() || m_loader->isRunning(); }
+
+void Document::relinkAsset(int index, const QString& path) {
+  if (index < 0 || index >= assetCount() || m_loader->isRunning())
+    return;
+  // Relinking changes where the file is, not what the project figures are: no undo step.
+  m_project.assets[static_cast<std::size_t>(index)].path =
+      m_fileName.isEmpty() ? QFileInfo(path).absoluteFilePath().toStdString()
+                           : storedAssetPath(m_fileName.toStdString(), QFileInfo(path).absoluteFilePath().toStdString());
+  m_toLoad = {index};
+  m_openMessage.clear();
+  importNextMissing();
+}
+
+void Document::importNextMissing() {
+  if (m_loader->isRunning())
+    return;
+  if (m_toLoad.empty()) {
+    if (m_project.view.joint.size() && currentAssetPtr()) {
+      m_currentJoint = currentAssetPtr()->skeleton.find(m_project.view.joint);
+      emit currentChanged();
+    }
+    emit projectOpened(m_openMessage.isEmpty(), m_openMessage.trimmed());
+    return;
+  }
+  const int index = m_toLoad.front();
+  ImportOptions options;
+  options.unitScale = m_project.assets[static_cast<std::size_t>(index)].unitScale;
+  m_loader->start(assetFilePath(index), options);
+}
+
+} // namespace mlod

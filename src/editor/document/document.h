@@ -1,0 +1,132 @@
+#pragma once
+// The open project: the core Project, the imported assets it names, the undo stack every
+// edit goes through, what is in view (asset, clip, level, joint) and the JPC figures of
+// the clip in view (re-clustered off the UI thread after each edit, only where the edit
+// reached). Views read it and call its intents; commands (commands.h) call its setters.
+
+#include "core/asset.h"
+#include "core/project.h"
+#include "editor/document/analysis.h"
+
+#include <QFutureWatcher>
+#include <QObject>
+#include <QString>
+#include <QUndoStack>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace mlod {
+
+class ImportJob;
+
+class Document : public QObject {
+  Q_OBJECT
+public:
+  explicit Document(QObject* parent = nullptr);
+  ~Document() override;
+
+  const Project& project() const { return m_project; }
+  QUndoStack* undoStack() const { return m_undo; }
+  QString fileName() const { return m_fileName; } // empty until saved or opened
+  bool isModified() const { return !m_undo->isClean(); }
+
+  // Assets, parallel to project().assets; null where the file is missing (relink it).
+  int assetCount() const { return static_cast<int>(m_assets.size()); }
+  std::shared_ptr<const Asset> asset(int index) const { return m_assets[static_cast<std::size_t>(index)]; }
+  QString assetFilePath(int index) const; // absolute
+
+  // What is in view. The current joint is a skeleton index of the current asset, or -1.
+  int currentAsset() const { return m_project.view.asset; }
+  int currentClip() const { return m_project.view.clip; }
+  int currentLevel() const { return m_project.view.level; }
+  int currentJoint() const { return m_currentJoint; }
+  const Asset* currentAssetPtr() const;
+  const Clip* currentClipPtr() const;
+  void setCurrentAsset(int asset, int clip = 0);
+  void setCurrentLevel(int level);
+  void setCurrentJoint(int joint);
+
+  // The figures of the clip in view; null before the first clustering lands.
+  std::shared_ptr<const Analysis> analysis() const { return m_analysis; }
+  bool isAnalysing() const { return m_running; }
+  double lastAnalysisMilliseconds() const { return m_lastMs; } // edit to figures, ms
+  void cancelAnalysis();
+  // Test hook: runs on the worker before any clustering, with the cancel flag.
+  void setWorkerHook(std::function<void(const std::atomic<bool>&)> hook) { m_hook = std::move(hook); }
+
+  // Intents: each pushes one command (merged with the previous one for slider drags).
+  void addAsset(std::shared_ptr<const Asset> asset, const QString& path, double unitScale);
+  void removeAsset(int index);
+  void setAlpha(double alpha);
+  void setJointAlpha(const std::vector<int>& joints, std::optional<double> alpha);
+  void setJointThreshold(const std::vector<int>& joints, int level, std::optional<double> threshold);
+  void setJointsLocked(const std::vector<int>& joints, bool locked);
+  void applyToChildren(int joint); // copies the joint's settings to every descendant
+  void addLevel(double threshold);
+  void removeLevel(int level);
+  void moveLevel(int from, int to);
+  void setLevelThreshold(int level, double threshold);
+
+  // Files. save() writes atomically (QSaveFile); open() reads the project and imports
+  // its assets in the background (projectOpened() follows). Errors leave the document as it was.
+  bool save(const QString& path, QString* out_error = nullptr);
+  bool open(const QString& path, QString* out_error = nullptr);
+  bool saveRecovery(const QString& path, QString* out_error = nullptr) const; // the autosave copy
+  // Opens a recovery file as an unsaved project (no file name, modified).
+  bool recover(const QString& path, QString* out_error = nullptr);
+  // Relinks a missing asset to `path` (imported in the background; assetsChanged() follows).
+  void relinkAsset(int index, const QString& path);
+  bool isLoading() const;
+
+  // Setters for commands (no undo; they notify the views).
+  void setProjectAlpha(double alpha);
+  void setJointSettings(int asset, const std::map<std::string, JointSettings>& joints);
+  void setLevels(const std::vector<double>& thresholds, const std::vector<std::map<std::string, JointSettings>>& joints);
+  void insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);
+  void eraseAsset(int index);
+  std::map<std::string, JointSettings> jointSettings(int asset) const;
+
+signals:
+  void assetsChanged();
+  void settingsChanged();      // alpha, joint settings or levels
+  void currentChanged();       // asset, clip, level or joint in view
+  void analysisStarted();
+  void analysisProgress(int done, int total);
+  void analysisFinished(bool ok, const QString& message); // ok = new figures in analysis()
+  void projectOpened(bool ok, const QString& message);
+  void message(const QString& line); // for the log
+
+private:
+  void requestAnalysis();
+  void startAnalysis();
+  void onAnalysisDone();
+  void importNextMissing();
+  std::string jointName(int joint) const;
+
+  Project m_project;
+  std::vector<std::shared_ptr<const Asset>> m_assets;
+  QUndoStack* m_undo = nullptr;
+  QString m_fileName;
+  int m_currentJoint = -1;
+
+  std::shared_ptr<const Analysis> m_analysis;
+  QFutureWatcher<std::shared_ptr<const Analysis>> m_watcher;
+  std::shared_ptr<std::atomic<bool>> m_cancel;
+  std::shared_ptr<std::string> m_jobError;
+  std::function<void(const std::atomic<bool>&)> m_hook;
+  bool m_running = false;
+  bool m_pending = false;
+  const QUndoCommand* m_jobCommand = nullptr; // the command whose figures the job computes
+  qint64 m_requestedAt = 0;
+  double m_lastMs = 0.0;
+
+  ImportJob* m_loader = nullptr;
+  std::vector<int> m_toLoad; // asset indices still to import after open()/relink
+  QString m_openMessage;
+};
+
+} // namespace mlod
