@@ -291,14 +291,14 @@ std::map<std::string, JointSettings> Document::jointSettings(int asset) const {
 void Document::setProjectAlpha(double alpha) {
   m_project.alpha = alpha;
   emit settingsChanged();
-  requestAnalysis();
+  requestAnalysis(true);
 }
 
 void Document::setJointSettings(int asset, const std::map<std::string, JointSettings>& joints) {
   m_project.assets[static_cast<std::size_t>(asset)].joints = joints;
   emit settingsChanged();
   if (asset == currentAsset())
-    requestAnalysis();
+    requestAnalysis(true);
 }
 
 void Document::setLevels(const std::vector<double>& thresholds,
@@ -309,7 +309,7 @@ void Document::setLevels(const std::vector<double>& thresholds,
   m_project.view.level = std::clamp(m_project.view.level, 0, static_cast<int>(thresholds.size()) - 1);
   emit settingsChanged();
   emit currentChanged();
-  requestAnalysis();
+  requestAnalysis(true);
 }
 
 void Document::insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset) {
@@ -334,12 +334,14 @@ void Document::eraseAsset(int index) {
 
 // ---- analysis -----------------------------------------------------------------------
 
-void Document::requestAnalysis() {
+void Document::requestAnalysis(bool fromEdit) {
   m_requestedAt = QDateTime::currentMSecsSinceEpoch();
   if (m_running) {
     m_pending = true;
+    m_pendingFromEdit = m_pendingFromEdit || fromEdit;
     return;
   }
+  m_pendingFromEdit = fromEdit;
   startAnalysis();
 }
 
@@ -363,7 +365,8 @@ void Document::startAnalysis() {
     return;
   }
   m_running = true;
-  m_jobCommand = m_undo->index() > 0 ? m_undo->command(m_undo->index() - 1) : nullptr;
+  m_jobFromEdit = m_pendingFromEdit;
+  m_pendingFromEdit = false;
   m_cancel = std::make_shared<std::atomic<bool>>(false);
   m_jobError = std::make_shared<std::string>();
   emit analysisStarted();
@@ -400,17 +403,21 @@ void Document::onAnalysisDone() {
   if (cancelled) {
     // The edit whose figures were being computed is taken back: the document is as before.
     m_pending = false;
-    const int index = m_undo->index();
-    if (m_jobCommand && index > 0 && m_undo->command(index - 1) == m_jobCommand) {
-      const_cast<QUndoCommand*>(m_jobCommand)->setObsolete(true);
+    // The command is complete on the stack by now (push() runs redo() before adding it).
+    // Undo it, then drop it from the redo side: pushing a command truncates the redo tail,
+    // and an obsolete one is deleted instead of added.
+    if (m_jobFromEdit && m_undo->canUndo()) {
       m_undo->undo();
+      auto* drop = new QUndoCommand;
+      drop->setObsolete(true);
+      m_undo->push(drop);
     }
-    m_jobCommand = nullptr;
+    m_jobFromEdit = false;
     emit message(tr("Clustering cancelled; the last edit was taken back"));
     emit analysisFinished(false, tr("cancelled"));
     return;
   }
-  m_jobCommand = nullptr;
+  m_jobFromEdit = false;
   if (!ok) {
     emit message(tr("warning: clustering failed: %1").arg(QString::fromStdString(*m_jobError)));
     emit analysisFinished(false, QString::fromStdString(*m_jobError));

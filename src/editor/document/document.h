@@ -101,7 +101,8 @@ signals:
   void message(const QString& line); // for the log
 
 private:
-  void requestAnalysis();
+  // `fromEdit`: an edit (a command's setter) asks; cancelling its job takes the edit back.
+  void requestAnalysis(bool fromEdit = false);
   void startAnalysis();
   void onAnalysisDone();
   void importNextMissing();
@@ -120,7 +121,8 @@ private:
   std::function<void(const std::atomic<bool>&)> m_hook;
   bool m_running = false;
   bool m_pending = false;
-  const QUndoCommand* m_jobCommand = nullptr; // the command whose figures the job computes
+  bool m_jobFromEdit = false;     // the running job computes the figures of the last edit
+  bool m_pendingFromEdit = false; // likewise for the request waiting behind it
   qint64 m_requestedAt = 0;
   double m_lastMs = 0.0;
 

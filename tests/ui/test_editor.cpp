@@ -1,0 +1,625 @@
+// Qt Test driving the editor as a technical artist does: select joints, edit thresholds
+// through the delegate, undo, lock, levels, projects (save, reopen, refuse, recover,
+// relink), cancel, the Table 1 view against `motionlod simplify`, layout restore.
+// Every figure compared is the document's own (no timed assertions).
+
+#include "core/project.h"
+#include "editor/charts/statistics_view.h"
+#include "editor/document/autosave.h"
+#include "editor/document/document.h"
+#include "editor/main_window.h"
+#include "editor/models/asset_tree.h"
+#include "editor/models/joint_tree_model.h"
+#include "editor/views/clustering_table_view.h"
+#include "editor/views/trajectory_view.h"
+
+#include <QAbstractButton>
+#include <QChart>
+#include <QCheckBox>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
+#include <QFile>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QMessageBox>
+#include <QProcess>
+#include <QProgressDialog>
+#include <QPushButton>
+#include <QSignalSpy>
+#include <QTableView>
+#include <QTableWidget>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QToolButton>
+#include <QTreeView>
+#include <QUndoStack>
+
+using namespace mlod;
+
+namespace {
+
+// The figures a technical artist reads, per level: Table 1 and per joint.
+struct Figures {
+  std::vector<double> values;
+  bool operator==(const Figures&) const = default;
+};
+
+Figures figuresOf(const Document& document) {
+  Figures out;
+  const auto analysis = document.analysis();
+  if (!analysis)
+    return out;
+  for (const JpcLevelResult& level : analysis->levels) {
+    out.values.insert(out.values.end(), {level.threshold, level.simplifiedPercent, double(level.clusterCount),
+                                         level.maxError, level.maxJointPositionErrorCm, level.meanJointPositionErrorCm});
+    for (const JointMetrics& joint : level.joints)
+      out.values.insert(out.values.end(), {joint.threshold, double(joint.clusters), joint.simplifiedPercent, joint.maxError,
+                                           double(joint.locked)});
+  }
+  return out;
+}
+
+QString tableText(const StatisticsView* view) {
+  QStringList cells;
+  const QTableWidget* table = view->table();
+  for (int r = 0; r < table->rowCount(); ++r)
+    for (int c = 0; c < table->columnCount(); ++c)
+      cells << (table->item(r, c) ? table->item(r, c)->text() : QString());
+  return cells.join(',');
+}
+
+bool waitForFigures(Document* document) {
+  return QTest::qWaitFor(
+      [&] { return !document->isAnalysing() && !document->isLoading() && document->analysis() != nullptr; }, 60000);
+}
+
+} // namespace
+
+class TestEditor : public QObject {
+  Q_OBJECT
+
+  // A shown window with the sample imported and its figures computed.
+  std::unique_ptr<MainWindow> openSample() {
+    auto window = std::make_unique<MainWindow>();
+    window->resize(1500, 950);
+    window->show();
+    window->activateWindow(); // shortcuts need the active window
+    if (!QTest::qWaitForWindowActive(window.get()))
+      return nullptr;
+    QSignalSpy spy(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(MLOD_SAMPLE, 2.54 / 0.45);
+    if (!spy.wait(60000) || !spy.first()[0].toBool())
+      return nullptr;
+    if (!waitForFigures(window->document()))
+      return nullptr;
+    return window;
+  }
+
+  int jointIndex(MainWindow& window, const char* name) {
+    return window.document()->currentAssetPtr()->skeleton.find(name);
+  }
+
+  // Clicks a joint's row in the Skeleton dock.
+  void clickJoint(MainWindow& window, int joint, Qt::KeyboardModifiers modifiers = {}) {
+    QTreeView* view = window.skeletonView();
+    const QModelIndex index = window.jointModel()->indexOfJoint(joint, JointTreeModel::NameColumn);
+    view->scrollTo(index);
+    QTest::mouseClick(view->viewport(), Qt::LeftButton, modifiers, view->visualRect(index).center());
+  }
+
+  // Edits a joint's threshold at the current level through the delegate's spin box.
+  bool editThreshold(MainWindow& window, int joint, const QString& value) {
+    QTreeView* view = window.skeletonView();
+    const QModelIndex index = window.jointModel()->indexOfJoint(joint, JointTreeModel::ThresholdColumn);
+    view->scrollTo(index);
+    view->setFocus();
+    // Keep a selection that holds the joint (a multi-joint edit); else select the joint.
+    const bool selected = view->selectionModel()->isRowSelected(index.row(), index.parent());
+    view->selectionModel()->setCurrentIndex(index, selected ? QItemSelectionModel::NoUpdate
+                                                            : QItemSelectionModel::ClearAndSelect | QItemSelectionModel::Rows);
+    QTest::keyClick(view, Qt::Key_F2);
+    auto* editor = view->findChild<QDoubleSpinBox*>("thresholdEditor");
+    if (!editor)
+      return false;
+    editor->selectAll();
+    QTest::keyClicks(editor, value);
+    QTest::keyClick(editor, Qt::Key_Return);
+    QCoreApplication::processEvents(); // the delegate commits on a queued call
+    return true;
+  }
+
+private slots:
+  void initTestCase() {
+    QCoreApplication::setOrganizationName("MotionLODEditorTest");
+    QCoreApplication::setApplicationName("Motion LOD Studio Test");
+  }
+  void init() {
+    Document scratch;
+    Autosave(&scratch).discard(); // no test recovers what another left
+  }
+
+  // Importing a clip computes Table 1 at the project's four levels and fills every view.
+  void importComputesFiguresAndViews() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QCOMPARE(document->analysis()->levelCount(), 4);
+    QCOMPARE(window->jointModel()->rowCount(), 1); // Hips
+    QCOMPARE(window->statisticsView()->table()->columnCount(), 5); // Original + 4 levels
+    QCOMPARE(window->statisticsView()->table()->item(StatisticsView::SimplifiedRow, 0)->text(), QString("0.0"));
+    QVERIFY(!window->statisticsView()->jointChart()->series().isEmpty());
+    QVERIFY(!window->statisticsView()->frameChart()->series().isEmpty());
+    QVERIFY(!window->statisticsView()->errorChart()->series().isEmpty());
+    // Greedy is not monotone per joint, but the sample's clip-wide figure grows with E here.
+    const auto& levels = document->analysis()->levels;
+    QVERIFY(levels[0].simplifiedPercent < levels[3].simplifiedPercent);
+  }
+
+  // Clicking a joint selects it everywhere: heat map, trajectory, status bar.
+  void selectJointInTree() {
+    auto window = openSample();
+    QVERIFY(window);
+    QVERIFY(!window->clusteringView()->hasTable());
+    const int leftUpLeg = jointIndex(*window, "LeftUpLeg");
+    clickJoint(*window, leftUpLeg);
+    QCOMPARE(window->document()->currentJoint(), leftUpLeg);
+    QVERIFY(window->clusteringView()->hasTable());
+    QVERIFY(window->statusText().contains("LeftUpLeg: T 5 cm·°"));
+    window->trajectoryView()->repaint();
+    QCOMPARE(window->trajectoryView()->pointCount(), 480);
+  }
+
+  // A threshold typed into the delegate changes the statistics and the heat map; one undo step.
+  void editThresholdThroughDelegate() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const int joint = jointIndex(*window, "LeftUpLeg");
+    clickJoint(*window, joint);
+    window->clusteringView()->repaint();
+    const QImage heatBefore = window->clusteringView()->renderedImage();
+    const QString tableBefore = tableText(window->statisticsView());
+    const double jointBefore = document->analysis()->levels[0].joints[std::size_t(joint)].simplifiedPercent;
+    QVERIFY(editThreshold(*window, joint, "200"));
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->undoStack()->count(), 2); // the import and this edit
+    QVERIFY(document->project().assets[0].joints.count("LeftUpLeg"));
+    QCOMPARE(*document->project().assets[0].joints.at("LeftUpLeg").thresholds[0], 200.0);
+    QCOMPARE(document->analysis()->levels[0].joints[std::size_t(joint)].threshold, 200.0);
+    QVERIFY(document->analysis()->levels[0].joints[std::size_t(joint)].simplifiedPercent > jointBefore);
+    QVERIFY(tableText(window->statisticsView()) != tableBefore);
+    window->clusteringView()->repaint();
+    QVERIFY(window->clusteringView()->renderedImage() != heatBefore);
+    // Only the touched joint at the touched level was clustered again.
+    QCOMPARE(document->analysis()->clusteredPairs, 1);
+  }
+
+  // Undo and redo (by their shortcuts) restore the exact figures.
+  void undoRedoRestoreExactFigures() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Figures before = figuresOf(*document);
+    const QString tableBefore = tableText(window->statisticsView());
+    QVERIFY(editThreshold(*window, jointIndex(*window, "LowerBack"), "123"));
+    QVERIFY(waitForFigures(document));
+    const Figures after = figuresOf(*document);
+    QVERIFY(after != before);
+    QTest::keyClick(window.get(), Qt::Key_Z, Qt::ControlModifier);
+    QVERIFY(waitForFigures(document));
+    QVERIFY(figuresOf(*document) == before);
+    QCOMPARE(tableText(window->statisticsView()), tableBefore);
+    QTest::keyClick(window.get(), Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+    QVERIFY(waitForFigures(document));
+    QVERIFY(figuresOf(*document) == after);
+  }
+
+  // Stepping the alpha spin box is a slider drag: many edits, one undo step.
+  void alphaStepsMergeIntoOneUndoStep() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Figures before = figuresOf(*document);
+    const int steps = document->undoStack()->count();
+    QDoubleSpinBox* alpha = window->alphaBox();
+    alpha->setFocus();
+    for (int i = 0; i < 4; ++i)
+      QTest::keyClick(alpha, Qt::Key_Up);
+    QCOMPARE(document->project().alpha, 7.0);
+    QCOMPARE(document->undoStack()->count(), steps + 1);
+    QVERIFY(waitForFigures(document));
+    QVERIFY(figuresOf(*document) != before);
+    document->undoStack()->undo();
+    QCOMPARE(document->project().alpha, 5.0);
+    QCOMPARE(alpha->value(), 5.0);
+    QVERIFY(waitForFigures(document));
+    QVERIFY(figuresOf(*document) == before);
+  }
+
+  // The lock check box freezes nothing: a locked joint has no clusters; Ctrl+L unlocks.
+  void lockJoint() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const int joint = jointIndex(*window, "Spine");
+    clickJoint(*window, joint);
+    QVERIFY(document->analysis()->levels[3].joints[std::size_t(joint)].clusters > 0);
+    QTreeView* view = window->skeletonView();
+    const QModelIndex lock = window->jointModel()->indexOfJoint(joint, JointTreeModel::LockColumn);
+    view->scrollTo(lock);
+    // The check indicator sits at the cell's left; a click there toggles it.
+    const QRect cell = view->visualRect(lock);
+    QTest::mouseClick(view->viewport(), Qt::LeftButton, {}, QPoint(cell.left() + 10, cell.center().y()));
+    QVERIFY(waitForFigures(document));
+    QVERIFY(document->project().assets[0].joints.count("Spine") && document->project().assets[0].joints.at("Spine").locked);
+    for (const JpcLevelResult& level : document->analysis()->levels) {
+      QVERIFY(level.joints[std::size_t(joint)].locked);
+      QCOMPARE(level.joints[std::size_t(joint)].clusters, 0);
+    }
+    QCOMPARE(lock.data(Qt::CheckStateRole).toInt(), int(Qt::Checked));
+    QTest::keyClick(window.get(), Qt::Key_L, Qt::ControlModifier);
+    QVERIFY(waitForFigures(document));
+    QVERIFY(!document->project().assets[0].joints.count("Spine"));
+    QVERIFY(document->analysis()->levels[3].joints[std::size_t(joint)].clusters > 0);
+  }
+
+  // With two joints selected (Ctrl+click), one edit sets both.
+  void multiSelectEditsEveryJoint() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const int leftLeg = jointIndex(*window, "LeftLeg");
+    const int rightLeg = jointIndex(*window, "RightLeg");
+    clickJoint(*window, leftLeg);
+    clickJoint(*window, rightLeg, Qt::ControlModifier);
+    QCOMPARE(window->skeletonView()->selectionModel()->selectedRows().size(), 2);
+    QVERIFY(editThreshold(*window, rightLeg, "77"));
+    QVERIFY(waitForFigures(document));
+    const auto& joints = document->project().assets[0].joints;
+    QVERIFY(joints.count("LeftLeg") && joints.count("RightLeg"));
+    QCOMPARE(*joints.at("LeftLeg").thresholds[0], 77.0);
+    QCOMPARE(*joints.at("RightLeg").thresholds[0], 77.0);
+    QCOMPARE(document->undoStack()->count(), 2);
+  }
+
+  // "Apply to children" copies a joint's settings down its chain in one undo step.
+  void applyToChildren() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const int joint = jointIndex(*window, "LeftUpLeg");
+    QVERIFY(editThreshold(*window, joint, "60"));
+    clickJoint(*window, joint);
+    QTest::keyClick(window.get(), Qt::Key_C, Qt::ControlModifier | Qt::ShiftModifier);
+    QVERIFY(waitForFigures(document));
+    const auto& joints = document->project().assets[0].joints;
+    for (const char* name : {"LeftLeg", "LeftFoot", "LeftToeBase"}) {
+      QVERIFY(joints.count(name));
+      QCOMPARE(*joints.at(name).thresholds[0], 60.0);
+    }
+    QCOMPARE(document->undoStack()->count(), 3);
+    document->undoStack()->undo();
+    QVERIFY(!document->project().assets[0].joints.count("LeftLeg"));
+  }
+
+  // The + and − buttons add and remove a level; every view follows; undo restores.
+  void addAndRemoveLevel() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Figures before = figuresOf(*document);
+    auto* add = window->findChild<QToolButton*>("addLevelButton");
+    auto* remove = window->findChild<QToolButton*>("removeLevelButton");
+    QVERIFY(add && remove);
+    QTest::mouseClick(add, Qt::LeftButton);
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->project().levelThresholds.back(), 600.0);
+    QCOMPARE(document->analysis()->levelCount(), 5);
+    QCOMPARE(window->statisticsView()->table()->columnCount(), 6);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 5);
+    QCOMPARE(document->analysis()->clusteredPairs, document->analysis()->prepared->clusterableCount());
+    // Remove level 0 (current), then undo both.
+    QTest::mouseClick(remove, Qt::LeftButton);
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->project().levelThresholds, (std::vector<double>{50, 100, 300, 600}));
+    document->undoStack()->undo();
+    document->undoStack()->undo();
+    QVERIFY(waitForFigures(document));
+    QVERIFY(figuresOf(*document) == before);
+  }
+
+  // Moving a level carries the joints' overrides for it along.
+  void moveLevelCarriesOverrides() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    document->setCurrentLevel(1);
+    QVERIFY(editThreshold(*window, jointIndex(*window, "Neck"), "11"));
+    QTest::mouseClick(window->findChild<QToolButton*>("levelDownButton"), Qt::LeftButton);
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->project().levelThresholds, (std::vector<double>{5, 100, 50, 300}));
+    QVERIFY(document->project().assets[0].joints.count("Neck"));
+    const auto& neck = document->project().assets[0].joints.at("Neck").thresholds;
+    QCOMPARE(neck.size(), std::size_t(3));
+    QVERIFY(!neck[1]);
+    QCOMPARE(*neck[2], 11.0);
+  }
+
+  // PgDown shows the next level in every view.
+  void levelShortcutMovesEveryView() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    clickJoint(*window, jointIndex(*window, "LeftUpLeg"));
+    QTest::keyClick(window.get(), Qt::Key_PageDown);
+    QTest::keyClick(window.get(), Qt::Key_PageDown);
+    QCOMPARE(document->currentLevel(), 2);
+    QCOMPARE(window->levelsView()->currentIndex().row(), 2);
+    QCOMPARE(window->jointModel()->headerData(JointTreeModel::ThresholdColumn, Qt::Horizontal).toString(),
+             QString("T L2 (cm·°)"));
+    QVERIFY(window->statusText().contains("L2 · E = 100"));
+    QVERIFY(window->statusText().contains("LeftUpLeg: T 100 cm·°"));
+    QVERIFY(window->statisticsView()->table()->item(0, 3)->font().bold());
+  }
+
+  // Wheel zooms the heat map about the cursor; hover reads the table entry exactly.
+  void heatMapZoomsAndReadsEntries() {
+    auto window = openSample();
+    QVERIFY(window);
+    const int joint = jointIndex(*window, "LeftUpLeg");
+    clickJoint(*window, joint);
+    ClusteringTableView* view = window->clusteringView();
+    QCOMPARE(view->visibleFrames(), 480.0);
+    const QPoint centre(48 + 60, 8 + 60);
+    QWheelEvent wheel(centre, view->mapToGlobal(centre), {}, QPoint(0, 120), Qt::NoButton, Qt::NoModifier,
+                      Qt::NoScrollPhase, false);
+    QApplication::sendEvent(view, &wheel);
+    QVERIFY(view->visibleFrames() < 480.0);
+    const auto entry = view->entryAt(centre);
+    QVERIFY(entry.has_value());
+    const JointTrack& track = window->document()->analysis()->prepared->track(joint);
+    QCOMPARE(entry->error, track.error(entry->t, entry->ref));
+    QTest::mouseClick(view, Qt::RightButton, {}, centre); // right click resets the zoom
+    QCOMPARE(view->visibleFrames(), 480.0);
+  }
+
+  // Dragging rotates the trajectory sphere.
+  void trajectoryRotatesOnDrag() {
+    auto window = openSample();
+    QVERIFY(window);
+    clickJoint(*window, jointIndex(*window, "LeftForeArm"));
+    TrajectoryView* view = window->trajectoryView();
+    const double yaw = view->yaw();
+    QTest::mousePress(view, Qt::LeftButton, {}, QPoint(50, 50));
+    QMouseEvent move(QEvent::MouseMove, QPointF(90, 60), view->mapToGlobal(QPointF(90, 60)), Qt::NoButton,
+                     Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(view, &move);
+    QTest::mouseRelease(view, Qt::LeftButton, {}, QPoint(90, 60));
+    QCOMPARE(view->yaw(), yaw + 20.0);
+  }
+
+  // Save, close, reopen: the same project and the same figures, to the bit.
+  void saveCloseReopenIdenticalFigures() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("tuned.mlod");
+    Figures saved;
+    Project project;
+    {
+      auto window = openSample();
+      QVERIFY(window);
+      Document* document = window->document();
+      QVERIFY(editThreshold(*window, jointIndex(*window, "LeftUpLeg"), "42"));
+      document->setJointAlpha({jointIndex(*window, "Head")}, 9.5);
+      document->setJointsLocked({jointIndex(*window, "Spine1")}, true);
+      QVERIFY(waitForFigures(document));
+      QVERIFY(window->saveProject(path));
+      QVERIFY(!document->isModified());
+      saved = figuresOf(*document);
+      project = document->project();
+      window->close();
+    }
+    QVERIFY(QFile::exists(path));
+    MainWindow reopened;
+    reopened.show();
+    QSignalSpy opened(reopened.document(), &Document::projectOpened);
+    QVERIFY(reopened.openProject(path));
+    QVERIFY(opened.wait(60000));
+    QCOMPARE(opened.first()[0].toBool(), true);
+    QVERIFY(waitForFigures(reopened.document()));
+    QVERIFY(reopened.document()->project() == project);
+    QVERIFY(figuresOf(*reopened.document()) == saved);
+    QCOMPARE(reopened.assetModel()->assetCount(), 1);
+  }
+
+  // A malformed or newer project is refused with a clear message; nothing is lost.
+  void refuseMalformedProject() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QVERIFY(editThreshold(*window, jointIndex(*window, "Neck"), "33"));
+    QVERIFY(waitForFigures(document));
+    const Project before = document->project();
+    const Figures figures = figuresOf(*document);
+    QTemporaryDir dir;
+    const auto write = [&](const QString& name, const QByteArray& bytes) {
+      QFile file(dir.filePath(name));
+      file.open(QIODevice::WriteOnly);
+      file.write(bytes);
+      return file.fileName();
+    };
+    const QString garbage = write("garbage.mlod", "{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": [}");
+    QVERIFY(!window->openProject(garbage));
+    QVERIFY(window->logText().contains("not valid JSON"));
+    auto* box = window->findChild<QMessageBox*>("errorBox");
+    QVERIFY(box && box->isVisible());
+    box->close();
+    const QString newer = write("newer.mlod", "{\"format\": \"motionlod-project\", \"version\": 99}");
+    QVERIFY(!window->openProject(newer));
+    QVERIFY(window->logText().contains("made by a newer Motion LOD Studio"));
+    QVERIFY(document->project() == before);
+    QVERIFY(figuresOf(*document) == figures);
+    QCOMPARE(document->undoStack()->count(), 2); // nothing lost, undo included
+  }
+
+  // After a crash (no clean close) the autosave brings the edits back.
+  void recoverFromAutosave() {
+    Project lost;
+    {
+      auto window = openSample();
+      QVERIFY(window);
+      QVERIFY(editThreshold(*window, jointIndex(*window, "RightArm"), "250"));
+      QVERIFY(waitForFigures(window->document()));
+      QVERIFY(window->autosave()->saveNow());
+      lost = window->document()->project();
+      // No close(): the window goes away as in a crash and leaves the recovery file.
+      window->hide();
+    }
+    MainWindow next;
+    next.show();
+    QVERIFY(next.autosave()->hasRecovery());
+    QSignalSpy opened(next.document(), &Document::projectOpened);
+    QVERIFY(next.offerRecovery(false));
+    QVERIFY(opened.wait(60000));
+    QVERIFY(waitForFigures(next.document()));
+    QVERIFY(next.document()->project().assets.size() == 1 && next.document()->project().assets[0].joints.count("RightArm"));
+    QCOMPARE(*next.document()->project().assets[0].joints.at("RightArm").thresholds[0], 250.0);
+    QVERIFY(next.document()->project().levelThresholds == lost.levelThresholds);
+    QVERIFY(next.document()->isModified());
+    QVERIFY(next.document()->fileName().isEmpty());
+    next.close();
+    QVERIFY(!next.autosave()->hasRecovery()); // a clean close removes it
+  }
+
+  // A long job (a worker held by the test hook) shows progress; Cancel leaves the document as it was.
+  void cancelLongJob() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Figures before = figuresOf(*document);
+    const Project project = document->project();
+    const int steps = document->undoStack()->count();
+    document->setWorkerHook([](const std::atomic<bool>& cancel) {
+      while (!cancel.load())
+        QThread::msleep(5);
+    });
+    QTest::mouseClick(window->findChild<QToolButton*>("addLevelButton"), Qt::LeftButton);
+    QVERIFY(document->isAnalysing());
+    QTRY_VERIFY_WITH_TIMEOUT(window->analysisProgress() && window->analysisProgress()->isVisible(), 20000);
+    auto* cancel = window->analysisProgress()->findChild<QPushButton*>();
+    QVERIFY(cancel);
+    QTest::mouseClick(cancel, Qt::LeftButton);
+    QTRY_VERIFY_WITH_TIMEOUT(!document->isAnalysing(), 20000);
+    document->setWorkerHook({});
+    QVERIFY(document->project() == project);
+    QCOMPARE(document->undoStack()->count(), steps);
+    QVERIFY(!document->undoStack()->canRedo()); // the cancelled edit is gone, not waiting to be redone
+    QVERIFY(figuresOf(*document) == before);
+    QVERIFY(window->logText().contains("cancelled"));
+  }
+
+  // The Table 1 view shows exactly what `motionlod simplify` prints for the same settings.
+  void table1MatchesCommandLine() {
+    auto window = openSample();
+    QVERIFY(window);
+    QProcess cli;
+    cli.start(MLOD_CLI, {"simplify", MLOD_SAMPLE, "--unit-scale", "cmu", "--threshold", "5,50,100,300", "--json"});
+    QVERIFY(cli.waitForFinished(120000));
+    QCOMPARE(cli.exitCode(), 0);
+    const QJsonObject report = QJsonDocument::fromJson(cli.readAllStandardOutput()).object();
+    const QJsonArray levels = report["thresholds"].toArray();
+    QCOMPARE(levels.size(), 4);
+    const QTableWidget* table = window->statisticsView()->table();
+    const auto analysis = window->document()->analysis();
+    for (int l = 0; l < 4; ++l) {
+      const QJsonObject level = levels[l].toObject();
+      const JpcLevelResult& mine = analysis->levels[std::size_t(l)];
+      QCOMPARE(mine.simplifiedPercent, level["simplified_joint_percent"].toDouble());
+      QCOMPARE(mine.clusterCount, level["clusters"].toInt());
+      QCOMPARE(mine.maxError, level["max_error"].toDouble());
+      QCOMPARE(mine.maxJointPositionErrorCm, level["max_joint_position_error_cm"].toDouble());
+      QCOMPARE(table->item(StatisticsView::SimplifiedRow, l + 1)->text(),
+               QString::number(level["simplified_joint_percent"].toDouble(), 'f', 1));
+      QCOMPARE(table->item(StatisticsView::ClustersRow, l + 1)->text(), QString::number(level["clusters"].toInt()));
+      QCOMPARE(table->item(StatisticsView::MaxPositionRow, l + 1)->text(),
+               QString::number(level["max_joint_position_error_cm"].toDouble(), 'f', 3));
+    }
+  }
+
+  // A project whose asset moved opens with the asset marked missing; relinking brings it back.
+  void relinkMissingAsset() {
+    QTemporaryDir dir;
+    const QString copy = dir.filePath("clip.bvh");
+    QVERIFY(QFile::copy(MLOD_SAMPLE, copy));
+    const QString path = dir.filePath("p.mlod");
+    {
+      MainWindow window;
+      QSignalSpy spy(&window, &MainWindow::importFinished);
+      window.importFileWithUnit(copy, 2.54 / 0.45);
+      QVERIFY(spy.wait(60000));
+      QVERIFY(waitForFigures(window.document()));
+      QVERIFY(window.saveProject(path));
+      QCOMPARE(window.document()->project().assets[0].path, std::string("clip.bvh")); // relative
+    }
+    const QString moved = dir.filePath("moved.bvh");
+    QVERIFY(QFile::rename(copy, moved));
+    MainWindow window;
+    window.show();
+    QSignalSpy opened(window.document(), &Document::projectOpened);
+    QVERIFY(window.openProject(path));
+    QVERIFY(opened.wait(60000));
+    QCOMPARE(opened.first()[0].toBool(), false);
+    QVERIFY(window.assetModel()->isMissing(0));
+    QVERIFY(window.logText().contains("relink"));
+    QVERIFY(!window.document()->analysis());
+    QSignalSpy relinked(window.document(), &Document::projectOpened);
+    window.document()->relinkAsset(0, moved);
+    QVERIFY(relinked.wait(60000));
+    QVERIFY(waitForFigures(window.document()));
+    QVERIFY(!window.assetModel()->isMissing(0));
+    QCOMPARE(window.document()->project().assets[0].path, std::string("moved.bvh"));
+  }
+
+  // The dock layout comes back in the next session (QSettings).
+  void layoutIsRestored() {
+    {
+      MainWindow window;
+      window.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&window));
+      auto* statistics = window.findChild<QDockWidget*>("statisticsDock");
+      QVERIFY(statistics && statistics->isVisible());
+      statistics->toggleViewAction()->trigger();
+      QVERIFY(!statistics->isVisible());
+      window.close();
+    }
+    {
+      MainWindow window;
+      window.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&window));
+      auto* statistics = window.findChild<QDockWidget*>("statisticsDock");
+      QVERIFY(!statistics->isVisible());
+      statistics->toggleViewAction()->trigger();
+      window.close();
+    }
+    MainWindow again;
+    again.show();
+    QVERIFY(again.findChild<QDockWidget*>("statisticsDock")->isVisible());
+    QVERIFY(again.findChild<QDockWidget*>("viewportDock"));
+  }
+
+  // The common editor actions have shortcuts and tooltips.
+  void editorActionsHaveShortcuts() {
+    MainWindow window;
+    const auto shortcut = [&](const char* name) { return window.findChild<QAction*>(name)->shortcut(); };
+    QCOMPARE(shortcut("actionUndo"), QKeySequence(QKeySequence::Undo));
+    QCOMPARE(shortcut("actionRedo"), QKeySequence(QKeySequence::Redo));
+    QCOMPARE(shortcut("actionSave"), QKeySequence(QKeySequence::Save));
+    QCOMPARE(shortcut("actionOpenProject"), QKeySequence("Ctrl+Shift+O"));
+    QCOMPARE(shortcut("actionLockJoints"), QKeySequence("Ctrl+L"));
+    QCOMPARE(shortcut("actionNextLevel"), QKeySequence(Qt::Key_PageDown));
+    QVERIFY(!window.findChild<QAction*>("actionApplyToChildren")->toolTip().isEmpty());
+  }
+};
+
+QTEST_MAIN(TestEditor)
+#include "test_editor.moc"
