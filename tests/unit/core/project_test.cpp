@@ -1,0 +1,126 @@
+// The .mlod project document: JSON round trip, refusal of bad files, asset paths relative
+// to the project, level edits that carry per-joint overrides.
+
+#include "core/project.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace mlod {
+namespace {
+
+Project sampleProject() {
+  Project project;
+  project.alpha = 7.5;
+  project.mode = JpcMode::Optimal;
+  project.levelThresholds = {5.0, 42.25, 300.0};
+  ProjectAsset asset;
+  asset.path = "clips/01_01.bvh";
+  asset.unitScale = 2.54 / 0.45; // not representable in a short decimal: the round trip must be exact
+  asset.joints["LeftUpLeg"].thresholds = {std::nullopt, 12.5};
+  asset.joints["Head"].alpha = 0.1;
+  asset.joints["Spine"].locked = true;
+  project.assets.push_back(asset);
+  project.view = {0, 0, 1, "LeftUpLeg"};
+  return project;
+}
+
+// Guards the contract the editor and the CLI share: what is written reads back equal, bit for bit.
+TEST(Project, JsonRoundTripIsExact) {
+  const Project project = sampleProject();
+  const Result<Project> read = projectFromJson(projectToJson(project));
+  ASSERT_TRUE(read) << read.message();
+  EXPECT_TRUE(*read == project);
+  EXPECT_EQ(read->assets[0].unitScale, 2.54 / 0.45);
+}
+
+// Guards JpcSettings from a project: alpha, mode, joints, and the zero-length rule in file units.
+TEST(Project, JpcSettingsComeFromTheProject) {
+  const Project project = sampleProject();
+  const JpcSettings settings = project.jpcSettings(0, 2.0);
+  EXPECT_EQ(settings.alpha, 7.5);
+  EXPECT_EQ(settings.mode, JpcMode::Optimal);
+  EXPECT_EQ(settings.zeroLength, 2e-6);
+  EXPECT_EQ(settings.thresholdFor("LeftUpLeg", 1, 42.25), 12.5);
+  EXPECT_EQ(settings.thresholdFor("LeftUpLeg", 0, 5.0), 5.0);
+  EXPECT_TRUE(settings.lockedFor("Spine"));
+  EXPECT_EQ(settings.alphaFor("Head"), 0.1);
+}
+
+// Guards refusal: each bad document gives a message that says what is wrong, never a crash.
+TEST(Project, BadDocumentsAreRefusedWithAReason) {
+  const std::string good = projectToJson(sampleProject());
+  const struct {
+    std::string text;
+    std::string reason;
+  } cases[] = {
+      {"", "not valid JSON"},
+      {"{\"format\": \"motionlod-project\", \"version\": 1,", "not valid JSON"},
+      {"[1, 2]", "not a Motion LOD project"},
+      {"{\"format\": \"something-else\", \"version\": 1}", "not a Motion LOD project"},
+      {"{\"format\": \"motionlod-project\"}", "no version"},
+      {"{\"format\": \"motionlod-project\", \"version\": 2}", "newer Motion LOD Studio"},
+      {"{\"format\": \"motionlod-project\", \"version\": 1}", "has no \"alpha\""},
+      {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": \"5\", \"mode\": \"greedy\", \"levels\": [], "
+       "\"assets\": []}",
+       "alpha is not a number"},
+      {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": 5, \"mode\": \"best\", \"levels\": [], "
+       "\"assets\": []}",
+       "neither greedy nor optimal"},
+      {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": 5, \"mode\": \"greedy\", \"levels\": [], "
+       "\"assets\": []}",
+       "at least one LOD level"},
+      {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": 5, \"mode\": \"greedy\", \"levels\": "
+       "[{\"threshold\": -1}], \"assets\": []}",
+       "level 0 threshold"},
+      {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": 5, \"mode\": \"greedy\", \"levels\": "
+       "[{\"threshold\": 5}], \"assets\": [{\"path\": \"a.bvh\", \"unit_scale\": 1, \"joints\": {\"J\": {\"alpha\": "
+       "null, \"thresholds\": [-3], \"locked\": false}}}]}",
+       "joint J"},
+      {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": 5, \"mode\": \"greedy\", \"levels\": "
+       "[{\"threshold\": 5}], \"assets\": [{\"unit_scale\": 1, \"joints\": {}}]}",
+       "asset 0 has no \"path\""},
+  };
+  for (const auto& c : cases) {
+    const Result<Project> read = projectFromJson(c.text);
+    ASSERT_FALSE(read) << c.text;
+    EXPECT_NE(read.message().find(c.reason), std::string::npos) << read.message();
+  }
+  EXPECT_TRUE(projectFromJson(good));
+}
+
+// Guards paths: assets are stored relative to the project's folder and resolve back.
+TEST(Project, AssetPathsAreRelativeToTheProject) {
+  EXPECT_EQ(storedAssetPath("/data/projects/crowd.mlod", "/data/projects/clips/a.bvh"), "clips/a.bvh");
+  EXPECT_EQ(storedAssetPath("/data/projects/crowd.mlod", "/data/mocap/b.bvh"), "../mocap/b.bvh");
+  EXPECT_EQ(resolveAssetPath("/data/projects/crowd.mlod", "../mocap/b.bvh"), std::filesystem::path("/data/mocap/b.bvh"));
+  EXPECT_EQ(resolveAssetPath("/data/projects/crowd.mlod", "/abs/c.bvh"), std::filesystem::path("/abs/c.bvh"));
+}
+
+// Guards level edits: per-joint overrides follow their level when levels move or go.
+TEST(Project, RemapLevelsCarriesOverrides) {
+  Project project = sampleProject(); // LeftUpLeg overrides level 1 only
+  remapLevels(project, {1, 0, 2}, {42.25, 5.0, 300.0});
+  const auto& moved = project.assets[0].joints.at("LeftUpLeg").thresholds;
+  ASSERT_EQ(moved.size(), 1u);
+  EXPECT_EQ(*moved[0], 12.5);
+  remapLevels(project, {1, 2, -1}, {5.0, 300.0, 600.0}); // remove level 0, add one
+  EXPECT_TRUE(project.assets[0].joints.at("LeftUpLeg").thresholds.empty());
+  EXPECT_EQ(project.levelThresholds, (std::vector<double>{5.0, 300.0, 600.0}));
+}
+
+// Guards loadProjectFile on files that are not there or empty.
+TEST(Project, FilesThatCannotBeReadAreRefused) {
+  EXPECT_FALSE(loadProjectFile("/no/such/project.mlod"));
+  const std::filesystem::path empty = std::filesystem::temp_directory_path() / "mlod_empty_project.mlod";
+  std::ofstream(empty).close();
+  const Result<Project> read = loadProjectFile(empty);
+  ASSERT_FALSE(read);
+  EXPECT_EQ(read.message(), "the file is empty");
+  std::filesystem::remove(empty);
+}
+
+} // namespace
+} // namespace mlod
