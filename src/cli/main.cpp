@@ -1,6 +1,7 @@
 // motionlod: the batch command line (DESIGN.md section 6).
 
 #include "cli/info_command.h"
+#include "cli/meshlod_command.h"
 #include "cli/simplify_command.h"
 #include "core/version.h"
 
@@ -29,6 +30,8 @@ int main(int argc, char** argv) {
   info.attach(app);
   mlod::cli::SimplifyCommand simplify;
   simplify.attach(app);
+  mlod::cli::MeshLodCommand meshLod;
+  meshLod.attach(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -44,6 +47,8 @@ int main(int argc, char** argv) {
       return info.run();
     if (app.got_subcommand("simplify"))
       return simplify.run();
+    if (app.got_subcommand("meshlod"))
+      return meshLod.run();
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << std::endl;
     return mlod::cli::kExitFailure;
