@@ -84,6 +84,13 @@ MainWindow::MainWindow(QWidget* parent)
     for (int i = 0; i < m_document->assetCount(); ++i)
       assets.push_back(m_document->asset(i));
     m_assets->setAssets(assets, paths);
+    int characters = 0, motions = 0;
+    for (const auto& asset : assets)
+      if (asset)
+        ++(asset->meshes.empty() ? motions : characters);
+    m_ui->assetsDock->setWindowTitle(tr("Assets — %1, %2")
+                                         .arg(countText(characters, "character", "characters"),
+                                              countText(motions, "motion", "motions")));
     m_ui->assetTree->resizeColumnToContents(AssetTreeModel::NameColumn);
     if (const Asset* asset = m_document->currentAssetPtr())
       showAsset(*asset);
@@ -480,6 +487,21 @@ void MainWindow::buildActions() {
   action(edit, "actionClearJointThreshold", tr("Use the Level's &Threshold"), QKeySequence("Ctrl+Backspace"),
          tr("Remove the selected joints' own threshold at the current level"),
          [this] { m_document->setJointThreshold(selectedJoints(), m_document->currentLevel(), std::nullopt); });
+  action(edit, "actionRemoveAsset", tr("Remove &Asset"), QKeySequence(), tr("Remove the asset in view from the project"),
+         [this] { m_document->removeAsset(m_document->currentAsset()); });
+  action(edit, "actionAssetUnit", tr("Asset &Unit…"), QKeySequence(),
+         tr("Import the asset in view again with another unit (cm per file unit); every length and figure follows"),
+         [this] {
+           const Asset* asset = m_document->currentAssetPtr();
+           if (!asset)
+             return;
+           bool ok = false;
+           const double scale = QInputDialog::getDouble(this, tr("Asset unit"), tr("cm per file unit (CMU mocap: 5.6444):"),
+                                                        asset->unitScale, 1e-6, 1e6, 6, &ok);
+           if (ok)
+             m_document->setAssetUnitScale(m_document->currentAsset(), scale);
+         });
+  connect(m_document, &Document::unitScaleChanged, this, [this](bool, const QString& text) { log(text); });
   edit->addSeparator();
   action(edit, "actionAddLevel", tr("&Add Level"), QKeySequence("Ctrl+Shift+L"),
          tr("Add a LOD level with twice the last threshold (cm·degrees)"), [this] {

@@ -607,6 +607,46 @@ private slots:
     QVERIFY(again.findChild<QDockWidget*>("viewportDock"));
   }
 
+  // Changing an asset's unit imports it again: one undo step, and undo gives the exact figures back.
+  void assetUnitScaleIsOneUndoStep() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Figures before = figuresOf(*document);
+    const int steps = document->undoStack()->count();
+    QSignalSpy changed(document, &Document::unitScaleChanged);
+    document->setAssetUnitScale(0, 1.0);
+    QVERIFY(changed.wait(60000));
+    QCOMPARE(changed.first()[0].toBool(), true);
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->asset(0)->unitScale, 1.0);
+    QCOMPARE(document->project().assets[0].unitScale, 1.0);
+    QCOMPARE(document->undoStack()->count(), steps + 1);
+    QVERIFY(figuresOf(*document) != before); // E_pos and cm errors scale with the unit
+    document->undoStack()->undo();
+    QVERIFY(waitForFigures(document));
+    QVERIFY(figuresOf(*document) == before);
+  }
+
+  // Removing an asset is undoable; the Assets dock counts what is there.
+  void removeAssetAndUndo() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Figures before = figuresOf(*document);
+    auto* dock = window->findChild<QDockWidget*>("assetsDock");
+    QCOMPARE(dock->windowTitle(), QString("Assets — 0 characters, 1 motion"));
+    window->findChild<QAction*>("actionRemoveAsset")->trigger();
+    QCOMPARE(document->assetCount(), 0);
+    QCOMPARE(window->assetModel()->assetCount(), 0);
+    QVERIFY(!document->analysis());
+    QCOMPARE(dock->windowTitle(), QString("Assets — 0 characters, 0 motions"));
+    QTest::keyClick(window.get(), Qt::Key_Z, Qt::ControlModifier);
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->assetCount(), 1);
+    QVERIFY(figuresOf(*document) == before);
+  }
+
   // The common editor actions have shortcuts and tooltips.
   void editorActionsHaveShortcuts() {
     MainWindow window;

@@ -20,17 +20,17 @@ StatisticsView::StatisticsView(QWidget* parent)
       m_frameView(new QChartView(this)), m_errorView(new QChartView(this)) {
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
-  auto* splitter = new QSplitter(Qt::Vertical, this);
+  auto* splitter = new QSplitter(Qt::Horizontal, this); // the dock is wide and low
   layout->addWidget(splitter);
   splitter->addWidget(m_table);
   splitter->addWidget(m_tabs);
-  splitter->setStretchFactor(1, 2);
-  splitter->setSizes({170, 400});
+  splitter->setStretchFactor(1, 3);
+  splitter->setSizes({460, 700});
   m_table->setObjectName("table1");
   m_table->setEditTriggers(QAbstractItemView::NoEditTriggers);
   m_table->setRowCount(RowCount);
   m_table->setVerticalHeaderLabels({tr("Simplified joints %"), tr("Clusters"), tr("Max E (cm·°)"),
-                                    tr("Max joint position error (cm)"), tr("Mean joint position error (cm)")});
+                                    tr("Max joint pos. error (cm)"), tr("Mean joint pos. error (cm)")});
   m_table->verticalHeaderItem(SimplifiedRow)->setToolTip(tr("100 × clustered joint-frames / (clusterable joints × frames): the paper's Table 1"));
   m_table->verticalHeaderItem(MaxErrorRow)->setToolTip(tr("Largest E(t, key) over the clustered frames, cm·degrees"));
   m_table->verticalHeaderItem(MaxPositionRow)->setToolTip(tr("Forward kinematics of the simplified motion against the original, every joint and frame, cm"));
@@ -65,7 +65,7 @@ void StatisticsView::fillTable() {
   m_table->setColumnCount(levels + 1);
   QStringList headers{tr("Original")};
   for (int l = 0; l < levels; ++l)
-    headers << tr("L%1 E=%2").arg(l).arg(m_analysis->levels[static_cast<std::size_t>(l)].threshold);
+    headers << tr("E=%1").arg(m_analysis->levels[static_cast<std::size_t>(l)].threshold);
   m_table->setHorizontalHeaderLabels(headers);
   const auto set = [&](int row, int column, const QString& text) {
     auto* item = new QTableWidgetItem(text);
@@ -117,6 +117,9 @@ void StatisticsView::fillCharts() {
   auto* categories = new QBarCategoryAxis;
   categories->append(names);
   categories->setLabelsAngle(-90);
+  QFont small = categories->labelsFont();
+  small.setPointSizeF(6.5);
+  categories->setLabelsFont(small);
   auto* percent = new QValueAxis;
   percent->setRange(0, 100);
   percent->setTitleText(tr("%"));

@@ -62,4 +62,12 @@ void ChangeAssets::erase() { m_document->eraseAsset(m_index); }
 void ChangeAssets::undo() { m_remove ? add() : erase(); }
 void ChangeAssets::redo() { m_remove ? erase() : add(); }
 
+ReplaceAsset::ReplaceAsset(Document* document, int index, ProjectAsset beforeEntry, std::shared_ptr<const Asset> before,
+                           ProjectAsset afterEntry, std::shared_ptr<const Asset> after, const QString& text)
+    : QUndoCommand(text), m_document(document), m_index(index), m_beforeEntry(std::move(beforeEntry)),
+      m_afterEntry(std::move(afterEntry)), m_before(std::move(before)), m_after(std::move(after)) {}
+
+void ReplaceAsset::undo() { m_document->replaceAsset(m_index, m_beforeEntry, m_before); }
+void ReplaceAsset::redo() { m_document->replaceAsset(m_index, m_afterEntry, m_after); }
+
 } // namespace mlod

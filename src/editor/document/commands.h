@@ -94,4 +94,19 @@ private:
   bool m_remove;
 };
 
+// Replaces one asset by the same file imported again (a new unit scale).
+class ReplaceAsset : public QUndoCommand {
+public:
+  ReplaceAsset(Document* document, int index, ProjectAsset beforeEntry, std::shared_ptr<const Asset> before,
+               ProjectAsset afterEntry, std::shared_ptr<const Asset> after, const QString& text);
+  void undo() override;
+  void redo() override;
+
+private:
+  Document* m_document;
+  int m_index;
+  ProjectAsset m_beforeEntry, m_afterEntry;
+  std::shared_ptr<const Asset> m_before, m_after;
+};
+
 } // namespace mlod

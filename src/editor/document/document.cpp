@@ -13,7 +13,26 @@
 
 namespace mlod {
 
-Document::Document(QObject* parent) : QObject(parent), m_undo(new QUndoStack(this)), m_loader(new ImportJob(this)) {
+Document::Document(QObject* parent)
+    : QObject(parent), m_undo(new QUndoStack(this)), m_loader(new ImportJob(this)), m_reimport(new ImportJob(this)) {
+  connect(m_reimport, &ImportJob::finished, this, [this](const QString& path, std::shared_ptr<const Asset> asset) {
+    const int index = m_reimportIndex;
+    m_reimportIndex = -1;
+    if (index < 0 || index >= assetCount() || assetFilePath(index) != path) {
+      emit unitScaleChanged(false, tr("the asset changed while it was imported again"));
+      return;
+    }
+    ProjectAsset after = m_project.assets[std::size_t(index)];
+    after.unitScale = m_reimportScale;
+    m_undo->push(new ReplaceAsset(this, index, m_project.assets[std::size_t(index)], m_assets[std::size_t(index)], after,
+                                  asset, tr("Set unit of %1 to %2 cm").arg(QFileInfo(path).fileName()).arg(asset->unitScale)));
+    emit unitScaleChanged(true, tr("%1: %2 cm per file unit").arg(path).arg(asset->unitScale));
+  });
+  connect(m_reimport, &ImportJob::failed, this, [this](const QString& path, const QString& reason) {
+    m_reimportIndex = -1;
+    emit message(tr("warning: %1: %2").arg(path, reason));
+    emit unitScaleChanged(false, reason);
+  });
   connect(&m_watcher, &QFutureWatcherBase::finished, this, &Document::onAnalysisDone);
   connect(m_loader, &ImportJob::finished, this, [this](const QString& path, std::shared_ptr<const Asset> asset) {
     if (!m_toLoad.empty()) {
@@ -282,6 +301,17 @@ void Document::setLevelThreshold(int level, double threshold) {
                              level));
 }
 
+void Document::setAssetUnitScale(int index, double cmPerUnit) {
+  if (index < 0 || index >= assetCount() || !m_assets[std::size_t(index)] || m_reimport->isRunning() ||
+      !std::isfinite(cmPerUnit) || cmPerUnit < 0.0)
+    return;
+  m_reimportIndex = index;
+  m_reimportScale = cmPerUnit;
+  ImportOptions options;
+  options.unitScale = cmPerUnit;
+  m_reimport->start(assetFilePath(index), options);
+}
+
 // ---- setters for commands -----------------------------------------------------------
 
 std::map<std::string, JointSettings> Document::jointSettings(int asset) const {
@@ -320,6 +350,17 @@ void Document::insertAsset(int index, const ProjectAsset& entry, std::shared_ptr
     ++m_project.view.asset;
   if (currentAsset() < 0 || !currentAssetPtr() || currentAssetPtr()->clips.empty())
     setCurrentAsset(index, 0);
+}
+
+void Document::replaceAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset) {
+  m_project.assets[std::size_t(index)] = entry;
+  m_assets[std::size_t(index)] = std::move(asset);
+  emit assetsChanged();
+  if (index == currentAsset()) {
+    m_analysis.reset(); // other lengths: every figure changes
+    requestAnalysis(true);
+    emit currentChanged();
+  }
 }
 
 void Document::eraseAsset(int index) {

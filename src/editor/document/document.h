@@ -70,6 +70,9 @@ public:
   void removeLevel(int level);
   void moveLevel(int from, int to);
   void setLevelThreshold(int level, double threshold);
+  // Imports the asset's file again at `cmPerUnit` (0 = the file's own) in the background,
+  // then pushes one command; unitScaleChanged() follows either way.
+  void setAssetUnitScale(int index, double cmPerUnit);
 
   // Files. save() writes atomically (QSaveFile); open() reads the project and imports
   // its assets in the background (projectOpened() follows). Errors leave the document as it was.
@@ -88,6 +91,7 @@ public:
   void setLevels(const std::vector<double>& thresholds, const std::vector<std::map<std::string, JointSettings>>& joints);
   void insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);
   void eraseAsset(int index);
+  void replaceAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);
   std::map<std::string, JointSettings> jointSettings(int asset) const;
 
 signals:
@@ -98,6 +102,7 @@ signals:
   void analysisProgress(int done, int total);
   void analysisFinished(bool ok, const QString& message); // ok = new figures in analysis()
   void projectOpened(bool ok, const QString& message);
+  void unitScaleChanged(bool ok, const QString& message);
   void message(const QString& line); // for the log
 
 private:
@@ -127,6 +132,9 @@ private:
   double m_lastMs = 0.0;
 
   ImportJob* m_loader = nullptr;
+  ImportJob* m_reimport = nullptr; // setAssetUnitScale()
+  int m_reimportIndex = -1;
+  double m_reimportScale = 0.0;
   std::vector<int> m_toLoad; // asset indices still to import after open()/relink
   QString m_openMessage;
 };
