@@ -279,6 +279,22 @@ void MainWindow::showAbout() {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
+  if (m_document->isModified()) {
+    const QMessageBox::StandardButton answer = QMessageBox::question(
+        this, tr("Unsaved changes"), tr("The project has unsaved changes. Save them before closing?"),
+        QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
+    if (answer == QMessageBox::Cancel) {
+      event->ignore();
+      return;
+    }
+    if (answer == QMessageBox::Save) {
+      findChild<QAction*>("actionSave")->trigger();
+      if (m_document->isModified()) { // not saved (cancelled or failed): keep the window
+        event->ignore();
+        return;
+      }
+    }
+  }
   m_autosave->discard(); // a clean close leaves nothing to recover
   m_document->cancelAnalysis();
   QSettings settings;
