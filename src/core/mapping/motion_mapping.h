@@ -1,0 +1,108 @@
+#pragma once
+// A motion's joints mapped onto a character's, and the motion played on the character
+// (DESIGN.md section 3; Ahn & Wohn, section 3.1: "During the preprocessing, current
+// animation system aligns the selected motion / character structure and calculates
+// difference matrix between them. At the run-time, the system transforms the joint posture
+// from the motion database and applies the difference matrix.").
+//
+// The mapping is a table of (character joint, motion joint) pairs by name, each joint at
+// most once on its side. It starts from automatic name matching (joint_names.h: body part,
+// side, chains matched in order along the chain) and is then edited like any table; it is
+// saved as JSON next to a project (tests/data/mappings/ holds one for CMU 01_01 on
+// BCN_Epileptic).
+//
+// Playing a motion on a character (retargetClip): rotations are carried in model space.
+// For a mapped character joint c driven by motion joint s,
+//     G_c(t) = A · G_s(t) · D_c,      D_c = (A · G_s^rest)^-1 · R_c · G_c^rest
+// G are model-space rotations, A aligns the motion's model axes with the character's (the
+// axis-aligned rotation that best overlays the two rest poses), and R_c is the rotation that
+// turns the character's rest bones at c (towards its first mapped descendants) onto the
+// motion's rest bones: the "structures are aligned" first, so a T-pose motion drives an
+// arms-down character correctly. D_c is the paper's difference matrix. Where a motion
+// bone points, the character's bone points. Unmapped character joints keep their rest
+// rotation relative to their parent; the root moves by the motion root's displacement from
+// its first frame, scaled by the ratio of the two skeletons' mapped bone lengths. Lengths
+// in cm; the character keeps its own bone lengths.
+
+#include "core/clip.h"
+#include "core/error.h"
+#include "core/skeleton.h"
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mlod {
+
+struct JointPair {
+  std::string character; // joint of the character's skeleton
+  std::string motion;    // joint of the motion's skeleton that drives it
+  friend bool operator==(const JointPair&, const JointPair&) = default;
+};
+
+class MotionMapping {
+public:
+  std::string motionName;    // what the motion is (a file name), for people
+  std::string characterName; // what the character is
+  std::vector<JointPair> pairs;
+
+  // Automatic name matching of every joint of `character` against `motion` (joint_names.h):
+  // equal body part and side; chain parts (spine, neck, fingers, tail) in order along their
+  // chain, spread evenly where the two chains differ in length; where several joints claim
+  // a part, the one nearest the root. End effectors are not mapped.
+  static MotionMapping automatic(const Skeleton& motion, const Skeleton& character);
+
+  // The motion joint that drives `character` joint, or nullptr.
+  const std::string* motionFor(std::string_view characterJoint) const;
+  // Table edits: set() replaces any pair that held either joint; clear() drops the pair of
+  // a character joint (it keeps its rest pose then).
+  void set(const std::string& characterJoint, const std::string& motionJoint);
+  void clear(std::string_view characterJoint);
+
+  // Rules: every name exists in its skeleton; no joint appears twice on its side.
+  Error validate(const Skeleton& motion, const Skeleton& character) const;
+
+  friend bool operator==(const MotionMapping&, const MotionMapping&) = default;
+};
+
+// Version 1: {"format":"motionlod-mapping","version":1,"motion","character",
+//             "pairs":[{"character","motion"}]}
+inline constexpr int kMotionMappingVersion = 1;
+std::string motionMappingToJson(const MotionMapping& mapping, int indent = 2);
+// Errors: not JSON, another format, a newer version, missing or mistyped fields.
+Result<MotionMapping> motionMappingFromJson(std::string_view text);
+
+// How well an automatic mapping reproduces a reference one (a committed, checked table).
+struct MappingAgreement {
+  int referencePairs = 0; // pairs in the reference
+  int found = 0;          // reference pairs the automatic mapping has exactly
+  int wrong = 0;          // character joints both map, to different motion joints
+  int missing = 0;        // reference pairs whose character joint the automatic one leaves out
+  int extra = 0;          // automatic pairs for character joints the reference leaves out
+  double hitRatePercent() const { return referencePairs > 0 ? 100.0 * found / referencePairs : 0.0; }
+};
+MappingAgreement compareMappings(const MotionMapping& automatic, const MotionMapping& reference);
+
+// What the paper's preprocessing computes once per (motion skeleton, character) pair.
+struct RestPoseDifferences {
+  glm::dquat alignment{1.0, 0.0, 0.0, 0.0}; // A: motion model space -> character model space
+  double scale = 1.0;                       // character length / motion length
+  std::vector<int> source;                  // per character joint: its motion joint, -1 = none
+  std::vector<glm::dquat> difference;       // per character joint: D_c (identity where unmapped)
+  int rootSource = 0;                       // motion joint whose displacement moves the character's root
+};
+
+// Errors: a mapping that does not validate against the two skeletons, an empty mapping.
+Result<RestPoseDifferences> restPoseDifferences(const MotionMapping& mapping, const Skeleton& motion,
+                                                const Skeleton& character);
+
+// `clip` (of `motion`) played on `character`: a clip with the character's joints, the same
+// frames and rate. Mapped joints (and the root) carry rotation channels, the root a
+// translation channel; unmapped joints hold their rest pose without channels.
+Result<Clip> retargetClip(const RestPoseDifferences& differences, const Skeleton& motion, const Clip& clip,
+                          const Skeleton& character);
+
+} // namespace mlod
