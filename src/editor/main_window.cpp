@@ -1,5 +1,6 @@
 #include "editor/main_window.h"
 
+#include "core/project.h"
 #include "core/version.h"
 #include "editor/charts/statistics_view.h"
 #include "editor/document/autosave.h"
@@ -14,6 +15,7 @@
 
 #include <QActionGroup>
 #include <QCloseEvent>
+#include <QComboBox>
 #include <QDateTime>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
@@ -392,6 +394,15 @@ void MainWindow::buildDocks() {
   m_alphaBox->setToolTip(tr("Orientation weight α of every joint without its own, cm (default 5)"));
   connect(m_alphaBox, &QDoubleSpinBox::valueChanged, this, [this](double value) { m_document->setAlpha(value); });
   buttons->addWidget(m_alphaBox);
+  m_modeBox = new QComboBox;
+  m_modeBox->setObjectName("modeBox");
+  m_modeBox->addItem(tr("Greedy"), int(JpcMode::Greedy));
+  m_modeBox->addItem(tr("Optimal"), int(JpcMode::Optimal));
+  m_modeBox->setToolTip(tr("Greedy: the paper's longest-range-first clusters. Optimal: under the same error bound, the "
+                           "clusters that cover the most frames"));
+  connect(m_modeBox, &QComboBox::currentIndexChanged, this,
+          [this](int index) { m_document->setMode(JpcMode(m_modeBox->itemData(index).toInt())); });
+  buttons->addWidget(m_modeBox);
   levelsLayout->addLayout(buttons);
   addDock("levelsDock", tr("LOD Levels"), levelsPanel, Qt::LeftDockWidgetArea);
 
@@ -434,6 +445,8 @@ void MainWindow::buildDocks() {
   connect(m_document, &Document::settingsChanged, this, [this] {
     const QSignalBlocker block(m_alphaBox);
     m_alphaBox->setValue(m_document->project().alpha);
+    const QSignalBlocker blockMode(m_modeBox);
+    m_modeBox->setCurrentIndex(m_modeBox->findData(int(m_document->project().mode)));
     refreshStatus();
   });
   connect(m_document, &Document::analysisFinished, this, [this](bool ok, const QString& message) {
@@ -666,6 +679,17 @@ void MainWindow::showError(const QString& title, const QString& text, const QStr
 }
 
 bool MainWindow::openProject(const QString& path) {
+  // A file that would be refused is refused first; only a good one asks about unsaved changes.
+  if (const Result<Project> probe = loadProjectFile(QFileInfo(path).absoluteFilePath().toStdString()); !probe) {
+    showError(tr("Cannot open project"), tr("%1 was not opened; nothing was changed.").arg(QFileInfo(path).fileName()),
+              tr("%1: %2").arg(path, QString::fromStdString(probe.message())));
+    return false;
+  }
+  if (m_document->isModified() && isVisible() &&
+      QMessageBox::question(this, tr("Unsaved changes"),
+                            tr("Opening %1 discards the unsaved changes of this project. Open it anyway?")
+                                .arg(QFileInfo(path).fileName())) != QMessageBox::Yes)
+    return false;
   QString error;
   if (!m_document->open(path, &error)) {
     showError(tr("Cannot open project"), tr("%1 was not opened; nothing was changed.").arg(QFileInfo(path).fileName()),

@@ -12,6 +12,7 @@
 
 namespace Ui { class MainWindow; }
 class QActionGroup;
+class QComboBox;
 class QDockWidget;
 class QDoubleSpinBox;
 class QLabel;
@@ -56,6 +57,7 @@ public:
   TrajectoryView* trajectoryView() const { return m_trajectoryView; }
   StatisticsView* statisticsView() const { return m_statisticsView; }
   QDoubleSpinBox* alphaBox() const { return m_alphaBox; }
+  QComboBox* modeBox() const { return m_modeBox; }
   QProgressDialog* analysisProgress() const { return m_analysisProgress; }
   QString statusText() const; // the permanent status-bar figures
 
@@ -117,6 +119,7 @@ private:
   TrajectoryView* m_trajectoryView = nullptr;
   StatisticsView* m_statisticsView = nullptr;
   QDoubleSpinBox* m_alphaBox = nullptr;
+  QComboBox* m_modeBox = nullptr;
   QMenu* m_recentMenu = nullptr;
   QLabel* m_clipLabel = nullptr;
   QLabel* m_frameLabel = nullptr;

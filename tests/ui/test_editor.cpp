@@ -16,6 +16,7 @@
 #include <QAbstractButton>
 #include <QChart>
 #include <QCheckBox>
+#include <QComboBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
@@ -655,6 +656,50 @@ private slots:
     QVERIFY(waitForFigures(document));
     QCOMPARE(document->assetCount(), 1);
     QVERIFY(figuresOf(*document) == before);
+  }
+
+  // The clustering mode is one undoable edit; optimal covers at least as many frames as greedy.
+  void modeIsAnUndoableEdit() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Figures greedy = figuresOf(*document);
+    const std::vector<JpcLevelResult> greedyLevels = document->analysis()->levels;
+    QComboBox* mode = window->modeBox();
+    mode->setFocus();
+    QTest::keyClick(mode, Qt::Key_Down);
+    QCOMPARE(document->project().mode, JpcMode::Optimal);
+    QVERIFY(waitForFigures(document));
+    for (std::size_t l = 0; l < greedyLevels.size(); ++l)
+      QVERIFY(document->analysis()->levels[l].simplifiedPercent >= greedyLevels[l].simplifiedPercent);
+    QTest::keyClick(window.get(), Qt::Key_Z, Qt::ControlModifier);
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(mode->currentIndex(), 0);
+    QVERIFY(figuresOf(*document) == greedy);
+  }
+
+  // Opening a project over unsaved changes asks first; No keeps everything.
+  void openOverUnsavedChangesAsks() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("other.mlod");
+    QFile file(path);
+    QVERIFY(file.open(QIODevice::WriteOnly));
+    file.write(QByteArray::fromStdString(projectToJson(Project{})));
+    file.close();
+    auto window = openSample();
+    QVERIFY(window);
+    QVERIFY(window->document()->isModified());
+    bool asked = false;
+    QTimer::singleShot(0, window.get(), [&asked] {
+      if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
+        asked = true;
+        QTest::mouseClick(box->button(QMessageBox::No), Qt::LeftButton);
+      }
+    });
+    QVERIFY(!window->openProject(path));
+    QVERIFY(asked);
+    QCOMPARE(window->document()->assetCount(), 1);
+    QCOMPARE(window->document()->undoStack()->count(), 1);
   }
 
   // The common editor actions have shortcuts and tooltips.

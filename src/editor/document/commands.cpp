@@ -51,6 +51,13 @@ bool SetAlpha::mergeWith(const QUndoCommand* other) {
   return true;
 }
 
+SetMode::SetMode(Document* document, JpcMode before, JpcMode after)
+    : QUndoCommand(QObject::tr("Cluster %1").arg(after == JpcMode::Optimal ? QObject::tr("optimally") : QObject::tr("greedily"))),
+      m_document(document), m_before(before), m_after(after) {}
+
+void SetMode::undo() { m_document->setProjectMode(m_before); }
+void SetMode::redo() { m_document->setProjectMode(m_after); }
+
 ChangeAssets::ChangeAssets(Document* document, int index, ProjectAsset entry, std::shared_ptr<const Asset> asset,
                            bool remove)
     : QUndoCommand(remove ? QObject::tr("Remove %1").arg(QString::fromStdString(entry.path))

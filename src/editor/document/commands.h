@@ -77,6 +77,18 @@ private:
   double m_before, m_after;
 };
 
+// Greedy (the paper's) or optimal clustering, for the whole project.
+class SetMode : public QUndoCommand {
+public:
+  SetMode(Document* document, JpcMode before, JpcMode after);
+  void undo() override;
+  void redo() override;
+
+private:
+  Document* m_document;
+  JpcMode m_before, m_after;
+};
+
 // Adds (or, with `remove`, removes) one asset at `index`.
 class ChangeAssets : public QUndoCommand {
 public:

@@ -141,6 +141,11 @@ void Document::setAlpha(double alpha) {
     m_undo->push(new SetAlpha(this, m_project.alpha, alpha));
 }
 
+void Document::setMode(JpcMode mode) {
+  if (mode != m_project.mode)
+    m_undo->push(new SetMode(this, m_project.mode, mode));
+}
+
 namespace {
 // Drops entries that say nothing (all defaults) so projects stay small and compare equal.
 void tidy(std::map<std::string, JointSettings>& joints) {
@@ -320,6 +325,12 @@ std::map<std::string, JointSettings> Document::jointSettings(int asset) const {
 
 void Document::setProjectAlpha(double alpha) {
   m_project.alpha = alpha;
+  emit settingsChanged();
+  requestAnalysis(true);
+}
+
+void Document::setProjectMode(JpcMode mode) {
+  m_project.mode = mode;
   emit settingsChanged();
   requestAnalysis(true);
 }

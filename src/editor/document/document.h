@@ -62,6 +62,7 @@ public:
   void addAsset(std::shared_ptr<const Asset> asset, const QString& path, double unitScale);
   void removeAsset(int index);
   void setAlpha(double alpha);
+  void setMode(JpcMode mode);
   void setJointAlpha(const std::vector<int>& joints, std::optional<double> alpha);
   void setJointThreshold(const std::vector<int>& joints, int level, std::optional<double> threshold);
   void setJointsLocked(const std::vector<int>& joints, bool locked);
@@ -87,6 +88,7 @@ public:
 
   // Setters for commands (no undo; they notify the views).
   void setProjectAlpha(double alpha);
+  void setProjectMode(JpcMode mode);
   void setJointSettings(int asset, const std::map<std::string, JointSettings>& joints);
   void setLevels(const std::vector<double>& thresholds, const std::vector<std::map<std::string, JointSettings>>& joints);
   void insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);
