@@ -47,6 +47,13 @@ Error Project::validate() const {
           return Error(where + ", joint " + name + ": a threshold must be a finite number >= 0 (cm·degrees)");
     }
   }
+  for (std::size_t m = 0; m < mappings.size(); ++m) {
+    const ProjectMapping& mapping = mappings[m];
+    const int count = static_cast<int>(assets.size());
+    if (mapping.motion < 0 || mapping.motion >= count || mapping.character < 0 || mapping.character >= count ||
+        mapping.motion == mapping.character)
+      return Error("mapping " + std::to_string(m) + " does not name two different assets of the project");
+  }
   return {};
 }
 
@@ -76,6 +83,12 @@ std::string projectToJson(const Project& project, int indent) {
     assets.push_back({{"path", asset.path}, {"unit_scale", asset.unitScale}, {"joints", std::move(joints)}});
   }
   doc["assets"] = std::move(assets);
+  json mappings = json::array();
+  for (const ProjectMapping& mapping : project.mappings)
+    mappings.push_back({{"motion", mapping.motion},
+                        {"character", mapping.character},
+                        {"table", json::parse(motionMappingToJson(mapping.mapping))}});
+  doc["mappings"] = std::move(mappings);
   doc["current"] = {{"asset", project.view.asset},
                     {"clip", project.view.clip},
                     {"level", project.view.level},
@@ -169,6 +182,22 @@ Result<Project> projectFromJson(std::string_view textIn) {
       }
       project.assets.push_back(std::move(asset));
     }
+    if (doc.contains("mappings")) {
+      const json& mappings = doc["mappings"];
+      if (!mappings.is_array())
+        return Error("\"mappings\" is not a list");
+      for (std::size_t m = 0; m < mappings.size(); ++m) {
+        const std::string where = "mapping " + std::to_string(m);
+        ProjectMapping mapping;
+        mapping.motion = integer(field(mappings[m], "motion", where), where + " motion");
+        mapping.character = integer(field(mappings[m], "character", where), where + " character");
+        Result<MotionMapping> table = motionMappingFromJson(field(mappings[m], "table", where).dump());
+        if (!table)
+          return Error(where + ": " + table.message());
+        mapping.mapping = std::move(table).value();
+        project.mappings.push_back(std::move(mapping));
+      }
+    }
     if (doc.contains("current")) {
       const json& current = doc["current"];
       project.view.asset = integer(field(current, "asset", "\"current\""), "current asset");
@@ -211,6 +240,27 @@ std::filesystem::path resolveAssetPath(const std::filesystem::path& projectFile,
   if (path.is_absolute())
     return path.lexically_normal();
   return (fs::absolute(projectFile).parent_path() / path).lexically_normal();
+}
+
+void eraseProjectAsset(Project& project, int index) {
+  project.assets.erase(project.assets.begin() + index);
+  std::vector<ProjectMapping> kept;
+  for (ProjectMapping mapping : project.mappings) {
+    if (mapping.motion == index || mapping.character == index)
+      continue;
+    mapping.motion -= mapping.motion > index ? 1 : 0;
+    mapping.character -= mapping.character > index ? 1 : 0;
+    kept.push_back(std::move(mapping));
+  }
+  project.mappings = std::move(kept);
+}
+
+void insertProjectAsset(Project& project, int index, ProjectAsset asset) {
+  project.assets.insert(project.assets.begin() + index, std::move(asset));
+  for (ProjectMapping& mapping : project.mappings) {
+    mapping.motion += mapping.motion >= index ? 1 : 0;
+    mapping.character += mapping.character >= index ? 1 : 0;
+  }
 }
 
 void remapLevels(Project& project, const std::vector<int>& order, const std::vector<double>& thresholds) {

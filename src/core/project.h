@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/jpc/jpc_settings.h"
+#include "core/mapping/motion_mapping.h"
 
 #include <filesystem>
 #include <map>
@@ -22,6 +23,7 @@ namespace mlod {
 
 // Version 1: {"format":"motionlod-project","version":1,"alpha","mode","levels":[{"threshold"}],
 //             "assets":[{"path","unit_scale","joints":{NAME:{"alpha","thresholds":[E|null],"locked"}}}],
+//             "mappings":[{"motion","character","table":<motion_mapping.h's JSON>}],  (optional)
 //             "current":{"asset","clip","level","joint"}}
 inline constexpr int kProjectVersion = 1;
 inline constexpr const char* kProjectFormat = "motionlod-project";
@@ -40,6 +42,15 @@ struct ProjectAsset {
   friend bool operator==(const ProjectAsset&, const ProjectAsset&) = default;
 };
 
+// A motion asset assigned to a character asset through a joint mapping (indices into
+// Project::assets).
+struct ProjectMapping {
+  int motion = -1;
+  int character = -1;
+  MotionMapping mapping;
+  friend bool operator==(const ProjectMapping&, const ProjectMapping&) = default;
+};
+
 // What the editor had in view (restored on open; not part of any figure).
 struct ProjectView {
   int asset = -1;
@@ -54,6 +65,7 @@ struct Project {
   double alpha = kDefaultJpcAlpha; // cm, every joint without its own
   JpcMode mode = JpcMode::Greedy;
   std::vector<double> levelThresholds = {5.0, 50.0, 100.0, 300.0}; // per LOD level, cm·degrees (Table 1)
+  std::vector<ProjectMapping> mappings;
   ProjectView view;
 
   // The JPC settings of one asset whose file unit is `unitScale` cm (for the zero-length
@@ -62,7 +74,7 @@ struct Project {
 
   // Rules: alpha finite and >= 0; at least one level; every level threshold finite and
   // >= 0; every asset has a path and a unit scale finite and >= 0; every per-joint alpha
-  // and threshold finite and >= 0.
+  // and threshold finite and >= 0; every mapping names two different assets of the project.
   Error validate() const;
 
   friend bool operator==(const Project&, const Project&) = default;
@@ -82,6 +94,10 @@ Result<Project> loadProjectFile(const std::filesystem::path& file);
 std::string storedAssetPath(const std::filesystem::path& projectFile, const std::filesystem::path& assetFile);
 // The file a stored path names for a project at `projectFile`.
 std::filesystem::path resolveAssetPath(const std::filesystem::path& projectFile, const std::string& stored);
+
+// Removes / inserts an asset; mappings follow their assets (those of a removed one go).
+void eraseProjectAsset(Project& project, int index);
+void insertProjectAsset(Project& project, int index, ProjectAsset asset);
 
 // A project's levels after an edit of the level list: per-joint threshold overrides follow
 // their level. `order[i]` is the old index of new level i, or -1 for a new level.

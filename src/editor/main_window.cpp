@@ -85,7 +85,20 @@ MainWindow::MainWindow(QWidget* parent)
     std::vector<std::shared_ptr<const Asset>> assets;
     for (int i = 0; i < m_document->assetCount(); ++i)
       assets.push_back(m_document->asset(i));
-    m_assets->setAssets(assets, paths);
+    QStringList notes;
+    for (int i = 0; i < m_document->assetCount(); ++i) {
+      QStringList parts;
+      for (const ProjectMapping& mapping : m_document->project().mappings) {
+        if (mapping.motion == i)
+          parts << tr("drives %1 (%2 joint pairs)")
+                       .arg(QString::fromStdString(mapping.mapping.characterName))
+                       .arg(mapping.mapping.pairs.size());
+        if (mapping.character == i)
+          parts << tr("driven by %1").arg(QString::fromStdString(mapping.mapping.motionName));
+      }
+      notes << parts.join(", ");
+    }
+    m_assets->setAssets(assets, paths, notes);
     int characters = 0, motions = 0;
     for (const auto& asset : assets)
       if (asset)
@@ -518,6 +531,37 @@ void MainWindow::buildActions() {
          [this] { m_document->setJointThreshold(selectedJoints(), m_document->currentLevel(), std::nullopt); });
   action(edit, "actionRemoveAsset", tr("Remove &Asset"), QKeySequence(), tr("Remove the asset in view from the project"),
          [this] { m_document->removeAsset(m_document->currentAsset()); });
+  action(edit, "actionAssignMotion", tr("Assign &Motion to Character…"), QKeySequence("Ctrl+Shift+M"),
+         tr("Play the motion in view on a character: joints matched by name (rig conventions), rest-pose differences "
+            "computed (the paper's section 3.1)"),
+         [this] {
+           const int motion = m_document->currentAsset();
+           QStringList names;
+           std::vector<int> characters;
+           for (int i = 0; i < m_document->assetCount(); ++i)
+             if (i != motion && m_document->asset(i) && !m_document->asset(i)->meshes.empty()) {
+               characters.push_back(i);
+               names << QFileInfo(m_document->assetFilePath(i)).fileName();
+             }
+           if (characters.empty()) {
+             showError(tr("No character"), tr("Import a character (a skinned mesh) first."),
+                       tr("assign motion: the project has no character"));
+             return;
+           }
+           int chosen = characters.front();
+           if (characters.size() > 1) {
+             bool ok = false;
+             const QString name = QInputDialog::getItem(this, tr("Assign motion"), tr("Character:"), names, 0, false, &ok);
+             if (!ok)
+               return;
+             chosen = characters[std::size_t(names.indexOf(name))];
+           }
+           QString error;
+           if (!m_document->assignMotion(motion, chosen, &error))
+             showError(tr("Cannot assign the motion"), tr("The motion was not assigned."), error);
+           else
+             log(m_document->undoStack()->text(m_document->undoStack()->index() - 1));
+         });
   action(edit, "actionAssetUnit", tr("Asset &Unit…"), QKeySequence(),
          tr("Import the asset in view again with another unit (cm per file unit); every length and figure follows"),
          [this] {

@@ -702,6 +702,53 @@ private slots:
     QCOMPARE(window->document()->undoStack()->count(), 1);
   }
 
+  // A motion assigned to a character (automatic joint mapping) is one undo step, shows in the
+  // Assets dock, survives save and reopen, and goes with the character when it is removed.
+  void assignMotionToCharacter() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QSignalSpy spy(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0);
+    QVERIFY(spy.wait(60000));
+    QCOMPARE(spy.first()[0].toBool(), true);
+    QCOMPARE(document->assetCount(), 2);
+    document->setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    const int steps = document->undoStack()->count();
+    QTest::keyClick(window.get(), Qt::Key_M, Qt::ControlModifier | Qt::ShiftModifier);
+    QCOMPARE(document->undoStack()->count(), steps + 1);
+    QCOMPARE(document->project().mappings.size(), std::size_t(1));
+    const ProjectMapping mapping = document->project().mappings[0];
+    QCOMPARE(mapping.motion, 0);
+    QCOMPARE(mapping.character, 1);
+    QVERIFY2(mapping.mapping.pairs.size() >= 15, qPrintable(QString::number(mapping.mapping.pairs.size())));
+    QVERIFY(!mapping.mapping.validate(document->asset(0)->skeleton, document->asset(1)->skeleton));
+    const QString detail = window->assetModel()->index(0, AssetTreeModel::DetailColumn).data().toString();
+    QVERIFY2(detail.startsWith("drives BCN_Epileptic.X"), qPrintable(detail));
+
+    QTemporaryDir dir;
+    QVERIFY(window->saveProject(dir.filePath("assigned.mlod")));
+    {
+      MainWindow reopened;
+      QSignalSpy opened(reopened.document(), &Document::projectOpened);
+      QVERIFY(reopened.openProject(dir.filePath("assigned.mlod")));
+      QVERIFY(opened.wait(60000));
+      QVERIFY(reopened.document()->project().mappings == document->project().mappings);
+    }
+    // Removing the character drops the mapping; undo brings both back.
+    document->setCurrentAsset(1);
+    window->findChild<QAction*>("actionRemoveAsset")->trigger();
+    QCOMPARE(document->assetCount(), 1);
+    QVERIFY(document->project().mappings.empty());
+    document->undoStack()->undo();
+    QCOMPARE(document->assetCount(), 2);
+    QCOMPARE(document->project().mappings.size(), std::size_t(1));
+    QVERIFY(document->project().mappings[0] == mapping);
+    document->undoStack()->undo(); // the assignment
+    QVERIFY(document->project().mappings.empty());
+  }
+
   // The common editor actions have shortcuts and tooltips.
   void editorActionsHaveShortcuts() {
     MainWindow window;

@@ -62,12 +62,24 @@ ChangeAssets::ChangeAssets(Document* document, int index, ProjectAsset entry, st
                            bool remove)
     : QUndoCommand(remove ? QObject::tr("Remove %1").arg(QString::fromStdString(entry.path))
                           : QObject::tr("Import %1").arg(QString::fromStdString(entry.path))),
-      m_document(document), m_index(index), m_entry(std::move(entry)), m_asset(std::move(asset)), m_remove(remove) {}
+      m_document(document), m_index(index), m_entry(std::move(entry)), m_asset(std::move(asset)), m_remove(remove),
+      m_mappings(document->project().mappings) {}
 
-void ChangeAssets::add() { m_document->insertAsset(m_index, m_entry, m_asset); }
+void ChangeAssets::add() {
+  m_document->insertAsset(m_index, m_entry, m_asset);
+  if (m_remove)
+    m_document->setMappings(m_mappings);
+}
 void ChangeAssets::erase() { m_document->eraseAsset(m_index); }
 void ChangeAssets::undo() { m_remove ? add() : erase(); }
 void ChangeAssets::redo() { m_remove ? erase() : add(); }
+
+SetMappings::SetMappings(Document* document, std::vector<ProjectMapping> before, std::vector<ProjectMapping> after,
+                         const QString& text)
+    : QUndoCommand(text), m_document(document), m_before(std::move(before)), m_after(std::move(after)) {}
+
+void SetMappings::undo() { m_document->setMappings(m_before); }
+void SetMappings::redo() { m_document->setMappings(m_after); }
 
 ReplaceAsset::ReplaceAsset(Document* document, int index, ProjectAsset beforeEntry, std::shared_ptr<const Asset> before,
                            ProjectAsset afterEntry, std::shared_ptr<const Asset> after, const QString& text)

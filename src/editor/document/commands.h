@@ -104,6 +104,20 @@ private:
   ProjectAsset m_entry;
   std::shared_ptr<const Asset> m_asset;
   bool m_remove;
+  std::vector<ProjectMapping> m_mappings; // before the command: a removed asset's mappings come back on undo
+};
+
+// Replaces the project's motion-to-character mappings (assign, unassign, edit a table).
+class SetMappings : public QUndoCommand {
+public:
+  SetMappings(Document* document, std::vector<ProjectMapping> before, std::vector<ProjectMapping> after,
+              const QString& text);
+  void undo() override;
+  void redo() override;
+
+private:
+  Document* m_document;
+  std::vector<ProjectMapping> m_before, m_after;
 };
 
 // Replaces one asset by the same file imported again (a new unit scale).

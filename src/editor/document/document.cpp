@@ -146,6 +146,50 @@ void Document::setMode(JpcMode mode) {
     m_undo->push(new SetMode(this, m_project.mode, mode));
 }
 
+bool Document::assignMotion(int motion, int character, QString* out_error) {
+  const auto fail = [&](const QString& text) {
+    if (out_error)
+      *out_error = text;
+    return false;
+  };
+  if (motion < 0 || motion >= assetCount() || character < 0 || character >= assetCount() || motion == character)
+    return fail(tr("choose a motion and a different character"));
+  const Asset* source = m_assets[std::size_t(motion)].get();
+  const Asset* target = m_assets[std::size_t(character)].get();
+  if (!source || !target)
+    return fail(tr("an asset is missing; relink it first"));
+  if (source->clips.empty())
+    return fail(tr("%1 has no clip to play").arg(QFileInfo(assetFilePath(motion)).fileName()));
+  ProjectMapping mapping;
+  mapping.motion = motion;
+  mapping.character = character;
+  mapping.mapping = MotionMapping::automatic(source->skeleton, target->skeleton);
+  mapping.mapping.motionName = QFileInfo(assetFilePath(motion)).fileName().toStdString();
+  mapping.mapping.characterName = QFileInfo(assetFilePath(character)).fileName().toStdString();
+  if (mapping.mapping.pairs.empty())
+    return fail(tr("no joint of %1 matches one of %2").arg(QString::fromStdString(mapping.mapping.motionName),
+                                                            QString::fromStdString(mapping.mapping.characterName)));
+  std::vector<ProjectMapping> after;
+  for (const ProjectMapping& existing : m_project.mappings)
+    if (existing.motion != motion || existing.character != character)
+      after.push_back(existing);
+  const QString text = tr("Assign %1 to %2 (%3 joint pairs)")
+                           .arg(QString::fromStdString(mapping.mapping.motionName),
+                                QString::fromStdString(mapping.mapping.characterName))
+                           .arg(mapping.mapping.pairs.size());
+  after.push_back(std::move(mapping));
+  m_undo->push(new SetMappings(this, m_project.mappings, std::move(after), text));
+  return true;
+}
+
+void Document::unassignMotion(int mapping) {
+  if (mapping < 0 || mapping >= static_cast<int>(m_project.mappings.size()))
+    return;
+  std::vector<ProjectMapping> after = m_project.mappings;
+  after.erase(after.begin() + mapping);
+  m_undo->push(new SetMappings(this, m_project.mappings, std::move(after), tr("Unassign motion")));
+}
+
 namespace {
 // Drops entries that say nothing (all defaults) so projects stay small and compare equal.
 void tidy(std::map<std::string, JointSettings>& joints) {
@@ -353,8 +397,14 @@ void Document::setLevels(const std::vector<double>& thresholds,
   requestAnalysis(true);
 }
 
+void Document::setMappings(const std::vector<ProjectMapping>& mappings) {
+  m_project.mappings = mappings;
+  emit mappingsChanged();
+  emit assetsChanged(); // the Assets dock shows what drives what
+}
+
 void Document::insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset) {
-  m_project.assets.insert(m_project.assets.begin() + index, entry);
+  insertProjectAsset(m_project, index, entry);
   m_assets.insert(m_assets.begin() + index, std::move(asset));
   emit assetsChanged();
   if (currentAsset() >= index)
@@ -375,7 +425,7 @@ void Document::replaceAsset(int index, const ProjectAsset& entry, std::shared_pt
 }
 
 void Document::eraseAsset(int index) {
-  m_project.assets.erase(m_project.assets.begin() + index);
+  eraseProjectAsset(m_project, index);
   m_assets.erase(m_assets.begin() + index);
   emit assetsChanged();
   if (currentAsset() == index)

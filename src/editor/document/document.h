@@ -63,6 +63,11 @@ public:
   void removeAsset(int index);
   void setAlpha(double alpha);
   void setMode(JpcMode mode);
+  // Assigns motion asset `motion` to character asset `character` with the automatic joint
+  // mapping (replacing an earlier assignment of that motion to that character).
+  // Errors: assets missing, without a clip (motion), or no joint that matches.
+  bool assignMotion(int motion, int character, QString* out_error = nullptr);
+  void unassignMotion(int mapping);
   void setJointAlpha(const std::vector<int>& joints, std::optional<double> alpha);
   void setJointThreshold(const std::vector<int>& joints, int level, std::optional<double> threshold);
   void setJointsLocked(const std::vector<int>& joints, bool locked);
@@ -94,11 +99,13 @@ public:
   void insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);
   void eraseAsset(int index);
   void replaceAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);
+  void setMappings(const std::vector<ProjectMapping>& mappings);
   std::map<std::string, JointSettings> jointSettings(int asset) const;
 
 signals:
   void assetsChanged();
   void settingsChanged();      // alpha, joint settings or levels
+  void mappingsChanged();
   void currentChanged();       // asset, clip, level or joint in view
   void analysisStarted();
   void analysisProgress(int done, int total);

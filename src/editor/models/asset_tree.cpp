@@ -67,12 +67,19 @@ QModelIndex AssetTreeModel::addAsset(const std::shared_ptr<const Asset>& asset) 
   return indexFromItem(top.front());
 }
 
-void AssetTreeModel::setAssets(const std::vector<std::shared_ptr<const Asset>>& assets, const QStringList& paths) {
+void AssetTreeModel::setAssets(const std::vector<std::shared_ptr<const Asset>>& assets, const QStringList& paths,
+                               const QStringList& notes) {
   removeRows(0, rowCount());
   m_assets.clear();
   for (std::size_t i = 0; i < assets.size(); ++i) {
     if (assets[i]) {
-      addAsset(assets[i]);
+      const QModelIndex row = addAsset(assets[i]);
+      const QString note = i < std::size_t(notes.size()) ? notes[qsizetype(i)] : QString();
+      if (!note.isEmpty()) {
+        QStandardItem* detail = item(row.row(), DetailColumn);
+        detail->setText(note + " · " + detail->text());
+        detail->setToolTip(note + "\n" + detail->toolTip());
+      }
       continue;
     }
     const QString path = i < std::size_t(paths.size()) ? paths[qsizetype(i)] : QString();

@@ -23,7 +23,9 @@ public:
   QModelIndex addAsset(const std::shared_ptr<const Asset>& asset);
   // Replaces every row: one per asset, in order; a null asset is a missing file at `paths[i]`
   // (its row says so and how to relink it).
-  void setAssets(const std::vector<std::shared_ptr<const Asset>>& assets, const QStringList& paths);
+  // `notes[i]`, where given, is added to row i's details (what the asset drives or is driven by).
+  void setAssets(const std::vector<std::shared_ptr<const Asset>>& assets, const QStringList& paths,
+                 const QStringList& notes = {});
   bool isMissing(int row) const { return row >= 0 && row < assetCount() && !m_assets[std::size_t(row)]; }
   const Asset* assetAt(int row) const;
   int assetCount() const { return static_cast<int>(m_assets.size()); }

@@ -23,6 +23,16 @@ Project sampleProject() {
   asset.joints["Head"].alpha = 0.1;
   asset.joints["Spine"].locked = true;
   project.assets.push_back(asset);
+  ProjectAsset character;
+  character.path = "characters/BCN_Epileptic.X";
+  project.assets.push_back(character);
+  ProjectMapping mapping;
+  mapping.motion = 0;
+  mapping.character = 1;
+  mapping.mapping.motionName = "01_01.bvh";
+  mapping.mapping.characterName = "BCN_Epileptic.X";
+  mapping.mapping.pairs = {{"Bip01_Pelvis", "Hips"}, {"Bip01_Spine", "LowerBack"}};
+  project.mappings.push_back(mapping);
   project.view = {0, 0, 1, "LeftUpLeg"};
   return project;
 }
@@ -89,6 +99,25 @@ TEST(Project, BadDocumentsAreRefusedWithAReason) {
     EXPECT_NE(read.message().find(c.reason), std::string::npos) << read.message();
   }
   EXPECT_TRUE(projectFromJson(good));
+}
+
+// Guards mappings: they follow their assets when one is removed or inserted, and a mapping
+// to an asset that is not there is refused.
+TEST(Project, MappingsFollowTheirAssets) {
+  Project project = sampleProject();
+  insertProjectAsset(project, 0, ProjectAsset{"first.bvh", 0.0, {}});
+  ASSERT_EQ(project.mappings.size(), 1u);
+  EXPECT_EQ(project.mappings[0].motion, 1);
+  EXPECT_EQ(project.mappings[0].character, 2);
+  eraseProjectAsset(project, 0);
+  EXPECT_TRUE(project == sampleProject());
+  eraseProjectAsset(project, 1); // the character goes, and its mapping with it
+  EXPECT_TRUE(project.mappings.empty());
+  Project bad = sampleProject();
+  bad.mappings[0].character = 5;
+  const Result<Project> read = projectFromJson(projectToJson(bad));
+  ASSERT_FALSE(read);
+  EXPECT_NE(read.message().find("mapping 0"), std::string::npos) << read.message();
 }
 
 // Guards paths: assets are stored relative to the project's folder and resolve back.
