@@ -33,39 +33,41 @@ struct Triangle {
   glm::dvec3 a, b, c;
 };
 
-// Squared distance from p to triangle abc: the closest point by Voronoi regions (Ericson,
-// "Real-Time Collision Detection", 5.1.5).
-double triangleDistanceSquared(const glm::dvec3& p, const Triangle& t) {
+// The point of triangle abc nearest to p, by Voronoi regions (Ericson, "Real-Time Collision
+// Detection", 5.1.5).
+glm::dvec3 closestPoint(const glm::dvec3& p, const Triangle& t) {
   const glm::dvec3 ab = t.b - t.a, ac = t.c - t.a, ap = p - t.a;
   const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  const auto squared = [&](const glm::dvec3& q) {
-    const glm::dvec3 d = p - q;
-    return glm::dot(d, d);
-  };
   if (d1 <= 0.0 && d2 <= 0.0)
-    return squared(t.a);
+    return t.a;
   const glm::dvec3 bp = p - t.b;
   const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
   if (d3 >= 0.0 && d4 <= d3)
-    return squared(t.b);
+    return t.b;
   const double vc = d1 * d4 - d3 * d2;
   if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
-    return squared(t.a + ab * (d1 / (d1 - d3)));
+    return t.a + ab * (d1 / (d1 - d3));
   const glm::dvec3 cp = p - t.c;
   const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
   if (d6 >= 0.0 && d5 <= d6)
-    return squared(t.c);
+    return t.c;
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
-    return squared(t.a + ac * (d2 / (d2 - d6)));
+    return t.a + ac * (d2 / (d2 - d6));
   const double va = d3 * d6 - d5 * d4;
   if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-    return squared(t.b + (t.c - t.b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+    return t.b + (t.c - t.b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
   const double sum = va + vb + vc;
-  if (!(sum > 0.0)) // degenerate triangle: the nearest of its edges' ends will do
-    return std::min({squared(t.a), squared(t.b), squared(t.c)});
-  const double v = vb / sum, w = vc / sum;
-  return squared(t.a + ab * v + ac * w);
+  if (!(sum > 0.0)) { // degenerate triangle: the nearest corner will do
+    const double da = glm::dot(p - t.a, p - t.a), db = glm::dot(p - t.b, p - t.b), dc = glm::dot(p - t.c, p - t.c);
+    return da <= db && da <= dc ? t.a : (db <= dc ? t.b : t.c);
+  }
+  return t.a + ab * (vb / sum) + ac * (vc / sum);
+}
+
+double triangleDistanceSquared(const glm::dvec3& p, const Triangle& t) {
+  const glm::dvec3 d = p - closestPoint(p, t);
+  return glm::dot(d, d);
 }
 
 using TriangleKey = std::array<std::uint32_t, 3>;
@@ -211,6 +213,11 @@ double TriangleTree::nearestSquared(const glm::dvec3& point, double limit, int* 
   if (out_triangle)
     *out_triangle = triangle;
   return best;
+}
+
+glm::dvec3 TriangleTree::closestPoint(const glm::dvec3& point, int triangle) const {
+  assert(triangle >= 0 && std::size_t(triangle) < m_impl->triangles.size());
+  return mlod::closestPoint(point, m_impl->triangles[static_cast<std::size_t>(triangle)]);
 }
 
 bool TriangleTree::anyWithin(const glm::dvec3& point, double radiusSquared, int* inout_hint) const {

@@ -44,6 +44,8 @@ public:
   // nearer than that (and for an empty tree), which lets a caller stop early. The nearest
   // triangle's number goes to *out_triangle (-1 when none), where given.
   double nearestSquared(const glm::dvec3& point, double limit, int* out_triangle = nullptr) const;
+  // The point of triangle `triangle` (a number nearestSquared() gave) nearest to `point`.
+  glm::dvec3 closestPoint(const glm::dvec3& point, int triangle) const;
   // Whether some triangle lies within sqrt(radiusSquared) of `point` (stops at the first).
   // *inout_hint, where given: a triangle number to try first (-1: none), replaced by the
   // one found; neighbouring points are usually answered by the same triangle.

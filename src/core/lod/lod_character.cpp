@@ -1,0 +1,130 @@
+#include "core/lod/lod_character.h"
+
+#include "core/jpc/simplified_motion.h"
+#include "core/mesh/skinning.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mlod {
+
+namespace {
+
+// Positions of what the error is measured on at one frame: skin vertices, or joints.
+void render(const Skeleton& skeleton, const Clip& clip, int frame, const SkinnedMesh* mesh,
+            std::vector<glm::mat4>& models, std::vector<glm::vec3>& out_points) {
+  clip.modelMatrices(skeleton, frame, models);
+  if (mesh) {
+    skinPositions(*mesh, skinningPalette(skeleton, models), out_points);
+    return;
+  }
+  out_points.resize(models.size());
+  for (std::size_t j = 0; j < models.size(); ++j)
+    out_points[j] = glm::vec3(models[j][3]);
+}
+
+} // namespace
+
+Result<LodCharacter> LodCharacter::prepare(const Skeleton& skeleton, const SkinnedMesh* mesh, std::span<const Clip> clips,
+                                           const JpcSettings& jpc, const MeshLodSettings& meshSettings) {
+  if (Error error = skeleton.validate())
+    return Error("skeleton: " + error.message());
+  if (clips.empty())
+    return Error("LOD: the character plays no clip");
+  if (mesh)
+    if (Error error = mesh->validate(skeleton.jointCount()))
+      return Error("mesh '" + mesh->name + "': " + error.message());
+  if (Error error = meshSettings.validate())
+    return error;
+  LodCharacter out;
+  out.m_skeleton = skeleton;
+  if (mesh)
+    out.m_mesh = *mesh;
+  out.m_clips.assign(clips.begin(), clips.end());
+  out.m_jpc = jpc;
+  out.m_meshSettings = meshSettings;
+  for (const Clip& clip : clips) {
+    Result<JpcClip> prepared = JpcClip::prepare(skeleton, clip, jpc);
+    if (!prepared)
+      return Error("clip '" + clip.name + "': " + prepared.message());
+    out.m_prepared.push_back(std::move(prepared).value());
+  }
+  std::vector<glm::mat4> models;
+  std::vector<glm::vec3> points;
+  for (const Clip& clip : clips)
+    for (int t = 0; t < clip.frameCount; ++t) {
+      render(skeleton, clip, t, mesh, models, points);
+      const glm::vec3 root(models[0][3]);
+      for (const glm::vec3& p : points)
+        out.m_radius = std::max(out.m_radius, double(glm::length(p - root)));
+    }
+  return out;
+}
+
+Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
+  if (Error error = validateThreshold(threshold))
+    return error;
+  LevelMotion out;
+  out.threshold = threshold;
+  Result<BoneReduction> bones = reduceBones(m_skeleton, m_clips, threshold, m_jpc, level);
+  if (!bones)
+    return bones.error();
+  out.bones = std::move(bones).value();
+  if (m_mesh)
+    out.mesh = rebindMesh(out.bones, m_skeleton, *m_mesh);
+
+  std::vector<glm::mat4> models;
+  std::vector<glm::vec3> original, simplified;
+  const SkinnedMesh* originalMesh = m_mesh ? &*m_mesh : nullptr;
+  const SkinnedMesh* levelMesh = out.mesh ? &*out.mesh : nullptr;
+  for (std::size_t c = 0; c < m_clips.size(); ++c) {
+    const Clip& clip = m_clips[c];
+    ClusterSet clusters;
+    clusters.frameCount = clip.frameCount;
+    for (JointClustering& joint : m_prepared[c].cluster(level, threshold))
+      clusters.joints.push_back(std::move(joint.clusters));
+    const Clip full = frozenClip(out.bones, simplifiedClip(clip, clusters));
+    out.clips.push_back(reduceClip(out.bones, m_skeleton, full));
+    out.clusters.push_back(std::move(clusters));
+    const Clip& reduced = out.clips.back();
+    for (int t = 0; t < clip.frameCount; ++t) {
+      render(m_skeleton, clip, t, originalMesh, models, original);
+      render(out.bones.skeleton, reduced, t, levelMesh, models, simplified);
+      if (!levelMesh) { // joints: compare the active ones with their own originals
+        for (std::size_t r = 0; r < simplified.size(); ++r)
+          out.motionErrorCm = std::max(
+              out.motionErrorCm,
+              double(glm::length(simplified[r] - original[std::size_t(out.bones.fullIndex[r])])));
+        continue;
+      }
+      for (std::size_t v = 0; v < original.size(); ++v)
+        out.motionErrorCm = std::max(out.motionErrorCm, double(glm::length(simplified[v] - original[v])));
+    }
+  }
+  return out;
+}
+
+Result<MeshLod> LodCharacter::meshLodFor(const LevelMotion& motion) const {
+  if (!motion.mesh)
+    return Error("LOD: the character has no mesh");
+  return MeshLod::build(*motion.mesh, &motion.bones.skeleton, motion.clips, m_meshSettings);
+}
+
+Result<LevelBuild> LodCharacter::build(double threshold, double meshRatio, int level) const {
+  if (!(meshRatio > 0.0 && meshRatio <= 1.0))
+    return Error("LOD: a mesh ratio must be in (0, 1]");
+  Result<LevelMotion> motion = motionAt(threshold, level);
+  if (!motion)
+    return motion.error();
+  LevelBuild out;
+  out.motion = std::move(motion).value();
+  if (out.motion.mesh) {
+    Result<MeshLod> lod = meshLodFor(out.motion);
+    if (!lod)
+      return lod.error();
+    out.mesh = lod->levelForRatio(meshRatio);
+  }
+  return out;
+}
+
+} // namespace mlod

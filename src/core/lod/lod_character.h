@@ -1,0 +1,87 @@
+#pragma once
+// A character with the clips it plays, prepared for building LOD levels in which motion and
+// mesh are simplified together (issue 5, "co-built LOD set"): what one level plays and
+// shows, and how far it strays from the original, in cm.
+//
+// A level at motion threshold E (cm·degrees) and mesh ratio r:
+//  1. JPC clusters every clip at E (core/jpc/jpc.h): M'(t);
+//  2. bone reduction at E (bone_reduction.h): joints frozen in every clip go, their skin is
+//     rebound to their active ancestors;
+//  3. the level's motion: M' with the removed joints at their frozen pose, on the reduced
+//     skeleton;
+//  4. the mesh LOD of the *rebound* mesh (mesh_lod.h): vertices whose joints all collapsed
+//     into one are no longer shared between joints, so coarser motion levels unlock more of
+//     the mesh; its errors are measured in the level's own animated poses.
+// Motion error: the largest displacement of a skin vertex (of a joint, for a skeleton
+// without mesh) between the original render (full skeleton, original clip, original mesh)
+// and the level's full-resolution render, over every frame of every clip, cm. Mesh error:
+// the level mesh's error (mesh_lod.h), cm. The two add up to a bound of the level's
+// deviation from the original (triangle inequality) in every measured pose.
+
+#include "core/clip.h"
+#include "core/error.h"
+#include "core/jpc/cluster_set.h"
+#include "core/jpc/jpc.h"
+#include "core/jpc/jpc_settings.h"
+#include "core/lod/bone_reduction.h"
+#include "core/mesh/mesh_lod.h"
+#include "core/skeleton.h"
+#include "core/skinned_mesh.h"
+
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace mlod {
+
+// What one level plays: its motion on the reduced skeleton, and the skin it moves.
+struct LevelMotion {
+  double threshold = 0.0;           // E, cm·degrees
+  BoneReduction bones;
+  std::vector<ClusterSet> clusters; // per clip, on the full skeleton
+  std::vector<Clip> clips;          // per clip, on bones.skeleton
+  std::optional<SkinnedMesh> mesh;  // the full-resolution mesh rebound to bones.skeleton (when there is a mesh)
+  double motionErrorCm = 0.0;       // see above
+};
+
+// One level, built.
+struct LevelBuild {
+  LevelMotion motion;
+  std::optional<MeshLodLevel> mesh; // the simplified rebound mesh and its errors (when there is a mesh)
+  double meshErrorCm() const { return mesh ? mesh->maxErrorCm : 0.0; }
+  double deviationCm() const { return motion.motionErrorCm + meshErrorCm(); }
+};
+
+class LodCharacter {
+public:
+  // `mesh` may be null (a skeleton alone); `clips` (at least one, of `skeleton`) are every
+  // clip the character plays (its own and mapped ones, motion_mapping.h). Errors: invalid
+  // skeleton, mesh, clips or settings.
+  static Result<LodCharacter> prepare(const Skeleton& skeleton, const SkinnedMesh* mesh, std::span<const Clip> clips,
+                                      const JpcSettings& jpc = {}, const MeshLodSettings& meshSettings = {});
+
+  const Skeleton& skeleton() const { return m_skeleton; }
+  const std::vector<Clip>& clips() const { return m_clips; }
+  const std::optional<SkinnedMesh>& mesh() const { return m_mesh; }
+  // The radius (cm) of the sphere about the root joint that holds the posed mesh (the
+  // joints without a mesh) in every frame of every clip.
+  double boundingRadiusCm() const { return m_radius; }
+
+  // Steps 1-3 at threshold E (>= 0) of LOD level `level` (for per-joint overrides).
+  Result<LevelMotion> motionAt(double threshold, int level = 0) const;
+  // Step 4's progressive mesh for a level's motion (an error without a mesh).
+  Result<MeshLod> meshLodFor(const LevelMotion& motion) const;
+  // A whole level: motion at E, mesh at ratio r in (0, 1].
+  Result<LevelBuild> build(double threshold, double meshRatio, int level = 0) const;
+
+private:
+  Skeleton m_skeleton;
+  std::optional<SkinnedMesh> m_mesh;
+  std::vector<Clip> m_clips;
+  std::vector<JpcClip> m_prepared;
+  JpcSettings m_jpc;
+  MeshLodSettings m_meshSettings;
+  double m_radius = 0.0;
+};
+
+} // namespace mlod

@@ -1,0 +1,162 @@
+#include "core/lod/lod_set.h"
+
+#include "core/lod/lod_character.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace mlod {
+
+namespace {
+
+const SkinnedMesh* characterMesh(const Asset& asset) {
+  for (const SkinnedMesh& mesh : asset.meshes)
+    if (mesh.skinned())
+      return &mesh;
+  return nullptr;
+}
+
+bool hasThresholdOverrides(const JpcSettings& settings) {
+  return std::any_of(settings.joints.begin(), settings.joints.end(),
+                     [](const auto& entry) { return !entry.second.thresholds.empty(); });
+}
+
+} // namespace
+
+Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options) {
+  if (!std::isfinite(pixels) || !(pixels > 0.0))
+    return Error("LOD: the pixel budget must be > 0");
+  if (levels < 1)
+    return Error("LOD: at least one level (the original)");
+  if (Error error = options.projection.validate())
+    return error;
+  if (!(options.motionShare > 0.0 && options.motionShare <= 1.0))
+    return Error("LOD: the motion's share of the budget must be in (0, 1]");
+  for (double threshold : options.thresholds)
+    if (Error error = validateThreshold(threshold, "candidate threshold"))
+      return error;
+  if (asset.skeleton.empty())
+    return Error("LOD: the asset has no skeleton");
+  std::vector<Clip> clips = asset.clips;
+  clips.insert(clips.end(), options.clips.begin(), options.clips.end());
+  if (clips.empty())
+    return Error("LOD: the asset plays no clip (map a motion onto it first)");
+  Result<LodCharacter> character =
+      LodCharacter::prepare(asset.skeleton, characterMesh(asset), clips, options.jpc, options.mesh);
+  if (!character)
+    return character.error();
+
+  LodSet out;
+  out.projection = options.projection;
+  out.boundingRadiusCm = character->boundingRadiusCm();
+  const double radius = out.boundingRadiusCm;
+  LodLevel original;
+  original.name = "LOD0";
+  original.triangles = character->mesh() ? static_cast<int>(character->mesh()->triangleCount()) : 0;
+  original.activeJoints = asset.skeleton.jointCount();
+  out.levels.push_back(original);
+
+  std::vector<double> candidates = options.thresholds;
+  std::sort(candidates.begin(), candidates.end());
+  const bool perLevel = hasThresholdOverrides(options.jpc);
+  std::map<std::pair<int, double>, LevelMotion> motions; // by (level for overrides, threshold)
+  double previousThreshold = 0.0, previousDistance = 0.0;
+  for (int i = 1; i < levels; ++i) {
+    // the level's aim: the character at height / 2^i pixels, and the deviation N pixels allow there
+    const double aimedSize = options.projection.viewportHeightPixels / std::pow(2.0, i);
+    const double aimedDistance = distanceForScreenSize(radius, aimedSize, options.projection);
+    const double budget = deviationForPixels(pixels, aimedDistance, radius, options.projection);
+
+    const LevelMotion* chosen = nullptr;
+    for (double threshold : candidates) {
+      if (threshold < previousThreshold)
+        continue;
+      const std::pair<int, double> key{perLevel ? i : 0, threshold};
+      auto found = motions.find(key);
+      if (found == motions.end()) {
+        Result<LevelMotion> motion = character->motionAt(threshold, perLevel ? i : 0);
+        if (!motion)
+          return motion.error();
+        found = motions.emplace(key, std::move(motion).value()).first;
+      }
+      const double error = found->second.motionErrorCm;
+      if (error <= options.motionShare * budget)
+        chosen = &found->second;
+      else if (error > 2.0 * budget)
+        break; // errors grow with the threshold, if not strictly: this far out nothing fits
+    }
+    if (!chosen) { // not even the previous threshold fits any more (it always did at 0)
+      const std::pair<int, double> key{perLevel ? i : 0, previousThreshold};
+      if (!motions.count(key)) {
+        Result<LevelMotion> motion = character->motionAt(previousThreshold, perLevel ? i : 0);
+        if (!motion)
+          return motion.error();
+        motions.emplace(key, std::move(motion).value());
+      }
+      chosen = &motions.at(key);
+    }
+
+    LodLevel level;
+    level.name = "LOD" + std::to_string(i);
+    level.motionThreshold = chosen->threshold;
+    level.motionErrorCm = chosen->motionErrorCm;
+    level.activeJoints = chosen->bones.skeleton.jointCount();
+    if (chosen->mesh) {
+      Result<MeshLod> lod = character->meshLodFor(*chosen);
+      if (!lod)
+        return lod.error();
+      const MeshLodLevel mesh = lod->levelForError(std::max(0.0, budget - chosen->motionErrorCm));
+      level.meshRatio = double(mesh.triangles()) / double(lod->original().triangleCount());
+      level.meshErrorCm = mesh.maxErrorCm;
+      level.triangles = static_cast<int>(mesh.triangles());
+    }
+    const double distance = std::max(previousDistance, distanceForPixels(level.deviationCm(), pixels, radius, options.projection));
+    level.switchDistanceCm = distance;
+    level.pixelError = deviationPixels(level.deviationCm(), distance, radius, options.projection);
+    level.screenSizePixels = screenSizePixels(radius, distance, options.projection);
+    out.levels.push_back(level);
+    previousThreshold = level.motionThreshold;
+    previousDistance = distance;
+  }
+  return out;
+}
+
+Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int levels) {
+  const LodBudgetOptions options;
+  return fromPixelBudget(asset, pixels, levels, options);
+}
+
+Error LodSet::validate() const {
+  if (Error error = projection.validate())
+    return error;
+  if (levels.empty())
+    return Error("LOD set: no level");
+  const LodLevel& first = levels.front();
+  if (first.motionThreshold != 0.0 || first.meshRatio != 1.0 || first.switchDistanceCm != 0.0)
+    return Error("LOD set: level 0 is the original (threshold 0, ratio 1, distance 0)");
+  if (!std::isfinite(boundingRadiusCm) || boundingRadiusCm < 0.0)
+    return Error("LOD set: the bounding radius must be finite and >= 0 cm");
+  std::set<std::string> names;
+  double previous = 0.0;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const LodLevel& level = levels[i];
+    const std::string what = "LOD set: level " + std::to_string(i);
+    if (!names.insert(level.name).second)
+      return Error(what + ": the name '" + level.name + "' is used twice");
+    if (Error error = validateThreshold(level.motionThreshold, what + " threshold"))
+      return error;
+    if (!(level.meshRatio > 0.0 && level.meshRatio <= 1.0))
+      return Error(what + ": the mesh ratio must be in (0, 1]");
+    if (!std::isfinite(level.switchDistanceCm) || level.switchDistanceCm < previous)
+      return Error(what + ": switch distances must be finite and never fall from one level to the next");
+    if (!std::isfinite(level.pixelError) || level.pixelError < 0.0 || !std::isfinite(level.screenSizePixels) ||
+        level.screenSizePixels < 0.0)
+      return Error(what + ": pixel figures must be finite and >= 0");
+    previous = level.switchDistanceCm;
+  }
+  return {};
+}
+
+} // namespace mlod

@@ -1,0 +1,85 @@
+#pragma once
+// LOD levels of one character (DESIGN.md section 3): a list of levels, each with a motion
+// threshold, a mesh reduction, and the camera distance (and screen size) from which it is
+// used, under the projection its pixel figures assume. Level 0 is the original.
+//
+// One error budget (DESIGN.md section 5): fromPixelBudget() generates the levels so that
+// each stays within N pixels on screen. Level i (i >= 1) is aimed at the distance where the
+// character's bounding sphere covers height / 2^i pixels (half the screen, a quarter ...);
+// there N pixels allow a deviation delta_i (error_budget.h). The motion takes the largest
+// candidate threshold whose motion error stays within motionShare x delta_i (bone reduction
+// included, lod_character.h), the mesh the fewest triangles whose error fits in what is
+// left, measured on the level's own rebound mesh. The level then switches in at the
+// smallest distance where its measured deviation (motion + mesh error) spans at most N
+// pixels: never nearer than the previous level's. Every figure stays editable; validate()
+// checks an edited set.
+//
+// Units: thresholds in cm·degrees, lengths and errors in cm, sizes and errors on screen in
+// pixels.
+
+#include "core/asset.h"
+#include "core/clip.h"
+#include "core/error.h"
+#include "core/jpc/jpc_settings.h"
+#include "core/lod/error_budget.h"
+#include "core/mesh/mesh_lod.h"
+
+#include <span>
+#include <string>
+#include <vector>
+
+namespace mlod {
+
+struct LodLevel {
+  std::string name;
+  double motionThreshold = 0.0; // E, cm·degrees; 0 at level 0
+  double meshRatio = 1.0;       // triangles kept, (0, 1]
+  double switchDistanceCm = 0.0; // the level is used from this camera distance on; 0 at level 0
+  double pixelError = 0.0;       // the most its deviation spans on screen from the switch distance on, px
+  double screenSizePixels = 0.0; // the character's projected height at the switch distance (0 at level 0)
+  // What the generator measured (left as they are when a user edits a level):
+  double motionErrorCm = 0.0; // skin displacement by the level's motion, max over every frame
+  double meshErrorCm = 0.0;   // the level mesh's error, max over bind and animated poses
+  int triangles = 0;          // of the level's mesh (0 without a mesh)
+  int activeJoints = 0;       // joints left after bone reduction
+  double deviationCm() const { return motionErrorCm + meshErrorCm; }
+  friend bool operator==(const LodLevel&, const LodLevel&) = default;
+};
+
+struct LodBudgetOptions {
+  // Clips of the asset's skeleton besides its own (mapped motions, retargetClip()); every
+  // level must hold for them too.
+  std::span<const Clip> clips;
+  JpcSettings jpc;
+  MeshLodSettings mesh;
+  LodProjection projection;
+  double motionShare = 0.5; // (0, 1]: of each level's deviation, the part the motion may take first
+  // The thresholds tried for the motion (cm·degrees, ascending): the paper's Table 1 values and
+  // the steps between.
+  std::vector<double> thresholds = {0.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 300.0, 500.0, 1000.0};
+};
+
+class LodSet {
+public:
+  LodProjection projection;
+  double boundingRadiusCm = 0.0; // about the root, holding the posed character in every frame
+  std::vector<LodLevel> levels;
+
+  // `levels` levels (>= 1, level 0 the original) within `pixels` (> 0) on screen, for the
+  // asset's character mesh (its first skinned mesh; none: the joints) and skeleton playing
+  // the asset's clips and options.clips. Errors: an asset without skeleton or without any
+  // clip, bad options.
+  static Result<LodSet> fromPixelBudget(const Asset& asset, double pixels, int levels,
+                                        const LodBudgetOptions& options);
+  // With the default options (the asset's own clips, default JPC and mesh settings).
+  static Result<LodSet> fromPixelBudget(const Asset& asset, double pixels, int levels);
+
+  // Rules: the projection validates; at least one level; level 0 has threshold 0, ratio 1
+  // and distance 0; thresholds finite >= 0; ratios in (0, 1]; switch distances finite,
+  // >= 0 and non-decreasing; pixel errors and screen sizes finite >= 0; names unique.
+  Error validate() const;
+
+  friend bool operator==(const LodSet&, const LodSet&) = default;
+};
+
+} // namespace mlod

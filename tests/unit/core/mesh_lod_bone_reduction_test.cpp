@@ -1,0 +1,199 @@
+// Bone reduction per LOD level: joints frozen in every clip go, their skin is rebound with the
+// frozen pose baked in, and the reduced character renders like the full one within the
+// level's error.
+
+#include "core/jpc/simplified_motion.h"
+#include "core/lod/bone_reduction.h"
+#include "core/lod/lod_character.h"
+#include "unit/core/mesh_lod_fixtures.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace mlod {
+namespace {
+
+// Linear blend skinning written out here, independent of core's: models x inverse bind.
+std::vector<glm::vec3> renderLbs(const Skeleton& skeleton, const Clip& clip, int frame, const SkinnedMesh& mesh) {
+  std::vector<glm::mat4> models;
+  clip.modelMatrices(skeleton, frame, models);
+  const std::vector<glm::mat4> rest = skeleton.restModelMatrices();
+  std::vector<glm::vec3> out(mesh.vertexCount());
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    glm::dvec3 sum(0.0);
+    for (int i = 0; i < 4; ++i) {
+      const float w = mesh.weights[v][i];
+      if (w == 0.0f)
+        continue;
+      const std::size_t j = mesh.joints[v][i];
+      const glm::mat4 inverseBind = skeleton.joints[j].inverseBind ? *skeleton.joints[j].inverseBind : glm::inverse(rest[j]);
+      sum += double(w) * glm::dvec3(models[j] * inverseBind * glm::vec4(mesh.positions[v], 1.0f));
+    }
+    out[v] = glm::vec3(sum);
+  }
+  return out;
+}
+
+double maxDistance(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    worst = std::max(worst, double(glm::length(a[i] - b[i])));
+  return worst;
+}
+
+// The tube whose upper joint holds a 30 degree bend while the lower one (the root) turns.
+Clip tubeHoldClip(const Skeleton& skeleton, float wobbleDegrees = 0.0f) {
+  Clip clip = Clip::restPose(skeleton, 20, 30.0);
+  clip.name = "hold";
+  clip.hasRotation = {1, 1};
+  for (int t = 0; t < clip.frameCount; ++t) {
+    clip.rotations[clip.index(0, t)] = glm::angleAxis(glm::radians(4.0f * float(t)), glm::vec3(0.0f, 1.0f, 0.0f));
+    const float bend = 30.0f + wobbleDegrees * std::sin(float(t));
+    clip.rotations[clip.index(1, t)] = glm::angleAxis(glm::radians(bend), glm::vec3(0.0f, 0.0f, 1.0f));
+  }
+  return clip;
+}
+
+TEST(BoneReduction, AJointHeldStillGoesAndTheSkinFollowsExactly) {
+  const test::Tube tube = test::makeTube();
+  const Clip clip = tubeHoldClip(tube.skeleton);
+  Result<BoneReduction> reduction = reduceBones(tube.skeleton, std::span<const Clip>(&clip, 1), 0.0);
+  ASSERT_TRUE(reduction) << reduction.message();
+  ASSERT_EQ(reduction->removedCount(), 1);
+  EXPECT_EQ(reduction->removed[1], 1);
+  EXPECT_EQ(reduction->removed[0], 0) << "the root never goes";
+  EXPECT_EQ(reduction->skeleton.jointCount(), 1);
+  EXPECT_FALSE(reduction->skeleton.validate());
+  const SkinnedMesh rebound = rebindMesh(*reduction, tube.skeleton, tube.mesh);
+  ASSERT_FALSE(rebound.validate(1)) << rebound.validate(1).message();
+  const Clip reduced = reduceClip(*reduction, tube.skeleton, clip);
+  ASSERT_FALSE(reduced.validate(reduction->skeleton)) << reduced.validate(reduction->skeleton).message();
+  // every influence ends on the root, so the baked skin is exact in every pose
+  for (int t = 0; t < clip.frameCount; t += 3)
+    EXPECT_LT(maxDistance(renderLbs(tube.skeleton, clip, t, tube.mesh),
+                          renderLbs(reduction->skeleton, reduced, t, rebound)),
+              1e-4)
+        << "frame " << t;
+}
+
+TEST(BoneReduction, AJointMovingMoreThanTheBoundStays) {
+  const test::Tube tube = test::makeTube();
+  const Clip clip = tubeHoldClip(tube.skeleton, 2.0f); // +-2 degrees about a 30 degree bend
+  // E of "upper" (no child: r = 0) is alpha x angle: 5 cm x up to 4 degrees = 20 cm·degrees apart,
+  // so a pose within 10 of every frame exists, and none within 5
+  Result<BoneReduction> tight = reduceBones(tube.skeleton, std::span<const Clip>(&clip, 1), 5.0);
+  ASSERT_TRUE(tight) << tight.message();
+  EXPECT_EQ(tight->removedCount(), 0);
+  Result<BoneReduction> loose = reduceBones(tube.skeleton, std::span<const Clip>(&clip, 1), 12.0);
+  ASSERT_TRUE(loose) << loose.message();
+  EXPECT_EQ(loose->removedCount(), 1);
+  EXPECT_LE(loose->frozenError[1], 12.0);
+  // a locked joint never goes
+  JpcSettings settings;
+  settings.joints["upper"].locked = true;
+  Result<BoneReduction> locked = reduceBones(tube.skeleton, std::span<const Clip>(&clip, 1), 1000.0, settings);
+  ASSERT_TRUE(locked) << locked.message();
+  EXPECT_EQ(locked->removedCount(), 0);
+}
+
+TEST(BoneReduction, AJointWithAnAnimatedTranslationStays) {
+  const test::Tube tube = test::makeTube();
+  Clip clip = tubeHoldClip(tube.skeleton);
+  clip.hasTranslation[1] = 1;
+  for (int t = 0; t < clip.frameCount; ++t)
+    clip.translations[clip.index(1, t)] = glm::vec3(0.0f, 20.0f + 0.5f * float(t), 0.0f);
+  Result<BoneReduction> reduction = reduceBones(tube.skeleton, std::span<const Clip>(&clip, 1), 1000.0);
+  ASSERT_TRUE(reduction) << reduction.message();
+  EXPECT_EQ(reduction->removedCount(), 0);
+}
+
+TEST(BoneReduction, BadInputIsAnError) {
+  const test::Tube tube = test::makeTube(5, 8);
+  const Clip clip = tubeHoldClip(tube.skeleton);
+  EXPECT_FALSE(reduceBones(tube.skeleton, {}, 1.0)) << "no clip";
+  EXPECT_FALSE(reduceBones(tube.skeleton, std::span<const Clip>(&clip, 1), -1.0));
+  EXPECT_FALSE(reduceBones(test::bcnEpileptic().skeleton, std::span<const Clip>(&clip, 1), 1.0)) << "wrong skeleton";
+}
+
+class BcnBoneReduction : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    const Asset& asset = test::bcnEpileptic();
+    Result<LodCharacter> character = LodCharacter::prepare(asset.skeleton, &asset.meshes.at(0), asset.clips);
+    ASSERT_TRUE(character) << character.message();
+    s_character = new LodCharacter(std::move(character).value());
+  }
+  static void TearDownTestSuite() { delete s_character; }
+  static LodCharacter* s_character;
+};
+LodCharacter* BcnBoneReduction::s_character = nullptr;
+
+TEST_F(BcnBoneReduction, TheReducedCharacterRendersLikeTheFullOneWithinTheLevelsError) {
+  const Asset& asset = test::bcnEpileptic();
+  const SkinnedMesh& mesh = asset.meshes.at(0);
+  for (double threshold : {5.0, 50.0}) {
+    SCOPED_TRACE("threshold " + std::to_string(threshold));
+    Result<LevelMotion> level = s_character->motionAt(threshold);
+    ASSERT_TRUE(level) << level.message();
+    const BoneReduction& bones = level->bones;
+    EXPECT_GT(bones.removedCount(), 0);
+    EXPECT_FALSE(bones.skeleton.validate());
+    ASSERT_TRUE(level->mesh);
+    ASSERT_FALSE(level->mesh->validate(bones.skeleton.jointCount())) << level->mesh->validate(bones.skeleton.jointCount()).message();
+    const Clip& reduced = level->clips.at(0);
+    ASSERT_FALSE(reduced.validate(bones.skeleton));
+    // every removed joint holds a pose within the bound of every frame
+    for (std::size_t j = 0; j < bones.removed.size(); ++j)
+      if (bones.removed[j]) {
+        EXPECT_LE(bones.frozenError[j], threshold) << asset.skeleton.joints[j].name;
+      }
+    // the level's error bounds what a render shows, frame by frame
+    const Clip& original = asset.clips.at(0);
+    const Clip full = frozenClip(bones, simplifiedClip(original, level->clusters.at(0)));
+    double worst = 0.0, worstExact = 0.0;
+    for (int t = 0; t < original.frameCount; t += 7) {
+      const std::vector<glm::vec3> a = renderLbs(asset.skeleton, original, t, mesh);
+      const std::vector<glm::vec3> b = renderLbs(bones.skeleton, reduced, t, *level->mesh);
+      const std::vector<glm::vec3> c = renderLbs(asset.skeleton, full, t, mesh);
+      worst = std::max(worst, maxDistance(a, b));
+      // where every influence ends on one active joint the baking is exact: the reduced
+      // render is the full skeleton's render of the same motion
+      for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+        int target = -1;
+        bool single = true;
+        for (int i = 0; i < 4; ++i)
+          if (mesh.weights[v][i] > 0.0f) {
+            const int active = bones.activeAncestor[mesh.joints[v][i]];
+            single &= target < 0 || target == active;
+            target = active;
+          }
+        if (single)
+          worstExact = std::max(worstExact, double(glm::length(b[v] - c[v])));
+      }
+    }
+    EXPECT_LE(worst, level->motionErrorCm + 1e-4);
+    EXPECT_LT(worstExact, 1e-3);
+    EXPECT_GT(level->motionErrorCm, 0.0);
+  }
+}
+
+TEST_F(BcnBoneReduction, ReducedLevelsUnlockMoreOfTheMesh) {
+  // vertices whose joints all fold into one are no longer shared between joints: fewer
+  // locks, so fewer triangles can be reached (the co-built LOD's gain)
+  const Asset& asset = test::bcnEpileptic();
+  Result<MeshLod> full = MeshLod::build(asset.meshes.at(0), &asset.skeleton, asset.clips);
+  Result<LevelMotion> level = s_character->motionAt(5.0);
+  ASSERT_TRUE(full && level);
+  Result<MeshLod> reduced = s_character->meshLodFor(*level);
+  ASSERT_TRUE(reduced) << reduced.message();
+  EXPECT_LT(reduced->segmentation().sharedVertices, full->segmentation().sharedVertices);
+  EXPECT_LT(reduced->progressive().minTriangleCount(), full->progressive().minTriangleCount());
+  // and a coarser threshold never keeps more joints
+  Result<LevelMotion> coarse = s_character->motionAt(500.0);
+  ASSERT_TRUE(coarse);
+  EXPECT_GE(coarse->bones.removedCount(), level->bones.removedCount());
+}
+
+} // namespace
+} // namespace mlod
