@@ -1,5 +1,6 @@
 // motionlod: the batch command line (DESIGN.md section 6).
 
+#include "cli/bench_crowd_command.h"
 #include "cli/info_command.h"
 #include "cli/meshlod_command.h"
 #include "cli/simplify_command.h"
@@ -32,6 +33,8 @@ int main(int argc, char** argv) {
   simplify.attach(app);
   mlod::cli::MeshLodCommand meshLod;
   meshLod.attach(app);
+  mlod::cli::BenchCrowdCommand benchCrowd;
+  benchCrowd.attach(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -49,6 +52,8 @@ int main(int argc, char** argv) {
       return simplify.run();
     if (app.got_subcommand("meshlod"))
       return meshLod.run();
+    if (app.got_subcommand("bench-crowd"))
+      return benchCrowd.run();
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << std::endl;
     return mlod::cli::kExitFailure;

@@ -84,11 +84,6 @@ bool checkSource(const LodClipSource& source, std::string* out_error) {
 
 } // namespace
 
-glm::quat scaleOffset(const glm::quat& offset, float weight) {
-  const glm::quat q(1.0f - weight + weight * offset.w, weight * offset.x, weight * offset.y, weight * offset.z);
-  return q * (1.0f / std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w));
-}
-
 std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* out_error) {
   if (!checkSource(source, out_error))
     return std::nullopt;
@@ -121,6 +116,8 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
       clip.m_translationTrack[j] = static_cast<std::int32_t>(clip.m_tracks.size());
       clip.m_tracks.insert(clip.m_tracks.end(), translations.begin(), translations.end());
     }
+    if (!constantTrack(scales) || scales[0] != glm::vec3(1.0f))
+      flags |= kScaled;
     if (!constantTrack(scales)) {
       flags |= kScaleAnimated;
       clip.m_scaleTrack[j] = static_cast<std::int32_t>(clip.m_tracks.size());
@@ -217,6 +214,27 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   }
   clip.m_segmentBegin[joints] = static_cast<std::uint32_t>(clip.m_segments.size());
   clip.m_clusterBegin[joints] = static_cast<std::uint32_t>(clip.m_clusters.size());
+
+  // per frame, the joints whose segment starts there and those whose cluster ends there
+  // (counting sort by frame; joints stay in order within a frame)
+  clip.m_startBegin.assign(frames + 1, 0);
+  clip.m_endBegin.assign(frames + 1, 0);
+  for (const bool ends : {false, true}) {
+    std::vector<std::uint32_t>& begin = ends ? clip.m_endBegin : clip.m_startBegin;
+    std::vector<std::int16_t>& list = ends ? clip.m_ends : clip.m_starts;
+    const auto forEach = [&](auto&& visit) {
+      for (std::size_t j = 0; j < joints; ++j)
+        for (const Segment& segment : clip.segments(static_cast<int>(j)))
+          if (segment.first > 0 && (!ends || (segment.cluster < 0 && segment.previous >= 0)))
+            visit(static_cast<std::size_t>(segment.first), static_cast<std::int16_t>(j));
+    };
+    forEach([&](std::size_t frame, std::int16_t) { ++begin[frame + 1]; });
+    for (std::size_t f = 0; f < frames; ++f)
+      begin[f + 1] += begin[f];
+    list.resize(begin[frames]);
+    std::vector<std::uint32_t> at(begin.begin(), begin.end() - 1);
+    forEach([&](std::size_t frame, std::int16_t joint) { list[at[frame]++] = joint; });
+  }
   return clip;
 }
 
@@ -227,46 +245,21 @@ std::size_t LodClip::byteSize() const {
          m_scaleTrack.size() * sizeof(std::int32_t) + m_tracks.size() * sizeof(glm::vec3) +
          m_segmentBegin.size() * sizeof(std::uint32_t) + m_segments.size() * sizeof(Segment) +
          m_clusterBegin.size() * sizeof(std::uint32_t) + m_clusters.size() * sizeof(Cluster) +
-         m_rotations.size() * sizeof(glm::quat);
+         m_rotations.size() * sizeof(glm::quat) + (m_startBegin.size() + m_endBegin.size()) * sizeof(std::uint32_t) +
+         (m_starts.size() + m_ends.size()) * sizeof(std::int16_t);
 }
 
-double LodClip::framePosition(double seconds, std::int64_t* out_loop) const {
-  const double g = seconds * m_fps;
-  std::int64_t loop = 0;
-  double f = 0.0;
+double LodClip::wrapped(double g, std::int64_t* out_loop) const {
   const double last = static_cast<double>(m_frameCount - 1);
-  if (m_looping && m_frameCount > 1) {
-    loop = static_cast<std::int64_t>(std::floor(g / last));
-    f = g - static_cast<double>(loop) * last;
-    if (f >= last) {
-      f -= last;
-      ++loop;
-    }
-    f = std::max(f, 0.0);
-  } else {
-    f = std::clamp(g, 0.0, last);
+  std::int64_t loop = static_cast<std::int64_t>(std::floor(g / last));
+  double f = g - static_cast<double>(loop) * last;
+  if (f >= last) {
+    f -= last;
+    ++loop;
   }
   if (out_loop)
     *out_loop = loop;
-  return f;
-}
-
-void LodClip::split(double frame, std::int32_t& out_i0, float& out_fraction) const {
-  const std::int32_t lastI0 = std::max(m_frameCount - 2, 0);
-  std::int32_t i0 = static_cast<std::int32_t>(std::floor(frame));
-  i0 = std::clamp(i0, 0, lastI0);
-  out_i0 = i0;
-  out_fraction = std::clamp(static_cast<float>(frame - i0), 0.0f, 1.0f);
-}
-
-std::span<const LodClip::Segment> LodClip::segments(int joint) const {
-  const std::size_t j = static_cast<std::size_t>(joint);
-  return std::span<const Segment>(m_segments).subspan(m_segmentBegin[j], m_segmentBegin[j + 1] - m_segmentBegin[j]);
-}
-
-std::span<const LodClip::Cluster> LodClip::clusters(int joint) const {
-  const std::size_t j = static_cast<std::size_t>(joint);
-  return std::span<const Cluster>(m_clusters).subspan(m_clusterBegin[j], m_clusterBegin[j + 1] - m_clusterBegin[j]);
+  return std::max(f, 0.0);
 }
 
 int LodClip::findSegment(int joint, int i0) const {

@@ -32,6 +32,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -92,6 +93,7 @@ public:
     kRotationAnimated = 1,
     kTranslationAnimated = 2,
     kScaleAnimated = 4,
+    kScaled = 8, // a scale other than 1 at some frame (animated, or static but not 1)
   };
 
   LodClip() = default;
@@ -112,7 +114,16 @@ public:
 
   // Frame position (frames, in [0, frameCount - 1]) of `seconds`, and for a looping clip
   // the number of whole periods before it (0 otherwise). A non-looping clip clamps.
-  double framePosition(double seconds, std::int64_t* out_loop = nullptr) const;
+  double framePosition(double seconds, std::int64_t* out_loop = nullptr) const {
+    const double g = seconds * m_fps;
+    const double last = static_cast<double>(m_frameCount - 1);
+    if (!m_looping || m_frameCount < 2) {
+      if (out_loop)
+        *out_loop = 0;
+      return g < 0.0 ? 0.0 : (g > last ? last : g);
+    }
+    return wrapped(g, out_loop);
+  }
 
   // Joint j at frame position f in [0, frameCount - 1]: the rotation of M'(f) with the
   // unfreeze blends of `blendFrames` (0 = none), its translation and scale. The reference
@@ -138,16 +149,43 @@ public:
     const std::int32_t at = m_scaleTrack[static_cast<std::size_t>(joint)];
     return at < 0 ? nullptr : &m_tracks[static_cast<std::size_t>(at)];
   }
-  std::span<const Segment> segments(int joint) const;
-  std::span<const Cluster> clusters(int joint) const;
+  std::span<const Segment> segments(int joint) const {
+    const std::size_t j = static_cast<std::size_t>(joint);
+    return {m_segments.data() + m_segmentBegin[j], m_segmentBegin[j + 1] - m_segmentBegin[j]};
+  }
+  std::span<const Cluster> clusters(int joint) const {
+    const std::size_t j = static_cast<std::size_t>(joint);
+    return {m_clusters.data() + m_clusterBegin[j], m_clusterBegin[j + 1] - m_clusterBegin[j]};
+  }
   std::span<const glm::quat> rotations() const { return m_rotations; }
   // Index of the segment of `joint` that holds frame i0 (binary search).
   int findSegment(int joint, int i0) const;
+  // The joints whose rotation is read differently from frame i0 = `frame` on (a segment of
+  // theirs starts there), in joint order; what a character stepping forward re-reads.
+  std::span<const std::int16_t> segmentStarts(int frame) const {
+    const std::size_t f = static_cast<std::size_t>(frame);
+    return {m_starts.data() + m_startBegin[f], m_startBegin[f + 1] - m_startBegin[f]};
+  }
+  // The joints one of whose clusters ends at `frame` before the clip's end (an unfreeze
+  // window opens there), in joint order.
+  std::span<const std::int16_t> clusterEnds(int frame) const {
+    const std::size_t f = static_cast<std::size_t>(frame);
+    return {m_ends.data() + m_endBegin[f], m_endBegin[f + 1] - m_endBegin[f]};
+  }
   // i0 (the frame at or before the frame position, at most frameCount - 2) and the
   // fraction past it.
-  void split(double frame, std::int32_t& out_i0, float& out_fraction) const;
+  void split(double frame, std::int32_t& out_i0, float& out_fraction) const {
+    const std::int32_t lastI0 = m_frameCount > 2 ? m_frameCount - 2 : 0;
+    std::int32_t i0 = frame > 0.0 ? static_cast<std::int32_t>(frame) : 0; // frame >= 0: truncation is floor
+    i0 = i0 < lastI0 ? i0 : lastI0;
+    const float fraction = static_cast<float>(frame - i0);
+    out_i0 = i0;
+    out_fraction = fraction < 0.0f ? 0.0f : (fraction > 1.0f ? 1.0f : fraction);
+  }
 
 private:
+  double wrapped(double g, std::int64_t* out_loop) const;
+
   double m_fps = 30.0;
   std::int32_t m_frameCount = 0;
   std::int32_t m_jointCount = 0;
@@ -165,9 +203,16 @@ private:
   std::vector<std::uint32_t> m_clusterBegin; // jointCount + 1
   std::vector<Cluster> m_clusters;
   std::vector<glm::quat> m_rotations;
+  std::vector<std::uint32_t> m_startBegin; // frameCount + 1
+  std::vector<std::int16_t> m_starts;
+  std::vector<std::uint32_t> m_endBegin; // frameCount + 1
+  std::vector<std::int16_t> m_ends;
 };
 
 // nlerp(identity, offset, weight): the offset scaled down to `weight` in [0, 1] (offset.w >= 0).
-glm::quat scaleOffset(const glm::quat& offset, float weight);
+inline glm::quat scaleOffset(const glm::quat& offset, float weight) {
+  const glm::quat q(1.0f - weight + weight * offset.w, weight * offset.x, weight * offset.y, weight * offset.z);
+  return q * (1.0f / std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w));
+}
 
 } // namespace mlod

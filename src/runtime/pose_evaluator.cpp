@@ -22,16 +22,19 @@ namespace mlod {
 
 namespace {
 
-// Structure-of-arrays buffers of the active joints of one character.
+// The active joints' sampling buffers, in blocks of 8 joints (array-of-structures-of-arrays):
+// value `array` of active slot k is at [(k / 8) * kBlockFloats + array * 8 + k % 8], so that
+// a block computes 8 joints at once and the hierarchy reads a joint's values at constant
+// offsets from one pointer.
 enum SoaArray {
   kAx, kAy, kAz, kAw, // rotation at the frame before
   kBx, kBy, kBz, kBw, // rotation at the frame after
   kQx, kQy, kQz, kQw, // the interpolated rotation
-  kM00, kM01, kM02, kM10, kM11, kM12, kM20, kM21, kM22, // local matrix columns (rotation x scale)
-  kTx, kTy, kTz,       // local translation
-  kSx, kSy, kSz,       // local scale
+  kM00, kM01, kM02, kM10, kM11, kM12, kM20, kM21, kM22, // local rotation matrix, columns
   kSoaArrays
 };
+constexpr int kLanes = 8;
+constexpr std::size_t kBlockFloats = kSoaArrays * kLanes;
 
 // Joint status in a plan: bit 0 = active (its local matrix is computed this frame);
 // constant joints (frozen or static) take a precomputed local matrix.
@@ -64,22 +67,65 @@ inline void mulAffine(const float* __restrict a, const float* __restrict b, floa
   store4(out + 12, a0 * b[12] + a1 * b[13] + a2 * b[14] + a3);
 }
 
-// out = a x the local matrix of active slot k in the SoA buffers.
-inline void mulLocal(const float* __restrict a, const float* __restrict soa, std::size_t stride, int k,
+// out = a x (the local matrix whose rotation columns are at `m` (stride kLanes), scaled by
+// `scale`, translated by `t`); a null `a` is the identity.
+inline void mulLocal(const float* __restrict a, const float* __restrict m, const glm::vec3* scale, const glm::vec3& t,
                      float* __restrict out) {
-  const auto at = [&](int array) { return soa[static_cast<std::size_t>(array) * stride + static_cast<std::size_t>(k)]; };
+  if (!a) {
+    const float s0 = scale ? scale->x : 1.0f, s1 = scale ? scale->y : 1.0f, s2 = scale ? scale->z : 1.0f;
+    const float local[16] = {m[0 * kLanes] * s0, m[1 * kLanes] * s0, m[2 * kLanes] * s0, 0.0f,
+                             m[3 * kLanes] * s1, m[4 * kLanes] * s1, m[5 * kLanes] * s1, 0.0f,
+                             m[6 * kLanes] * s2, m[7 * kLanes] * s2, m[8 * kLanes] * s2, 0.0f,
+                             t.x,                t.y,                t.z,                1.0f};
+    std::memcpy(out, local, sizeof local);
+    return;
+  }
   const v4 a0 = load4(a), a1 = load4(a + 4), a2 = load4(a + 8), a3 = load4(a + 12);
-  store4(out, a0 * at(kM00) + a1 * at(kM01) + a2 * at(kM02));
-  store4(out + 4, a0 * at(kM10) + a1 * at(kM11) + a2 * at(kM12));
-  store4(out + 8, a0 * at(kM20) + a1 * at(kM21) + a2 * at(kM22));
-  store4(out + 12, a0 * at(kTx) + a1 * at(kTy) + a2 * at(kTz) + a3);
+  v4 c0 = a0 * m[0 * kLanes] + a1 * m[1 * kLanes] + a2 * m[2 * kLanes];
+  v4 c1 = a0 * m[3 * kLanes] + a1 * m[4 * kLanes] + a2 * m[5 * kLanes];
+  v4 c2 = a0 * m[6 * kLanes] + a1 * m[7 * kLanes] + a2 * m[8 * kLanes];
+  if (scale) {
+    c0 *= scale->x;
+    c1 *= scale->y;
+    c2 *= scale->z;
+  }
+  store4(out, c0);
+  store4(out + 4, c1);
+  store4(out + 8, c2);
+  store4(out + 12, a0 * t.x + a1 * t.y + a2 * t.z + a3);
 }
 
-inline void setLocal(const float* __restrict soa, std::size_t stride, int k, float* __restrict out) {
-  const auto at = [&](int array) { return soa[static_cast<std::size_t>(array) * stride + static_cast<std::size_t>(k)]; };
-  const float m[16] = {at(kM00), at(kM01), at(kM02), 0.0f, at(kM10), at(kM11), at(kM12), 0.0f,
-                       at(kM20), at(kM21), at(kM22), 0.0f, at(kTx),  at(kTy),  at(kTz),  1.0f};
-  std::memcpy(out, m, sizeof m);
+// nlerp of a block's 8 rotation pairs (stored rotations are sign-aligned: no sign test).
+inline void nlerpBlock(float* __restrict b, float fraction) {
+  for (int l = 0; l < kLanes; ++l) {
+    const float x = b[kAx * kLanes + l] + (b[kBx * kLanes + l] - b[kAx * kLanes + l]) * fraction;
+    const float y = b[kAy * kLanes + l] + (b[kBy * kLanes + l] - b[kAy * kLanes + l]) * fraction;
+    const float z = b[kAz * kLanes + l] + (b[kBz * kLanes + l] - b[kAz * kLanes + l]) * fraction;
+    const float w = b[kAw * kLanes + l] + (b[kBw * kLanes + l] - b[kAw * kLanes + l]) * fraction;
+    const float inverse = 1.0f / std::sqrt(x * x + y * y + z * z + w * w);
+    b[kQx * kLanes + l] = x * inverse;
+    b[kQy * kLanes + l] = y * inverse;
+    b[kQz * kLanes + l] = z * inverse;
+    b[kQw * kLanes + l] = w * inverse;
+  }
+}
+
+// Rotation matrices of a block's 8 rotations (glm::mat3_cast).
+inline void matrixBlock(float* __restrict b) {
+  for (int l = 0; l < kLanes; ++l) {
+    const float x = b[kQx * kLanes + l], y = b[kQy * kLanes + l], z = b[kQz * kLanes + l], w = b[kQw * kLanes + l];
+    const float xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z, wx = w * x, wy = w * y,
+                wz = w * z;
+    b[kM00 * kLanes + l] = 1.0f - 2.0f * (yy + zz);
+    b[kM01 * kLanes + l] = 2.0f * (xy + wz);
+    b[kM02 * kLanes + l] = 2.0f * (xz - wy);
+    b[kM10 * kLanes + l] = 2.0f * (xy - wz);
+    b[kM11 * kLanes + l] = 1.0f - 2.0f * (xx + zz);
+    b[kM12 * kLanes + l] = 2.0f * (yz + wx);
+    b[kM20 * kLanes + l] = 2.0f * (xz + wy);
+    b[kM21 * kLanes + l] = 2.0f * (yz - wx);
+    b[kM22 * kLanes + l] = 1.0f - 2.0f * (xx + yy);
+  }
 }
 
 glm::quat positiveW(const glm::quat& q) { return q.w < 0.0f ? -q : q; }
@@ -104,11 +150,27 @@ glm::quat shownRotation(const LodClip& clip, int joint, double seconds, int blen
   return q;
 }
 
+// Sets or clears bit j of a joint set.
+inline void assign(std::uint64_t* set, int j, bool value) {
+  const std::uint64_t bit = std::uint64_t{1} << (j & 63);
+  set[j >> 6] = value ? set[j >> 6] | bit : set[j >> 6] & ~bit;
+}
+// Calls visit(j) for every joint of the set, in order.
+template <typename Visit>
+inline void forEachJoint(const std::uint64_t* set, std::size_t words, Visit&& visit) {
+  for (std::size_t w = 0; w < words; ++w)
+    for (std::uint64_t bits = set[w]; bits; bits &= bits - 1)
+      visit(static_cast<int>(w * 64 + static_cast<std::size_t>(__builtin_ctzll(bits))));
+}
 } // namespace
 
 struct PoseEvaluation {
   using State = PoseEvaluatorContext::CharacterState;
   using Scratch = PoseEvaluatorContext::Scratch;
+
+  // Frames a character may step forward and still re-read only the joints whose events lie
+  // in between; a longer jump (or any step back) re-reads every joint.
+  static constexpr std::int32_t kIncrementalFrames = 64;
 
   static void runRange(void* data, int begin, int end, int thread) {
     const PoseEvaluatorJob& job = *static_cast<const PoseEvaluatorJob*>(data);
@@ -156,10 +218,9 @@ struct PoseEvaluation {
       full = true;
     st.loop = loop;
     st.wrapWindow = wrapWindow;
-    if (full || i0 < st.lo || i0 > st.hi) {
-      rebuild(job, c, i0, full, scratch);
-      ++scratch.rebuilds;
-    }
+    full = full || i0 < st.i0 || i0 - st.i0 > kIncrementalFrames;
+    if (full || i0 != st.i0)
+      scratch.rebuilds += rebuild(job, c, i0, full, scratch) ? 1 : 0;
     pose(job, c, f, i0, fraction, levelWeight, scratch);
     scratch.sampled += st.activeCount;
   }
@@ -190,150 +251,184 @@ struct PoseEvaluation {
     st.levelSeconds = blendFrames / after.fps();
   }
 
-  // Makes the plan of character c hold at frame i0: re-reads the joints whose own range
-  // does not hold i0 (every joint when `full`), then refolds below the ones that changed.
-  static void rebuild(const PoseEvaluatorJob& job, int c, std::int32_t i0, bool full, Scratch& scratch) {
+  // Re-reads joint j of character c at frame i0: its segment, unfreeze windows and blend
+  // offsets. Returns true when the joint toggled between active and constant, or now holds
+  // another constant local matrix.
+  static bool updateJoint(const PoseEvaluatorJob& job, const State& st, std::size_t i, int j, std::int32_t i0) {
+    PoseEvaluatorContext& ctx = *job.context;
+    const LodClip& clip = *st.clip;
+    const int blendFrames = job.blendFrames;
+    const std::uint8_t oldStatus = ctx.m_status[i];
+    const glm::mat4* oldLocal = ctx.m_constLocal[i];
+    const std::uint8_t flags = clip.flags(j);
+    bool constant = false;
+    const glm::mat4* local = nullptr;
+    std::uint8_t status = 0;
+    std::int32_t rotationIndex = 0, rotationStep = 0, windowLatest = -1, windowCount = 0;
+    if (!(flags & LodClip::kRotationAnimated)) {
+      rotationIndex = clip.staticRotationPair(j);
+      local = &clip.staticLocal(j);
+      constant = !(flags & kAnimatedTranslationOrScale);
+    } else {
+      const std::span<const LodClip::Segment> list = clip.segments(j);
+      const LodClip::Segment* segments = list.data();
+      int s = ctx.m_cursor[i];
+      if (s < 0) {
+        s = clip.findSegment(j, i0);
+      } else {
+        // usually the next segment; far jumps search
+        int steps = 0;
+        while (i0 > segments[s].last && ++steps < 4)
+          ++s;
+        if (i0 < segments[s].first || i0 > segments[s].last)
+          s = clip.findSegment(j, i0);
+      }
+      ctx.m_cursor[i] = s;
+      const LodClip::Segment& segment = segments[s];
+      const LodClip::Cluster* clusters = clip.clusters(j).data();
+      if (blendFrames > 0) {
+        for (int cc = segment.previous; cc >= 0 && clusters[cc].last + blendFrames > i0; --cc)
+          ++windowCount;
+        windowLatest = segment.previous;
+        if (segment.cluster < 0 && segment.previous >= 0 && clusters[segment.previous].last == i0)
+          status |= kHold;
+      }
+      if (segment.cluster >= 0) {
+        const LodClip::Cluster& cluster = clusters[segment.cluster];
+        rotationIndex = cluster.keyPair;
+        local = &cluster.keyLocal;
+        constant = windowCount == 0 && !(flags & kAnimatedTranslationOrScale);
+      } else {
+        rotationIndex = segment.rotation - segment.first;
+        rotationStep = 1;
+      }
+    }
+    if (st.levelBlend && !isIdentity(ctx.m_levelOffset[i])) {
+      status |= kLevel;
+      constant = false;
+    }
+    if (st.wrapWindow && !isIdentity(ctx.m_wrapOffset[i])) {
+      status |= kWrap;
+      constant = false;
+    }
+    if (windowCount > 0 || (status & (kHold | kLevel | kWrap)))
+      status |= kBlend;
+    if (!constant)
+      status |= kActive;
+    ctx.m_status[i] = status;
+    ctx.m_constLocal[i] = constant ? local : nullptr;
+    ctx.m_rotationIndex[i] = rotationIndex;
+    ctx.m_rotationStep[i] = rotationStep;
+    ctx.m_windowLatest[i] = windowLatest;
+    ctx.m_windowCount[i] = windowCount;
+    return ((oldStatus ^ status) & kActive) || (constant && oldLocal != local);
+  }
+
+  // Makes the plan of character c hold at frame i0. `full`: re-reads every joint. Else the
+  // character steps forward from the frame of its plan, and only the joints with an event
+  // in between are re-read: a segment that starts (a cluster starts or ends), the end of
+  // the first frame after a cluster (hold) and of an unfreeze window, straight from the
+  // clip's per-frame lists. Then refolds the frozen joints below the ones that changed
+  // (palette-only jobs). Returns false when no joint had an event.
+  static bool rebuild(const PoseEvaluatorJob& job, int c, std::int32_t i0, bool full, Scratch& scratch) {
     PoseEvaluatorContext& ctx = *job.context;
     State& st = ctx.m_states[static_cast<std::size_t>(c)];
     const LodClip& clip = *st.clip;
     const int joints = ctx.m_joints;
-    const int blendFrames = job.blendFrames;
+    const std::size_t words = ctx.m_words;
     const std::size_t base = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
-    std::uint8_t* changed = scratch.changed.data();
+    std::uint64_t* activeSet = &ctx.m_activeSet[static_cast<std::size_t>(c) * words];
+    std::uint64_t* dirty = scratch.dirty.data();
+    std::uint8_t* __restrict changed = scratch.changed.data();
+    std::uint8_t* __restrict foldChanged = scratch.foldChanged.data();
+    const std::uint8_t* statuses = &ctx.m_status[base];
+    const std::int16_t* parents = job.parents.data();
+    const int blendFrames = job.blendFrames;
+    // only palette-only jobs fold: a frozen joint whose model matrix is written costs one
+    // product from its parent's, folded or not
+    const bool folds = job.folding && job.out_models.empty();
 
-    if (full && st.wrapWindow)
+    // 1. the joints to re-read
+    std::fill_n(dirty, words, 0);
+    if (full) {
       for (int j = 0; j < joints; ++j)
-        ctx.m_wrapOffset[base + static_cast<std::size_t>(j)] =
-            positiveW(clip.rotationAt(j, clip.frameCount() - 1, blendFrames) *
-                      glm::inverse(clip.rotationAt(j, 0.0, blendFrames)));
-
-    for (int j = 0; j < joints; ++j) {
-      const std::size_t i = base + static_cast<std::size_t>(j);
-      if (!full && i0 >= ctx.m_jointLo[i] && i0 <= ctx.m_jointHi[i]) {
-        changed[j] = 0;
-        continue;
-      }
-      const std::uint8_t oldStatus = ctx.m_status[i];
-      const glm::mat4* oldLocal = ctx.m_constLocal[i];
-      const std::uint8_t flags = clip.flags(j);
-      bool constant = false;
-      const glm::mat4* local = nullptr;
-      std::int32_t lo = INT_MIN, hi = INT_MAX;
-      std::uint8_t status = 0;
-      std::int32_t rotationIndex = 0, rotationStep = 0, windowLatest = -1, windowCount = 0;
-      if (!(flags & LodClip::kRotationAnimated)) {
-        rotationIndex = clip.staticRotationPair(j);
-        local = &clip.staticLocal(j);
-        constant = !(flags & kAnimatedTranslationOrScale);
-      } else {
-        const std::span<const LodClip::Segment> segments = clip.segments(j);
-        int s = ctx.m_cursor[i];
-        if (s < 0) {
-          s = clip.findSegment(j, i0);
-        } else {
-          // usually the next segment; far jumps (a wrap, a scrub) search
-          int steps = 0;
-          while (i0 > segments[static_cast<std::size_t>(s)].last && ++steps < 4)
-            ++s;
-          while (i0 < segments[static_cast<std::size_t>(s)].first && ++steps < 4)
-            --s;
-          if (i0 < segments[static_cast<std::size_t>(s)].first || i0 > segments[static_cast<std::size_t>(s)].last)
-            s = clip.findSegment(j, i0);
-        }
-        ctx.m_cursor[i] = s;
-        const LodClip::Segment& segment = segments[static_cast<std::size_t>(s)];
-        const std::span<const LodClip::Cluster> clusters = clip.clusters(j);
-        lo = segment.first;
-        hi = segment.last;
-        if (blendFrames > 0) {
-          int cc = segment.previous;
-          for (; cc >= 0 && clusters[static_cast<std::size_t>(cc)].last + blendFrames > i0; --cc) {
-            ++windowCount;
-            hi = std::min(hi, clusters[static_cast<std::size_t>(cc)].last + blendFrames - 1);
-          }
-          if (cc >= 0)
-            lo = std::max(lo, clusters[static_cast<std::size_t>(cc)].last + blendFrames);
-          windowLatest = segment.previous;
-          if (segment.cluster < 0 && segment.previous >= 0 &&
-              clusters[static_cast<std::size_t>(segment.previous)].last == i0) {
-            status |= kHold;
-            hi = std::min(hi, i0);
-          }
-        }
-        if (segment.cluster >= 0) {
-          const LodClip::Cluster& cluster = clusters[static_cast<std::size_t>(segment.cluster)];
-          rotationIndex = cluster.keyPair;
-          local = &cluster.keyLocal;
-          constant = windowCount == 0 && !(flags & kAnimatedTranslationOrScale);
-        } else {
-          rotationIndex = segment.rotation - segment.first;
-          rotationStep = 1;
-        }
-      }
-      if (st.levelBlend && !isIdentity(ctx.m_levelOffset[i])) {
-        status |= kLevel;
-        constant = false;
-      }
-      if (st.wrapWindow && !isIdentity(ctx.m_wrapOffset[i])) {
-        status |= kWrap;
-        constant = false;
-      }
-      if (windowCount > 0 || (status & (kHold | kLevel | kWrap)))
-        status |= kBlend;
-      if (!constant)
-        status |= kActive;
-      ctx.m_status[i] = status;
-      ctx.m_constLocal[i] = constant ? local : nullptr;
-      ctx.m_jointLo[i] = lo;
-      ctx.m_jointHi[i] = hi;
-      ctx.m_rotationIndex[i] = rotationIndex;
-      ctx.m_rotationStep[i] = rotationStep;
-      ctx.m_windowLatest[i] = windowLatest;
-      ctx.m_windowCount[i] = windowCount;
-      changed[j] = full || ((oldStatus ^ status) & kActive) || (constant && oldLocal != local);
-    }
-
-    // the range of frames the plan holds for, and the lists
-    std::int32_t lo = INT_MIN, hi = INT_MAX;
-    std::int32_t active = 0, blending = 0;
-    for (int j = 0; j < joints; ++j) {
-      const std::size_t i = base + static_cast<std::size_t>(j);
-      lo = std::max(lo, ctx.m_jointLo[i]);
-      hi = std::min(hi, ctx.m_jointHi[i]);
-      if (ctx.m_status[i] & kActive) {
-        ctx.m_slot[i] = static_cast<std::int16_t>(active);
-        ctx.m_active[base + static_cast<std::size_t>(active++)] = static_cast<std::int16_t>(j);
-        if (ctx.m_status[i] & kBlend)
-          ctx.m_blending[base + static_cast<std::size_t>(blending++)] = static_cast<std::int16_t>(j);
+        assign(dirty, j, true);
+      if (st.wrapWindow)
+        for (int j = 0; j < joints; ++j)
+          ctx.m_wrapOffset[base + static_cast<std::size_t>(j)] =
+              positiveW(clip.rotationAt(j, clip.frameCount() - 1, blendFrames) *
+                        glm::inverse(clip.rotationAt(j, 0.0, blendFrames)));
+    } else {
+      const auto mark = [&](std::span<const std::int16_t> list) {
+        for (std::int16_t j : list)
+          assign(dirty, j, true);
+      };
+      for (std::int32_t x = st.i0 + 1; x <= i0; ++x) {
+        mark(clip.segmentStarts(x));
+        if (blendFrames > 0 && x - 1 >= 0)
+          mark(clip.clusterEnds(x - 1)); // the hold of [last, last + 1) ends
+        if (blendFrames > 1 && x - blendFrames >= 0)
+          mark(clip.clusterEnds(x - blendFrames)); // the unfreeze window ends
       }
     }
-    st.lo = lo;
-    st.hi = hi;
-    st.activeCount = active;
-    st.blendCount = blending;
+    st.i0 = i0;
+    bool any = false;
+    for (std::size_t w = 0; w < words; ++w)
+      any = any || dirty[w] != 0;
+    if (!any)
+      return false;
 
-    if (job.folding) {
-      // a frozen joint's model matrix is needed for output, or by an active child
+    // 2. re-read them
+    bool statusChanged = full;
+    int firstChanged = joints;
+    forEachJoint(dirty, words, [&](int j) {
+      const std::uint8_t before = statuses[j];
+      if (updateJoint(job, st, base + static_cast<std::size_t>(j), j, i0) || full) {
+        changed[j] = 1;
+        firstChanged = std::min(firstChanged, j);
+      }
+      const std::uint8_t status = statuses[j];
+      if (status != before || full) {
+        statusChanged = true;
+        assign(activeSet, j, status & kActive);
+      }
+    });
+    if (statusChanged) {
+      int active = 0;
+      for (std::size_t w = 0; w < words; ++w)
+        active += __builtin_popcountll(activeSet[w]);
+      st.activeCount = active;
+    }
+
+    // 3. palette only: which constant joints' model matrices are needed (those on the way
+    //    from an active joint up to its nearest active ancestor; the others are folded)
+    if (folds && statusChanged) {
       std::uint8_t* needModel = &ctx.m_needModel[base];
-      std::fill_n(needModel, joints, job.out_models.empty() ? 0 : 1);
-      for (int j = 1; j < joints; ++j) {
-        const int p = job.parents[static_cast<std::size_t>(j)];
-        if (p >= 0 && (ctx.m_status[base + static_cast<std::size_t>(j)] & kActive))
-          needModel[p] = 1;
-      }
-      std::uint8_t* foldChanged = scratch.foldChanged.data();
-      for (int j = 0; j < joints; ++j) {
+      std::uint8_t* __restrict need = foldChanged; // as scratch here
+      for (int j = 0; j < joints; ++j)
+        need[j] = statuses[j] & kActive;
+      for (int j = joints - 1; j > 0; --j)
+        if (need[j] && parents[j] >= 0)
+          need[parents[j]] = 1;
+      for (int j = 0; j < joints; ++j)
+        if (need[j] != needModel[j] || full) {
+          needModel[j] = need[j];
+          changed[j] = 1; // folded <-> computed from its parent
+          firstChanged = std::min(firstChanged, j);
+        }
+    }
+    // 4. the folds below the joints that changed
+    if (folds) {
+      const std::uint8_t* needModel = &ctx.m_needModel[base];
+      for (int j = firstChanged; j < joints; ++j) {
         const std::size_t i = base + static_cast<std::size_t>(j);
-        foldChanged[j] = 0;
-        if (ctx.m_status[i] & kActive)
+        const int p = parents[j];
+        const bool redo = !needModel[j] && (changed[j] || (p >= firstChanged && (changed[p] || foldChanged[p])));
+        foldChanged[j] = redo;
+        if (!redo)
           continue;
-        const int p = job.parents[static_cast<std::size_t>(j)];
-        if (!changed[j] && !(p >= 0 && (changed[p] || foldChanged[p])))
-          continue;
-        foldChanged[j] = 1;
         const std::size_t pi = base + static_cast<std::size_t>(p);
-        const bool parentConstant = p >= 0 && !(ctx.m_status[pi] & kActive);
-        if (parentConstant) {
+        if (p >= 0 && !needModel[p]) {
           ctx.m_anchor[i] = ctx.m_anchor[pi];
           mulAffine(glm::value_ptr(ctx.m_fold[pi]), glm::value_ptr(*ctx.m_constLocal[i]), glm::value_ptr(ctx.m_fold[i]));
         } else {
@@ -343,11 +438,15 @@ struct PoseEvaluation {
         mulAffine(glm::value_ptr(ctx.m_fold[i]), glm::value_ptr(job.inverseBinds[static_cast<std::size_t>(j)]),
                   glm::value_ptr(ctx.m_foldPalette[i]));
       }
+      std::fill_n(changed, joints, 0);
+    } else {
+      forEachJoint(dirty, words, [&](int j) { changed[j] = 0; });
     }
     st.planValid = true;
     st.folding = job.folding;
     st.models = !job.out_models.empty();
     st.blendFrames = blendFrames;
+    return true;
   }
 
   MLOD_RUNTIME_CLONES
@@ -357,166 +456,125 @@ struct PoseEvaluation {
     const State& st = ctx.m_states[static_cast<std::size_t>(c)];
     const LodClip& clip = *st.clip;
     const int joints = ctx.m_joints;
+    const std::size_t words = ctx.m_words;
     const std::size_t base = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
-    const std::size_t stride = ctx.m_stride;
+    const std::uint64_t* activeSet = &ctx.m_activeSet[static_cast<std::size_t>(c) * words];
     float* __restrict soa = scratch.soa.data();
-    float* __restrict ax = soa + kAx * stride;
-    float* __restrict ay = soa + kAy * stride;
-    float* __restrict az = soa + kAz * stride;
-    float* __restrict aw = soa + kAw * stride;
-    float* __restrict bx = soa + kBx * stride;
-    float* __restrict by = soa + kBy * stride;
-    float* __restrict bz = soa + kBz * stride;
-    float* __restrict bw = soa + kBw * stride;
-    float* __restrict qx = soa + kQx * stride;
-    float* __restrict qy = soa + kQy * stride;
-    float* __restrict qz = soa + kQz * stride;
-    float* __restrict qw = soa + kQw * stride;
-    float* __restrict tx = soa + kTx * stride;
-    float* __restrict ty = soa + kTy * stride;
-    float* __restrict tz = soa + kTz * stride;
-    float* __restrict sx = soa + kSx * stride;
-    float* __restrict sy = soa + kSy * stride;
-    float* __restrict sz = soa + kSz * stride;
     const glm::quat* rotations = clip.rotations().data();
-    const std::int16_t* active = &ctx.m_active[base];
     const std::int32_t* rotationIndex = &ctx.m_rotationIndex[base];
     const std::int32_t* rotationStep = &ctx.m_rotationStep[base];
     const int count = st.activeCount;
+    const int blocks = (count + kLanes - 1) / kLanes;
+    const auto lane = [soa](int k) {
+      const unsigned u = static_cast<unsigned>(k);
+      return soa + (u / kLanes) * kBlockFloats + u % kLanes;
+    };
+    // the next lane after `b` (lane k): the next float, or the next block's first
+    const auto next = [](float* b, int k) { return (k + 1) % kLanes ? b + 1 : b + 1 - kLanes + kBlockFloats; };
 
-    // 1. gather the two rotations around f of every active joint, its translation and scale
-    for (int k = 0; k < count; ++k) {
-      const int j = active[k];
+    // 1. gather the two rotations around f of every active joint
+    const std::uint8_t* status = &ctx.m_status[base];
+    std::int16_t* blending = scratch.blending.data(); // pairs (joint, lane)
+    int k = 0, blendCount = 0;
+    float* b = soa;
+    forEachJoint(activeSet, words, [&](int j) {
       const glm::quat* p = rotations + (rotationIndex[j] + rotationStep[j] * i0);
-      ax[k] = p[0].x;
-      ay[k] = p[0].y;
-      az[k] = p[0].z;
-      aw[k] = p[0].w;
-      bx[k] = p[1].x;
-      by[k] = p[1].y;
-      bz[k] = p[1].z;
-      bw[k] = p[1].w;
-      glm::vec3 translation = clip.staticTranslation(j);
-      if (const glm::vec3* track = clip.translationTrack(j))
-        translation = track[i0] + (track[i0 + 1] - track[i0]) * fraction;
-      tx[k] = translation.x;
-      ty[k] = translation.y;
-      tz[k] = translation.z;
-      glm::vec3 scale = clip.staticScale(j);
-      if (const glm::vec3* track = clip.scaleTrack(j))
-        scale = track[i0] + (track[i0 + 1] - track[i0]) * fraction;
-      sx[k] = scale.x;
-      sy[k] = scale.y;
-      sz[k] = scale.z;
+      blending[2 * blendCount] = static_cast<std::int16_t>(j);
+      blending[2 * blendCount + 1] = static_cast<std::int16_t>(k);
+      blendCount += (status[j] & kBlend) ? 1 : 0;
+      b[kAx * kLanes] = p[0].x;
+      b[kAy * kLanes] = p[0].y;
+      b[kAz * kLanes] = p[0].z;
+      b[kAw * kLanes] = p[0].w;
+      b[kBx * kLanes] = p[1].x;
+      b[kBy * kLanes] = p[1].y;
+      b[kBz * kLanes] = p[1].z;
+      b[kBw * kLanes] = p[1].w;
+      b = next(b, k++);
+    });
+    for (; k < blocks * kLanes; b = next(b, k++)) { // unused lanes: the identity
+      b[kAx * kLanes] = b[kAy * kLanes] = b[kAz * kLanes] = b[kBx * kLanes] = b[kBy * kLanes] = b[kBz * kLanes] = 0.0f;
+      b[kAw * kLanes] = b[kBw * kLanes] = 1.0f;
     }
-    // 2. nlerp, every active joint at once (stored rotations are sign-aligned)
-    for (int k = 0; k < count; ++k) {
-      const float x = ax[k] + (bx[k] - ax[k]) * fraction;
-      const float y = ay[k] + (by[k] - ay[k]) * fraction;
-      const float z = az[k] + (bz[k] - az[k]) * fraction;
-      const float w = aw[k] + (bw[k] - aw[k]) * fraction;
-      const float inverse = 1.0f / std::sqrt(x * x + y * y + z * z + w * w);
-      qx[k] = x * inverse;
-      qy[k] = y * inverse;
-      qz[k] = z * inverse;
-      qw[k] = w * inverse;
-    }
+    // 2. nlerp, 8 joints at once
+    for (int block = 0; block < blocks; ++block)
+      nlerpBlock(soa + static_cast<std::size_t>(block) * kBlockFloats, fraction);
     // 3. blend offsets of the few joints that resume (older offsets outermost)
-    const int blendFrames = job.blendFrames;
-    for (int b = 0; b < st.blendCount; ++b) {
-      const int j = ctx.m_blending[base + static_cast<std::size_t>(b)];
+    const float inverseBlendFrames = job.blendFrames > 0 ? 1.0f / static_cast<float>(job.blendFrames) : 0.0f;
+    for (int n = 0; n < blendCount; ++n) {
+      const int j = blending[2 * n];
       const std::size_t i = base + static_cast<std::size_t>(j);
-      const int k = ctx.m_slot[i];
-      const std::uint8_t status = ctx.m_status[i];
-      glm::quat q(qw[k], qx[k], qy[k], qz[k]);
-      const std::span<const LodClip::Cluster> clusters = clip.clusters(j);
-      if (status & kHold) {
-        const glm::quat& a = clusters[static_cast<std::size_t>(ctx.m_windowLatest[i])].lastRotation;
-        q = glm::normalize(glm::quat(a.w + (bw[k] - a.w) * fraction, a.x + (bx[k] - a.x) * fraction,
-                                     a.y + (by[k] - a.y) * fraction, a.z + (bz[k] - a.z) * fraction));
+      b = lane(blending[2 * n + 1]);
+      glm::quat q(b[kQw * kLanes], b[kQx * kLanes], b[kQy * kLanes], b[kQz * kLanes]);
+      const LodClip::Cluster* clusters = clip.clusters(j).data();
+      if (status[j] & kHold) {
+        const glm::quat& a = clusters[ctx.m_windowLatest[i]].lastRotation;
+        q = glm::normalize(glm::quat(a.w + (b[kBw * kLanes] - a.w) * fraction, a.x + (b[kBx * kLanes] - a.x) * fraction,
+                                     a.y + (b[kBy * kLanes] - a.y) * fraction, a.z + (b[kBz * kLanes] - a.z) * fraction));
       }
-      if (ctx.m_windowCount[i] > 0) {
-        for (int n = 0, cc = ctx.m_windowLatest[i]; n < ctx.m_windowCount[i]; ++n, --cc) {
-          const LodClip::Cluster& cluster = clusters[static_cast<std::size_t>(cc)];
-          const double w = std::clamp((f - cluster.last) / blendFrames, 0.0, 1.0);
-          q = scaleOffset(cluster.exitOffset, static_cast<float>(1.0 - w)) * q;
-        }
+      for (int w = 0, cc = ctx.m_windowLatest[i]; w < ctx.m_windowCount[i]; ++w, --cc) {
+        const float weight = std::clamp(static_cast<float>(f - clusters[cc].last) * inverseBlendFrames, 0.0f, 1.0f);
+        q = scaleOffset(clusters[cc].exitOffset, 1.0f - weight) * q;
       }
-      if (status & kWrap)
-        q = scaleOffset(ctx.m_wrapOffset[i], static_cast<float>(1.0 - std::min(f / blendFrames, 1.0))) * q;
-      if (status & kLevel)
+      if (status[j] & kWrap)
+        q = scaleOffset(ctx.m_wrapOffset[i], 1.0f - std::min(static_cast<float>(f) * inverseBlendFrames, 1.0f)) * q;
+      if (status[j] & kLevel)
         q = scaleOffset(ctx.m_levelOffset[i], levelWeight) * q;
-      qx[k] = q.x;
-      qy[k] = q.y;
-      qz[k] = q.z;
-      qw[k] = q.w;
+      b[kQx * kLanes] = q.x;
+      b[kQy * kLanes] = q.y;
+      b[kQz * kLanes] = q.z;
+      b[kQw * kLanes] = q.w;
     }
-    // 4. local matrices (glm::mat3_cast, columns scaled), every active joint at once
-    {
-      float* __restrict m00 = soa + kM00 * stride;
-      float* __restrict m01 = soa + kM01 * stride;
-      float* __restrict m02 = soa + kM02 * stride;
-      float* __restrict m10 = soa + kM10 * stride;
-      float* __restrict m11 = soa + kM11 * stride;
-      float* __restrict m12 = soa + kM12 * stride;
-      float* __restrict m20 = soa + kM20 * stride;
-      float* __restrict m21 = soa + kM21 * stride;
-      float* __restrict m22 = soa + kM22 * stride;
-      for (int k = 0; k < count; ++k) {
-        const float x = qx[k], y = qy[k], z = qz[k], w = qw[k];
-        const float xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z, wx = w * x, wy = w * y,
-                    wz = w * z;
-        m00[k] = (1.0f - 2.0f * (yy + zz)) * sx[k];
-        m01[k] = 2.0f * (xy + wz) * sx[k];
-        m02[k] = 2.0f * (xz - wy) * sx[k];
-        m10[k] = 2.0f * (xy - wz) * sy[k];
-        m11[k] = (1.0f - 2.0f * (xx + zz)) * sy[k];
-        m12[k] = 2.0f * (yz + wx) * sy[k];
-        m20[k] = 2.0f * (xz + wy) * sz[k];
-        m21[k] = 2.0f * (yz - wx) * sz[k];
-        m22[k] = (1.0f - 2.0f * (xx + yy)) * sz[k];
-      }
-    }
+    // 4. rotation matrices, 8 joints at once
+    for (int block = 0; block < blocks; ++block)
+      matrixBlock(soa + static_cast<std::size_t>(block) * kBlockFloats);
     // 5. the hierarchy, parents first
     glm::mat4* models = job.out_models.empty() ? scratch.models.data() : &job.out_models[base];
     glm::mat4* palette = &job.out_palette[base];
     const std::int16_t* parents = job.parents.data();
     const glm::mat4* inverseBinds = job.inverseBinds.data();
-    const std::uint8_t* status = &ctx.m_status[base];
     const std::int16_t* anchor = &ctx.m_anchor[base];
     const std::uint8_t* needModel = &ctx.m_needModel[base];
-    const glm::mat4* fold = &ctx.m_fold[base];
     const glm::mat4* foldPalette = &ctx.m_foldPalette[base];
     const glm::mat4* const* constLocal = &ctx.m_constLocal[base];
-    const bool folding = job.folding;
-    int k = 0;
+    const bool folds = job.folding && job.out_models.empty();
+    k = 0;
+    b = soa + kM00 * kLanes;
     for (int j = 0; j < joints; ++j) {
       float* model = glm::value_ptr(models[j]);
+      const int p = parents[j];
       if (status[j] & kActive) {
-        const int p = parents[j];
-        if (p >= 0)
-          mulLocal(glm::value_ptr(models[p]), soa, stride, k, model);
-        else
-          setLocal(soa, stride, k, model);
-        mulAffine(model, glm::value_ptr(inverseBinds[j]), glm::value_ptr(palette[j]));
-        ++k;
-      } else if (folding) {
-        const int a = anchor[j];
-        if (a >= 0) {
-          if (needModel[j])
-            mulAffine(glm::value_ptr(models[a]), glm::value_ptr(fold[j]), model);
-          mulAffine(glm::value_ptr(models[a]), glm::value_ptr(foldPalette[j]), glm::value_ptr(palette[j]));
+        const std::uint8_t flags = clip.flags(j);
+        glm::vec3 translation;
+        if (flags & LodClip::kTranslationAnimated) {
+          const glm::vec3* track = clip.translationTrack(j);
+          translation = track[i0] + (track[i0 + 1] - track[i0]) * fraction;
         } else {
-          models[j] = fold[j];
-          palette[j] = foldPalette[j];
+          translation = clip.staticTranslation(j);
         }
-      } else {
-        const int p = parents[j];
+        glm::vec3 scale;
+        if (flags & LodClip::kScaled) {
+          const glm::vec3* track = clip.scaleTrack(j);
+          scale = track ? track[i0] + (track[i0 + 1] - track[i0]) * fraction : clip.staticScale(j);
+        }
+        mulLocal(p >= 0 ? glm::value_ptr(models[p]) : nullptr, b, (flags & LodClip::kScaled) ? &scale : nullptr,
+                 translation, model);
+        mulAffine(model, glm::value_ptr(inverseBinds[j]), glm::value_ptr(palette[j]));
+        b = next(b, k++);
+      } else if (!folds || needModel[j]) {
+        // a constant joint whose model matrix is needed: one product from its parent's
         if (p >= 0)
           mulAffine(glm::value_ptr(models[p]), glm::value_ptr(*constLocal[j]), model);
         else
           models[j] = *constLocal[j];
         mulAffine(model, glm::value_ptr(inverseBinds[j]), glm::value_ptr(palette[j]));
+      } else {
+        // folded: the palette straight from the nearest ancestor with a model matrix
+        const int a = anchor[j];
+        if (a >= 0)
+          mulAffine(glm::value_ptr(models[a]), glm::value_ptr(foldPalette[j]), glm::value_ptr(palette[j]));
+        else
+          palette[j] = foldPalette[j];
       }
     }
   }
@@ -527,12 +585,11 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
   joints = std::max(joints, 0);
   threads = std::max(threads, 1);
   m_joints = joints;
-  m_stride = (static_cast<std::size_t>(joints) + 15) / 16 * 16;
+  m_blocks = (static_cast<std::size_t>(joints) + kLanes - 1) / kLanes;
+  m_words = (static_cast<std::size_t>(joints) + 63) / 64;
   const std::size_t n = static_cast<std::size_t>(characters) * static_cast<std::size_t>(joints);
   m_states.assign(static_cast<std::size_t>(characters), CharacterState{});
   m_cursor.assign(n, -1);
-  m_jointLo.assign(n, 0);
-  m_jointHi.assign(n, -1);
   m_status.assign(n, 0);
   m_rotationIndex.assign(n, 0);
   m_rotationStep.assign(n, 0);
@@ -540,10 +597,8 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
   m_windowCount.assign(n, 0);
   m_constLocal.assign(n, nullptr);
   m_anchor.assign(n, -1);
-  m_slot.assign(n, 0);
-  m_active.assign(n, 0);
-  m_blending.assign(n, 0);
-  m_needModel.assign(n, 0);
+  m_needModel.assign(n, 1);
+  m_activeSet.assign(static_cast<std::size_t>(characters) * m_words, 0);
   m_fold.assign(n, glm::mat4(1.0f));
   m_foldPalette.assign(n, glm::mat4(1.0f));
   m_levelOffset.assign(n, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
@@ -551,8 +606,10 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
   m_scratch.clear();
   m_scratch.resize(static_cast<std::size_t>(threads));
   for (Scratch& scratch : m_scratch) {
-    scratch.soa.assign(kSoaArrays * m_stride, 0.0f);
+    scratch.soa.assign(kBlockFloats * std::max<std::size_t>(m_blocks, 1), 0.0f);
     scratch.models.assign(static_cast<std::size_t>(joints), glm::mat4(1.0f));
+    scratch.dirty.assign(std::max<std::size_t>(m_words, 1), 0);
+    scratch.blending.assign(2 * static_cast<std::size_t>(joints), 0);
     scratch.changed.assign(static_cast<std::size_t>(joints), 0);
     scratch.foldChanged.assign(static_cast<std::size_t>(joints), 0);
   }
@@ -572,16 +629,16 @@ void PoseEvaluatorContext::reset(int character) {
 }
 
 std::size_t PoseEvaluatorContext::bytesPerCharacter() const {
-  const std::size_t perJoint = 6 * sizeof(std::int32_t) + 2 * sizeof(std::uint8_t) + sizeof(const glm::mat4*) +
-                               4 * sizeof(std::int16_t) + 2 * sizeof(glm::mat4) + 2 * sizeof(glm::quat);
-  return sizeof(CharacterState) + perJoint * static_cast<std::size_t>(m_joints);
+  const std::size_t perJoint = 5 * sizeof(std::int32_t) + 2 * sizeof(std::uint8_t) + sizeof(const glm::mat4*) +
+                               sizeof(std::int16_t) + 2 * sizeof(glm::mat4) + 2 * sizeof(glm::quat);
+  return sizeof(CharacterState) + perJoint * static_cast<std::size_t>(m_joints) + m_words * sizeof(std::uint64_t);
 }
 
 std::size_t PoseEvaluatorContext::byteSize() const {
   std::size_t scratch = 0;
   for (const Scratch& s : m_scratch)
     scratch += sizeof(Scratch) + s.soa.size() * sizeof(float) + s.models.size() * sizeof(glm::mat4) +
-               s.changed.size() + s.foldChanged.size();
+               s.dirty.size() * sizeof(std::uint64_t) + s.blending.size() * sizeof(std::int16_t) + s.changed.size() + s.foldChanged.size();
   return sizeof(*this) + bytesPerCharacter() * m_states.size() + scratch;
 }
 

@@ -84,32 +84,31 @@ private:
     bool folding = false;          // settings the plan was made with
     bool models = false;
     std::int32_t blendFrames = 0;
-    std::int32_t lo = 0;           // the plan holds for i0 in [lo, hi]
-    std::int32_t hi = -1;
+    std::int32_t i0 = 0;           // the frame the plan was made at
     std::int64_t loop = 0;
     bool wrapWindow = false;
     bool levelBlend = false;
     double levelStart = 0.0;       // seconds
     double levelSeconds = 0.0;
     std::int32_t activeCount = 0;
-    std::int32_t blendCount = 0;
   };
   struct alignas(64) Scratch {
-    std::vector<float> soa;          // structure-of-arrays buffers, kSoaArrays x joints (padded)
-    std::vector<glm::mat4> models;   // model matrices when the job has no out_models
-    std::vector<std::uint8_t> changed;
+    std::vector<float> soa;             // the active joints' sampling buffers, in blocks of 8 (AoSoA)
+    std::vector<glm::mat4> models;      // model matrices when the job has no out_models
+    std::vector<std::uint64_t> dirty;   // joints a rebuild re-reads (bit set)
+    std::vector<std::int16_t> blending; // (joint, lane) of the joints that blend this frame
+    std::vector<std::uint8_t> changed;  // all 0 between rebuilds
     std::vector<std::uint8_t> foldChanged;
     std::int64_t sampled = 0;
     std::int64_t rebuilds = 0;
   };
 
   int m_joints = 0;
-  std::size_t m_stride = 0; // SoA array length (joints rounded up)
+  std::size_t m_blocks = 0; // blocks of 8 joints
+  std::size_t m_words = 0;  // 64-bit words of a joint set
   std::vector<CharacterState> m_states;
   // per character x joint
   std::vector<std::int32_t> m_cursor;
-  std::vector<std::int32_t> m_jointLo;
-  std::vector<std::int32_t> m_jointHi;
   std::vector<std::uint8_t> m_status;
   std::vector<std::int32_t> m_rotationIndex;
   std::vector<std::int32_t> m_rotationStep;
@@ -117,10 +116,9 @@ private:
   std::vector<std::int32_t> m_windowCount;
   std::vector<const glm::mat4*> m_constLocal;
   std::vector<std::int16_t> m_anchor;
-  std::vector<std::int16_t> m_slot;     // active joints: index in the active list
-  std::vector<std::int16_t> m_active;   // per character: active joints, in joint order
-  std::vector<std::int16_t> m_blending; // per character: blending joints
   std::vector<std::uint8_t> m_needModel;
+  // per character x word: the active joints (bit j % 64 of word j / 64)
+  std::vector<std::uint64_t> m_activeSet;
   std::vector<glm::mat4> m_fold;        // frozen: F relative to the anchor
   std::vector<glm::mat4> m_foldPalette; // frozen: F x inverse bind
   std::vector<glm::quat> m_levelOffset;

@@ -1,0 +1,330 @@
+#include "cli/bench_crowd_command.h"
+
+#include "core/jpc/jpc.h"
+#include "core/lod_clip_builder.h"
+#include "runtime/pose_evaluator.h"
+#include "runtime/skinning_job.h"
+#include "runtime/worker_pool.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+namespace mlod::cli {
+
+void BenchCrowdCommand::attach(CLI::App& app) {
+  CLI::App* command = app.add_subcommand(
+      "bench-crowd",
+      "What the motion LOD buys at run time: a crowd evaluated at full detail and at the LOD of one threshold, "
+      "in one run (pose evaluation, palette, and skinning where the file has a mesh)");
+  command->add_option("FILE", file, "motion or character file (its first clip plays)")->required();
+  command->add_option("--characters", characters, "characters in the crowd (default 1000)")
+      ->check(CLI::Range(1, 1000000));
+  command->add_option("--frames", frames, "frames per repetition, 1/60 s apart (default 100)")
+      ->check(CLI::Range(1, 1000000));
+  command->add_option("--threshold", threshold, "the LOD's JPC threshold E, cm·degrees")->required();
+  command->add_option("--alpha", alpha, "orientation weight alpha, cm (default 5)");
+  command->add_option("--threads", threads, "threads to spread characters over (default 1)")->check(CLI::Range(1, 256));
+  command->add_option("--blend-frames", blendFrames,
+                      "frames over which resuming joints blend back (default 4; 0 = off)")
+      ->check(CLI::Range(0, 10000));
+  command->add_option("--repetitions", repetitions, "timed repetitions of each side (default 5; median)")
+      ->check(CLI::Range(1, 1000));
+  command->add_flag("--palette-only", paletteOnly, "write the skinning palette only, no model matrices");
+  command->add_option("--only", only, "full or lod: run one side only, no warm-up (for callgrind)")
+      ->check(CLI::IsMember({"full", "lod"}));
+  command->add_flag("--json", json, "print one JSON document on stdout");
+  addImportOptions(*command, import);
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double median(std::vector<double> values) {
+  if (values.empty())
+    return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t mid = values.size() / 2;
+  return values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
+}
+
+std::string number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+// One side of the comparison: full detail or the LOD.
+struct Side {
+  const char* name = "";
+  const LodClip* clip = nullptr;
+  PoseEvaluatorContext context;
+  std::vector<const LodClip*> clips;
+  std::vector<double> poseSeconds;
+  std::vector<double> skinSeconds;
+  std::int64_t sampled = 0;  // joints evaluated in the last repetition
+  std::int64_t rebuilds = 0; // plan rebuilds in the last repetition
+};
+
+struct SkinTask {
+  const SkinningMesh* mesh = nullptr;
+  const glm::mat4* palette = nullptr;
+  std::size_t joints = 0;
+  std::vector<std::vector<glm::vec3>>* positions = nullptr; // per thread
+  std::vector<std::vector<glm::vec3>>* normals = nullptr;
+  bool failed = false;
+};
+
+void skinCharacters(void* data, int begin, int end, int thread) {
+  SkinTask& task = *static_cast<SkinTask*>(data);
+  std::vector<glm::vec3>& positions = (*task.positions)[static_cast<std::size_t>(thread)];
+  std::vector<glm::vec3>& normals = (*task.normals)[static_cast<std::size_t>(thread)];
+  for (int c = begin; c < end; ++c)
+    if (!task.mesh->skin(std::span<const glm::mat4>(task.palette + static_cast<std::size_t>(c) * task.joints, task.joints),
+                         positions, normals))
+      task.failed = true;
+}
+
+} // namespace
+
+int BenchCrowdCommand::run() const {
+  if (Error error = validateThreshold(threshold, "--threshold " + number(threshold))) {
+    printError(file, error.message());
+    return kExitBadInput;
+  }
+  if (!std::isfinite(alpha) || alpha < 0.0) {
+    printError(file, "--alpha is " + number(alpha) + "; it must be finite and >= 0 (cm)");
+    return kExitBadInput;
+  }
+  const std::optional<Asset> asset = importForCommand(file, import);
+  if (!asset)
+    return kExitBadInput;
+  if (asset->clips.empty()) {
+    printError(file, "has no animation clip to play");
+    return kExitBadInput;
+  }
+  const Clip& clip = asset->clips.front();
+  if (clip.frameCount < 2) {
+    printError(file, "clip '" + clip.name + "' has one frame: nothing to play");
+    return kExitBadInput;
+  }
+  JpcSettings settings;
+  settings.alpha = alpha;
+  settings.zeroLength = 1e-6 * asset->unitScale;
+  const double thresholds[1] = {threshold};
+  Result<std::vector<JpcLevelResult>> levels = simplifyClip(asset->skeleton, clip, settings, thresholds);
+  if (!levels) {
+    printError(file, levels.message());
+    return kExitBadInput;
+  }
+  const JpcLevelResult& level = levels->front();
+  // the crowd loops its clip
+  Result<LodClip> full = buildLodClip(clip, nullptr, true);
+  Result<LodClip> lod = buildLodClip(clip, &level.clusters, true);
+  if (!full || !lod) {
+    printError(file, (!full ? full : lod).message());
+    return kExitBadInput;
+  }
+  const std::vector<std::int16_t> parents = asset->skeleton.parentIndices();
+  const std::vector<glm::mat4> inverseBinds = paletteInverseBinds(asset->skeleton);
+  const std::size_t joints = parents.size();
+  const SkinnedMesh* skinned = nullptr;
+  for (const SkinnedMesh& mesh : asset->meshes)
+    if (mesh.skinned() && !skinned)
+      skinned = &mesh;
+  std::optional<SkinningMesh> skinning;
+  if (skinned) {
+    Result<SkinningMesh> built = buildSkinningMesh(*skinned, asset->skeleton.jointCount());
+    if (!built) {
+      printError(file, built.message());
+      return kExitBadInput;
+    }
+    skinning = std::move(built).value();
+  }
+
+  // the crowd: starts spread over the clip (golden-ratio steps), 1/60 s per frame
+  const std::size_t n = static_cast<std::size_t>(characters);
+  std::vector<double> starts(n), times(n);
+  for (std::size_t c = 0; c < n; ++c)
+    starts[c] = std::fmod(static_cast<double>(c) * 0.6180339887498949, 1.0) * full->duration();
+  WorkerPool pool(threads);
+  std::vector<glm::mat4> palette(n * joints), models(paletteOnly ? 0 : n * joints);
+  std::vector<std::vector<glm::vec3>> skinPositions(static_cast<std::size_t>(threads)),
+      skinNormals(static_cast<std::size_t>(threads));
+  if (skinning)
+    for (int t = 0; t < threads; ++t) {
+      skinPositions[static_cast<std::size_t>(t)].resize(static_cast<std::size_t>(skinning->vertexCount()));
+      skinNormals[static_cast<std::size_t>(t)].resize(skinning->hasNormals() ? skinPositions[0].size() : 0);
+    }
+  Side sides[2];
+  sides[0].name = "full";
+  sides[0].clip = &*full;
+  sides[1].name = "lod";
+  sides[1].clip = &*lod;
+  for (Side& side : sides) {
+    side.context.resize(characters, static_cast<int>(joints), threads);
+    side.clips.assign(n, side.clip);
+  }
+
+  bool failed = false;
+  const auto repetition = [&](Side& side, bool record) {
+    side.context.reset();
+    double pose = 0.0, skin = 0.0;
+    std::int64_t sampled = 0, rebuilds = 0;
+    for (int frame = 0; frame < frames; ++frame) {
+      for (std::size_t c = 0; c < n; ++c)
+        times[c] = starts[c] + frame / 60.0;
+      PoseEvaluatorJob job;
+      job.parents = parents;
+      job.inverseBinds = inverseBinds;
+      job.clips = side.clips;
+      job.times = times;
+      job.blendFrames = blendFrames;
+      job.pool = &pool;
+      job.context = &side.context;
+      job.out_models = models;
+      job.out_palette = palette;
+      const Clock::time_point start = Clock::now();
+      failed = !job.run() || failed;
+      const Clock::time_point posed = Clock::now();
+      if (skinning) {
+        SkinTask task;
+        task.mesh = &*skinning;
+        task.palette = palette.data();
+        task.joints = joints;
+        task.positions = &skinPositions;
+        task.normals = &skinNormals;
+        pool.run(characters, std::max(1, characters / (threads * 16)), &skinCharacters, &task);
+        failed = task.failed || failed;
+      }
+      const Clock::time_point done = Clock::now();
+      pose += std::chrono::duration<double>(posed - start).count();
+      skin += std::chrono::duration<double>(done - posed).count();
+      sampled += side.context.jointsSampled();
+      rebuilds += side.context.planRebuilds();
+    }
+    if (record) {
+      side.poseSeconds.push_back(pose);
+      side.skinSeconds.push_back(skin);
+      side.sampled = sampled;
+      side.rebuilds = rebuilds;
+    }
+  };
+  const bool runFull = only.empty() || only == "full";
+  const bool runLod = only.empty() || only == "lod";
+  if (only.empty()) {
+    repetition(sides[0], false); // warm-up: caches, pages, the threads
+    repetition(sides[1], false);
+  }
+  for (int r = 0; r < repetitions; ++r) {
+    if (runFull)
+      repetition(sides[0], true);
+    if (runLod)
+      repetition(sides[1], true);
+  }
+  if (failed) {
+    printError(file, "a runtime job did not validate (a bug: please report it)");
+    return kExitFailure;
+  }
+
+  const double charFrames = static_cast<double>(characters) * frames;
+  int animated = 0;
+  for (std::size_t j = 0; j < joints; ++j)
+    animated += (full->flags(static_cast<int>(j)) & (LodClip::kRotationAnimated | LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 1 : 0;
+  const std::size_t perCharacter = sides[0].context.bytesPerCharacter() + (paletteOnly ? 1 : 2) * joints * sizeof(glm::mat4);
+  const auto sideJson = [&](const Side& side) {
+    nlohmann::ordered_json out;
+    const double seconds = median(side.poseSeconds);
+    out["seconds"] = seconds;
+    out["joints_evaluated"] = side.sampled;
+    out["char_frames_per_second"] = seconds > 0.0 ? charFrames / seconds : 0.0;
+    out["ns_per_character_frame"] = 1e9 * seconds / charFrames;
+    out["joints_evaluated_per_character_frame"] = static_cast<double>(side.sampled) / charFrames;
+    out["plan_rebuilds_per_character_frame"] = static_cast<double>(side.rebuilds) / charFrames;
+    out["repetition_seconds"] = side.poseSeconds;
+    return out;
+  };
+  nlohmann::ordered_json doc;
+  doc["file"] = file;
+  doc["clip"] = clip.name;
+  doc["characters"] = characters;
+  doc["frames"] = frames;
+  doc["threshold"] = threshold;
+  doc["alpha"] = alpha;
+  doc["threads"] = threads;
+  doc["blend_frames"] = blendFrames;
+  doc["outputs"] = paletteOnly ? "palette" : "models+palette";
+  doc["repetitions"] = repetitions;
+  doc["joints"] = joints;
+  doc["animated_joints"] = animated;
+  doc["simplified_joint_percent"] = level.simplifiedPercent;
+  doc["max_joint_position_error_cm"] = level.maxJointPositionErrorCm;
+  doc["full"] = runFull ? sideJson(sides[0]) : nlohmann::ordered_json();
+  doc["lod"] = runLod ? sideJson(sides[1]) : nlohmann::ordered_json();
+  const double fullSeconds = median(sides[0].poseSeconds), lodSeconds = median(sides[1].poseSeconds);
+  doc["speedup"] = runFull && runLod && lodSeconds > 0.0 ? nlohmann::ordered_json(fullSeconds / lodSeconds)
+                                                          : nlohmann::ordered_json();
+  doc["memory"] = {{"full_bytes", full->byteSize()}, {"lod_bytes", lod->byteSize()}, {"per_character_bytes", perCharacter}};
+  double fullSkin = 0.0, lodSkin = 0.0;
+  if (skinning) {
+    fullSkin = median(sides[0].skinSeconds);
+    lodSkin = median(sides[1].skinSeconds);
+    nlohmann::ordered_json skin;
+    skin["vertices"] = skinning->vertexCount();
+    skin["vertices_by_influences"] = {skinning->groupBegin(2) - skinning->groupBegin(1),
+                                      skinning->groupBegin(3) - skinning->groupBegin(2),
+                                      skinning->groupBegin(4) - skinning->groupBegin(3),
+                                      skinning->groupBegin(5) - skinning->groupBegin(4)};
+    skin["full_seconds"] = runFull ? nlohmann::ordered_json(fullSkin) : nlohmann::ordered_json();
+    skin["lod_seconds"] = runLod ? nlohmann::ordered_json(lodSkin) : nlohmann::ordered_json();
+    skin["ns_per_character_frame"] = 1e9 * (runFull ? fullSkin : lodSkin) / charFrames;
+    skin["mesh_bytes"] = skinning->byteSize();
+    if (runFull && runLod) {
+      skin["full_total_seconds"] = fullSeconds + fullSkin;
+      skin["lod_total_seconds"] = lodSeconds + lodSkin;
+      skin["speedup_with_skinning"] = (fullSeconds + fullSkin) / (lodSeconds + lodSkin);
+    }
+    doc["skinning"] = skin;
+  }
+  if (json) {
+    std::cout << doc.dump(2) << std::endl;
+    return kExitOk;
+  }
+  std::printf("file:       %s, clip '%s' (%d frames at %g fps, looped), %zu joints (%d animated)\n", file.c_str(),
+              clip.name.c_str(), clip.frameCount, clip.fps, joints, animated);
+  std::printf("crowd:      %d characters x %d frames (1/60 s apart), %d thread(s), blend %d frames, %s\n", characters,
+              frames, threads, blendFrames, paletteOnly ? "palette only" : "model matrices and palette");
+  std::printf("LOD:        E = %g (alpha %g): %.1f%% joint-frames simplified, joint position error up to %.3f cm\n",
+              threshold, alpha, level.simplifiedPercent, level.maxJointPositionErrorCm);
+  std::printf("median of %d repetitions, alternating full and LOD:\n", repetitions);
+  std::printf("  %-6s %12s %18s %16s %14s\n", "", "seconds", "ns/character-frame", "joints sampled/cf",
+              "rebuilds/cf");
+  for (const Side& side : sides) {
+    if ((&side == &sides[0] && !runFull) || (&side == &sides[1] && !runLod))
+      continue;
+    const double seconds = median(side.poseSeconds);
+    std::printf("  %-6s %12.6f %18.1f %16.2f %14.3f\n", side.name, seconds, 1e9 * seconds / charFrames,
+                static_cast<double>(side.sampled) / charFrames, static_cast<double>(side.rebuilds) / charFrames);
+  }
+  if (runFull && runLod)
+    std::printf("  speedup (pose): %.3fx\n", fullSeconds / lodSeconds);
+  if (skinning) {
+    std::printf("skinning:   %d vertices: %.1f ns/character-frame", skinning->vertexCount(),
+                1e9 * (runFull ? fullSkin : lodSkin) / charFrames);
+    if (runFull && runLod)
+      std::printf("; pose + skinning speedup %.3fx", (fullSeconds + fullSkin) / (lodSeconds + lodSkin));
+    std::printf("\n");
+  }
+  std::printf("memory:     clip %zu bytes full, %zu bytes LOD; %zu bytes per character\n", full->byteSize(),
+              lod->byteSize(), perCharacter);
+  return kExitOk;
+}
+
+} // namespace mlod::cli
