@@ -383,8 +383,10 @@ Result<Clip> retargetClip(const RestPoseDifferences& differences, const Skeleton
         global[c] = glm::normalize(differences.alignment * rotationOf(models[std::size_t(s)]) * differences.difference[c]);
       else
         global[c] = glm::normalize(parentGlobal * glm::dquat(character.joints[c].rest.rotation));
-      glm::quat local(glm::normalize(glm::inverse(parentGlobal) * global[c]));
-      if (t > 0) { // one hemisphere along the track, for interpolation
+      // an unmapped joint holds its rest rotation exactly (no round trip through model space)
+      glm::quat local = s >= 0 ? glm::quat(glm::normalize(glm::inverse(parentGlobal) * global[c]))
+                               : character.joints[c].rest.rotation;
+      if (t > 0 && s >= 0) { // one hemisphere along the track, for interpolation
         const glm::quat& previous = out.rotations[out.index(int(c), t - 1)];
         if (glm::dot(local, previous) < 0.0f)
           local = -local;

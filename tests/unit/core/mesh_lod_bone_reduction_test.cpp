@@ -5,11 +5,15 @@
 #include "core/jpc/simplified_motion.h"
 #include "core/lod/bone_reduction.h"
 #include "core/lod/lod_character.h"
+#include "core/mapping/motion_mapping.h"
 #include "unit/core/mesh_lod_fixtures.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
 
 namespace mlod {
 namespace {
@@ -114,6 +118,45 @@ TEST(BoneReduction, BadInputIsAnError) {
   EXPECT_FALSE(reduceBones(tube.skeleton, {}, 1.0)) << "no clip";
   EXPECT_FALSE(reduceBones(tube.skeleton, std::span<const Clip>(&clip, 1), -1.0));
   EXPECT_FALSE(reduceBones(test::bcnEpileptic().skeleton, std::span<const Clip>(&clip, 1), 1.0)) << "wrong skeleton";
+}
+
+TEST(BoneReductionClips, AJointGoesOnlyWhenFrozenInEveryClip) {
+  // BCN_Epileptic's own clip and CMU 01_01 played on it through the committed mapping: a
+  // joint goes at a threshold only if one pose holds within it in both
+  const Asset& bcn = test::bcnEpileptic();
+  const Asset& cmu = test::meshAsset("BVH/01_01.bvh");
+  std::ifstream in(std::string(MLOD_TEST_DATA_DIR) + "/mappings/cmu_01_01_to_bcn_epileptic.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  Result<MotionMapping> mapping = motionMappingFromJson(text.str());
+  ASSERT_TRUE(mapping) << mapping.message();
+  Result<RestPoseDifferences> differences = restPoseDifferences(*mapping, cmu.skeleton, bcn.skeleton);
+  ASSERT_TRUE(differences) << differences.message();
+  Result<Clip> walk = retargetClip(*differences, cmu.skeleton, cmu.clips.at(0), bcn.skeleton);
+  ASSERT_TRUE(walk) << walk.message();
+  const std::vector<Clip> both = {bcn.clips.at(0), *walk};
+  for (double threshold : {0.0, 2.0, 20.0}) {
+    Result<BoneReduction> own = reduceBones(bcn.skeleton, std::span<const Clip>(&both[0], 1), threshold);
+    Result<BoneReduction> mapped = reduceBones(bcn.skeleton, std::span<const Clip>(&both[1], 1), threshold);
+    Result<BoneReduction> all = reduceBones(bcn.skeleton, both, threshold);
+    ASSERT_TRUE(own && mapped && all);
+    int shared = 0;
+    for (std::size_t j = 0; j < all->removed.size(); ++j) {
+      if (all->removed[j]) {
+        EXPECT_TRUE(own->removed[j] && mapped->removed[j]) << bcn.skeleton.joints[j].name;
+        EXPECT_LE(all->frozenError[j], threshold);
+      }
+      shared += own->removed[j] && mapped->removed[j];
+    }
+    std::cout << "[ removed  ] threshold " << threshold << ": own clip " << own->removedCount() << ", mapped walk "
+              << mapped->removedCount() << ", both " << all->removedCount() << " of " << bcn.skeleton.jointCount()
+              << std::endl;
+    if (threshold > 0.0) { // at 0 the face holds one pose in its own clip and the rest pose in the walk
+      EXPECT_GT(all->removedCount(), 0) << "the face joints hold still in both";
+    }
+    EXPECT_LE(all->removedCount(), shared);
+    EXPECT_LT(all->removedCount(), own->removedCount()) << "the walk moves joints BCN's own clip holds still";
+  }
 }
 
 class BcnBoneReduction : public ::testing::Test {

@@ -253,10 +253,10 @@ TEST_F(Retarget, UnmappedJointsHoldTheirRestPose) {
     const int j = character.find(joint);
     ASSERT_GE(j, 0);
     EXPECT_EQ(s_clip->hasRotation[std::size_t(j)], 0) << joint;
-    for (int t : {0, 1000, 2000}) {
-      const glm::quat q = s_clip->rotation(j, t), rest = character.joints[std::size_t(j)].rest.rotation;
-      EXPECT_NEAR(std::abs(glm::dot(q, rest)), 1.0, 1e-5) << joint;
-    }
+    // exactly: a round trip through model space would leave float noise that keeps bone
+    // reduction at threshold 0 from removing the joint
+    for (int t : {0, 1000, 2000})
+      EXPECT_EQ(s_clip->rotation(j, t), character.joints[std::size_t(j)].rest.rotation) << joint;
   }
 }
 
