@@ -23,6 +23,51 @@ bool hasThresholdOverrides(const JpcSettings& settings) {
                      [](const auto& entry) { return !entry.second.thresholds.empty(); });
 }
 
+// Levels for a character that plays no clip (or a mesh without a skeleton): the mesh alone,
+// in its bind pose, no motion to simplify and no joint to remove.
+Result<LodSet> meshOnly(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options) {
+  const SkinnedMesh* mesh = asset.meshes.empty() ? nullptr : &asset.meshes.front();
+  for (const SkinnedMesh& candidate : asset.meshes)
+    if (candidate.skinned()) {
+      mesh = &candidate;
+      break;
+    }
+  if (!mesh)
+    return Error("LOD: the asset has neither a clip to simplify nor a mesh");
+  const Skeleton* skeleton = asset.skeleton.empty() ? nullptr : &asset.skeleton;
+  Result<MeshLod> lod = MeshLod::build(*mesh, skeleton, {}, options.mesh);
+  if (!lod)
+    return lod.error();
+  LodSet out;
+  out.projection = options.projection;
+  const glm::vec3 centre = skeleton ? glm::vec3(skeleton->restModelMatrices()[0][3]) : glm::vec3(0.0f);
+  for (const glm::vec3& p : mesh->positions)
+    out.boundingRadiusCm = std::max(out.boundingRadiusCm, double(glm::length(p - centre)));
+  LodLevel original;
+  original.name = "LOD0";
+  original.triangles = static_cast<int>(mesh->triangleCount());
+  original.activeJoints = asset.skeleton.jointCount();
+  out.levels.push_back(original);
+  double previousDistance = 0.0;
+  for (int i = 1; i < levels; ++i) {
+    const double aimedSize = options.projection.viewportHeightPixels / std::pow(2.0, i);
+    const double aimedDistance = distanceForScreenSize(out.boundingRadiusCm, aimedSize, options.projection);
+    const MeshLodLevel level = lod->levelForError(deviationForPixels(pixels, aimedDistance, out.boundingRadiusCm, options.projection));
+    LodLevel entry = original;
+    entry.name = "LOD" + std::to_string(i);
+    entry.meshRatio = double(level.triangles()) / double(mesh->triangleCount());
+    entry.meshErrorCm = level.maxErrorCm;
+    entry.triangles = static_cast<int>(level.triangles());
+    entry.switchDistanceCm =
+        std::max(previousDistance, distanceForPixels(entry.deviationCm(), pixels, out.boundingRadiusCm, options.projection));
+    entry.pixelError = deviationPixels(entry.deviationCm(), entry.switchDistanceCm, out.boundingRadiusCm, options.projection);
+    entry.screenSizePixels = screenSizePixels(out.boundingRadiusCm, entry.switchDistanceCm, options.projection);
+    out.levels.push_back(entry);
+    previousDistance = entry.switchDistanceCm;
+  }
+  return out;
+}
+
 } // namespace
 
 Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options) {
@@ -37,12 +82,10 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
   for (double threshold : options.thresholds)
     if (Error error = validateThreshold(threshold, "candidate threshold"))
       return error;
-  if (asset.skeleton.empty())
-    return Error("LOD: the asset has no skeleton");
   std::vector<Clip> clips = asset.clips;
   clips.insert(clips.end(), options.clips.begin(), options.clips.end());
-  if (clips.empty())
-    return Error("LOD: the asset plays no clip (map a motion onto it first)");
+  if (clips.empty() || asset.skeleton.empty())
+    return meshOnly(asset, pixels, levels, options);
   Result<LodCharacter> character =
       LodCharacter::prepare(asset.skeleton, characterMesh(asset), clips, options.jpc, options.mesh);
   if (!character)

@@ -67,8 +67,9 @@ public:
 
   // `levels` levels (>= 1, level 0 the original) within `pixels` (> 0) on screen, for the
   // asset's character mesh (its first skinned mesh; none: the joints) and skeleton playing
-  // the asset's clips and options.clips. Errors: an asset without skeleton or without any
-  // clip, bad options.
+  // the asset's clips and options.clips. Without a clip (or a skeleton) the levels are the
+  // mesh's alone, measured in its bind pose. Errors: an asset with neither a clip nor a
+  // mesh, bad options.
   static Result<LodSet> fromPixelBudget(const Asset& asset, double pixels, int levels,
                                         const LodBudgetOptions& options);
   // With the default options (the asset's own clips, default JPC and mesh settings).

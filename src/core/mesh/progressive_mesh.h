@@ -55,7 +55,8 @@ struct MeshLevelIndices {
 class ProgressiveMesh {
 public:
   // Decimates every segment of `mesh` (which must validate; `segmentation` from
-  // segmentMesh(mesh)) to the end. About 3,000 collapses per 10 ms on one core.
+  // segmentMesh(mesh)) to the end: BCN_Epileptic (5,126 triangles, 54 segments, 1,230
+  // collapses) in about 30 ms on one core.
   static ProgressiveMesh build(const SkinnedMesh& mesh, const MeshSegmentation& segmentation,
                                const ProgressiveMeshSettings& settings = {});
 

@@ -201,9 +201,19 @@ TEST(PixelBudgetInput, BadRequestsAreErrors) {
   LodBudgetOptions options;
   options.motionShare = 0.0;
   EXPECT_FALSE(LodSet::fromPixelBudget(asset, 1.0, 3, options));
+  Asset nothing;
+  nothing.skeleton = asset.skeleton;
+  EXPECT_FALSE(LodSet::fromPixelBudget(nothing, 1.0, 3)) << "neither a clip nor a mesh";
+  // a character that plays no clip gets mesh levels alone, measured in its bind pose
   Asset noClip = asset;
   noClip.clips.clear();
-  EXPECT_FALSE(LodSet::fromPixelBudget(noClip, 1.0, 3));
+  Result<LodSet> meshOnly = LodSet::fromPixelBudget(noClip, 1.0, 3);
+  ASSERT_TRUE(meshOnly) << meshOnly.message();
+  EXPECT_FALSE(meshOnly->validate());
+  ASSERT_EQ(meshOnly->levels.size(), 3u);
+  EXPECT_EQ(meshOnly->levels[2].motionThreshold, 0.0);
+  EXPECT_LT(meshOnly->levels[2].meshRatio, 1.0);
+  EXPECT_LE(meshOnly->levels[2].pixelError, 1.0 + 1e-9);
   // one level is the original alone
   Result<LodSet> one = LodSet::fromPixelBudget(asset, 1.0, 1);
   ASSERT_TRUE(one) << one.message();
