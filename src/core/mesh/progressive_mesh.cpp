@@ -74,8 +74,10 @@ public:
   explicit ModWedgeT(MeshT& mesh) : Base(mesh, true) {}
 
   // `normals`: per wedge (original vertex), the direction the surface faces there.
-  void setup(Corners* corners, const std::vector<glm::vec3>* normals, std::vector<Record>* out_records) {
+  void setup(Corners* corners, const std::vector<glm::vec3>* normals, const TriangleTree* original,
+             std::vector<Record>* out_records) {
     m_corners = corners;
+    m_original = original;
     m_normals = normals;
     m_facePoints.assign(corners->vertex.size(), {});
     m_records = out_records;
@@ -110,7 +112,7 @@ public:
           }
       }
     }
-    m_pending.distanceCm = redistributePoints(ci);
+    m_pending.distanceCm = std::max(redistributePoints(ci), distanceFromOriginal(ci));
     m_records->push_back(m_pending);
   }
 
@@ -234,7 +236,30 @@ private:
     return std::sqrt(worst);
   }
 
+  // The other way round: how far the faces around v1 stray from the segment's original
+  // surface, at their centroids and edge midpoints (cm).
+  double distanceFromOriginal(const CollapseInfo& ci) {
+    MeshT& mesh = Base::mesh();
+    double worst = 0.0;
+    for (auto face : mesh.vf_range(ci.v1)) {
+      auto fv = mesh.cfv_iter(face);
+      glm::dvec3 p[3];
+      for (int k = 0; k < 3; ++k, ++fv) {
+        const auto& q = mesh.point(*fv);
+        p[k] = glm::dvec3(q[0], q[1], q[2]);
+      }
+      const glm::dvec3 samples[4] = {(p[0] + p[1] + p[2]) / 3.0, 0.5 * (p[0] + p[1]), 0.5 * (p[1] + p[2]),
+                                     0.5 * (p[2] + p[0])};
+      for (const glm::dvec3& sample : samples)
+        if (!m_original->anyWithin(sample, worst, &m_hint))
+          worst = m_original->nearestSquared(sample, std::numeric_limits<double>::infinity(), &m_hint);
+    }
+    return std::sqrt(worst);
+  }
+
   Corners* m_corners = nullptr;
+  const TriangleTree* m_original = nullptr;
+  int m_hint = -1;
   const std::vector<glm::vec3>* m_normals = nullptr;
   std::vector<std::vector<glm::dvec3>> m_facePoints; // per face: the removed vertices nearest to it
   std::vector<OpenMesh::FaceHandle> m_faces;
@@ -338,7 +363,12 @@ SegmentResult decimateSegment(const std::vector<std::uint32_t>& indices, const M
   }
   decimater.add(progMesh);
   decimater.add(wedges);
-  decimater.module(wedges).setup(&corners, &normals, &result.records);
+  std::vector<std::uint32_t> originalIndices;
+  for (std::uint32_t t : segment.triangles)
+    for (std::size_t k = 0; k < 3; ++k)
+      originalIndices.push_back(indices[std::size_t(t) * 3 + k]);
+  const TriangleTree original(positions, originalIndices);
+  decimater.module(wedges).setup(&corners, &normals, &original, &result.records);
   if (!decimater.initialize())
     return result;
   decimater.decimate(0); // to the end: the whole progressive mesh
