@@ -20,6 +20,28 @@ JpcSettings Project::jpcSettings(int asset, double unitScale) const {
   return settings;
 }
 
+std::vector<double> Project::levelThresholds() const {
+  std::vector<double> out;
+  for (const LodLevel& level : lods.levels)
+    out.push_back(level.motionThreshold);
+  return out;
+}
+
+LodSet defaultLodSet() {
+  LodSet set;
+  LodLevel original;
+  original.name = "LOD0";
+  set.levels.push_back(original);
+  const double thresholds[] = {5.0, 50.0, 100.0, 300.0};
+  for (double threshold : thresholds) {
+    LodLevel level;
+    level.name = "LOD" + std::to_string(set.levels.size());
+    level.motionThreshold = threshold;
+    set.levels.push_back(level);
+  }
+  return set;
+}
+
 namespace {
 bool nonNegative(double value) { return std::isfinite(value) && value >= 0.0; }
 } // namespace
@@ -27,11 +49,8 @@ bool nonNegative(double value) { return std::isfinite(value) && value >= 0.0; }
 Error Project::validate() const {
   if (!nonNegative(alpha))
     return Error("alpha must be a finite number >= 0 (cm)");
-  if (levelThresholds.empty())
-    return Error("a project needs at least one LOD level");
-  for (std::size_t i = 0; i < levelThresholds.size(); ++i)
-    if (Error error = validateThreshold(levelThresholds[i], "level " + std::to_string(i) + " threshold"))
-      return error;
+  if (Error error = lods.validate())
+    return error;
   for (std::size_t a = 0; a < assets.size(); ++a) {
     const ProjectAsset& asset = assets[a];
     const std::string where = "asset " + std::to_string(a);
@@ -45,6 +64,8 @@ Error Project::validate() const {
       for (const std::optional<double>& threshold : joint.thresholds)
         if (threshold && !nonNegative(*threshold))
           return Error(where + ", joint " + name + ": a threshold must be a finite number >= 0 (cm·degrees)");
+      if (!joint.thresholds.empty() && joint.thresholds.front())
+        return Error(where + ", joint " + name + ": level 0 is the original; it has no threshold to override");
     }
   }
   for (std::size_t m = 0; m < mappings.size(); ++m) {
@@ -64,9 +85,22 @@ std::string projectToJson(const Project& project, int indent) {
   doc["alpha"] = project.alpha;
   doc["mode"] = toString(project.mode);
   json levels = json::array();
-  for (double threshold : project.levelThresholds)
-    levels.push_back({{"threshold", threshold}});
-  doc["levels"] = std::move(levels);
+  for (const LodLevel& level : project.lods.levels)
+    levels.push_back({{"name", level.name},
+                      {"threshold", level.motionThreshold},
+                      {"mesh_ratio", level.meshRatio},
+                      {"switch_distance_cm", level.switchDistanceCm},
+                      {"pixel_error", level.pixelError},
+                      {"screen_size_pixels", level.screenSizePixels},
+                      {"motion_error_cm", level.motionErrorCm},
+                      {"mesh_error_cm", level.meshErrorCm},
+                      {"triangles", level.triangles},
+                      {"active_joints", level.activeJoints}});
+  doc["lods"] = {{"projection",
+                  {{"vertical_fov_degrees", project.lods.projection.verticalFovDegrees},
+                   {"viewport_height_pixels", project.lods.projection.viewportHeightPixels}}},
+                 {"bounding_radius_cm", project.lods.boundingRadiusCm},
+                 {"levels", std::move(levels)}};
   json assets = json::array();
   for (const ProjectAsset& asset : project.assets) {
     json joints = json::object();
@@ -147,13 +181,47 @@ Result<Project> projectFromJson(std::string_view textIn) {
     if (!parsed)
       return Error("mode '" + mode + "' is neither greedy nor optimal");
     project.mode = *parsed;
-    const json& levels = field(doc, "levels", "the project");
-    if (!levels.is_array())
-      return Error("\"levels\" is not a list");
-    project.levelThresholds.clear();
-    for (std::size_t i = 0; i < levels.size(); ++i)
-      project.levelThresholds.push_back(
-          number(field(levels[i], "threshold", "level " + std::to_string(i)), "level " + std::to_string(i) + " threshold"));
+    project.lods = LodSet{};
+    if (version == 1) { // a threshold per level, no original: it becomes level 0
+      const json& levels = field(doc, "levels", "the project");
+      if (!levels.is_array())
+        return Error("\"levels\" is not a list");
+      project.lods.levels.push_back(LodLevel{.name = "LOD0"});
+      for (std::size_t i = 0; i < levels.size(); ++i) {
+        LodLevel level;
+        level.name = "LOD" + std::to_string(i + 1);
+        level.motionThreshold =
+            number(field(levels[i], "threshold", "level " + std::to_string(i)), "level " + std::to_string(i) + " threshold");
+        project.lods.levels.push_back(std::move(level));
+      }
+    } else {
+      const json& lods = field(doc, "lods", "the project");
+      const json& projection = field(lods, "projection", "\"lods\"");
+      project.lods.projection.verticalFovDegrees =
+          number(field(projection, "vertical_fov_degrees", "the projection"), "vertical_fov_degrees");
+      project.lods.projection.viewportHeightPixels =
+          number(field(projection, "viewport_height_pixels", "the projection"), "viewport_height_pixels");
+      project.lods.boundingRadiusCm = number(field(lods, "bounding_radius_cm", "\"lods\""), "bounding_radius_cm");
+      const json& levels = field(lods, "levels", "\"lods\"");
+      if (!levels.is_array())
+        return Error("\"levels\" is not a list");
+      for (std::size_t i = 0; i < levels.size(); ++i) {
+        const std::string where = "level " + std::to_string(i);
+        const json& entry = levels[i];
+        LodLevel level;
+        level.name = text(field(entry, "name", where), where + " name");
+        level.motionThreshold = number(field(entry, "threshold", where), where + " threshold");
+        level.meshRatio = number(field(entry, "mesh_ratio", where), where + " mesh_ratio");
+        level.switchDistanceCm = number(field(entry, "switch_distance_cm", where), where + " switch_distance_cm");
+        level.pixelError = number(field(entry, "pixel_error", where), where + " pixel_error");
+        level.screenSizePixels = number(field(entry, "screen_size_pixels", where), where + " screen_size_pixels");
+        level.motionErrorCm = number(field(entry, "motion_error_cm", where), where + " motion_error_cm");
+        level.meshErrorCm = number(field(entry, "mesh_error_cm", where), where + " mesh_error_cm");
+        level.triangles = integer(field(entry, "triangles", where), where + " triangles");
+        level.activeJoints = integer(field(entry, "active_joints", where), where + " active_joints");
+        project.lods.levels.push_back(std::move(level));
+      }
+    }
     const json& assets = field(doc, "assets", "the project");
     if (!assets.is_array())
       return Error("\"assets\" is not a list");
@@ -172,6 +240,8 @@ Result<Project> projectFromJson(std::string_view textIn) {
         const json& thresholds = field(entry, "thresholds", jointWhere);
         if (!thresholds.is_array())
           return Error(jointWhere + " \"thresholds\" is not a list");
+        if (version == 1 && !thresholds.empty())
+          settings.thresholds.push_back(std::nullopt); // version 1 had no original level
         for (const json& t : thresholds)
           settings.thresholds.push_back(optionalNumber(t, jointWhere + " threshold"));
         const json& locked = field(entry, "locked", jointWhere);
@@ -202,7 +272,7 @@ Result<Project> projectFromJson(std::string_view textIn) {
       const json& current = doc["current"];
       project.view.asset = integer(field(current, "asset", "\"current\""), "current asset");
       project.view.clip = integer(field(current, "clip", "\"current\""), "current clip");
-      project.view.level = integer(field(current, "level", "\"current\""), "current level");
+      project.view.level = integer(field(current, "level", "\"current\""), "current level") + (version == 1 ? 1 : 0);
       project.view.joint = text(field(current, "joint", "\"current\""), "current joint");
     }
   } catch (const std::exception& error) {
@@ -263,8 +333,8 @@ void insertProjectAsset(Project& project, int index, ProjectAsset asset) {
   }
 }
 
-void remapLevels(Project& project, const std::vector<int>& order, const std::vector<double>& thresholds) {
-  assert(order.size() == thresholds.size());
+void remapLevels(Project& project, const std::vector<int>& order, const std::vector<LodLevel>& levels) {
+  assert(order.size() == levels.size());
   for (ProjectAsset& asset : project.assets)
     for (auto& [name, settings] : asset.joints) {
       std::vector<std::optional<double>> remapped(order.size());
@@ -275,7 +345,7 @@ void remapLevels(Project& project, const std::vector<int>& order, const std::vec
         remapped.pop_back();
       settings.thresholds = std::move(remapped);
     }
-  project.levelThresholds = thresholds;
+  project.lods.levels = levels;
 }
 
 } // namespace mlod

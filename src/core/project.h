@@ -5,12 +5,13 @@
 //
 // Units: thresholds in cm·degrees, alpha in cm, unit scale in cm per file unit.
 //
-// LOD levels: until the core LodSet type exists, a level is its motion threshold alone
-// (level i clusters at levelThresholds[i]; the "Original" column is no level). Mesh ratio
-// and switch distance arrive with LodSet.
+// LOD levels: a core LodSet (lod/lod_set.h). Level 0 is the original (threshold 0, nothing
+// clustered); level i >= 1 clusters at its motion threshold. Per-joint threshold overrides
+// are indexed by LodSet level, so index 0 is never set.
 
 #include "core/error.h"
 #include "core/jpc/jpc_settings.h"
+#include "core/lod/lod_set.h"
 #include "core/mapping/motion_mapping.h"
 
 #include <filesystem>
@@ -21,11 +22,17 @@
 
 namespace mlod {
 
-// Version 1: {"format":"motionlod-project","version":1,"alpha","mode","levels":[{"threshold"}],
+// Version 2: {"format":"motionlod-project","version":2,"alpha","mode",
+//             "lods":{"projection":{"vertical_fov_degrees","viewport_height_pixels"},"bounding_radius_cm",
+//                     "levels":[{"name","threshold","mesh_ratio","switch_distance_cm","pixel_error",
+//                                "screen_size_pixels","motion_error_cm","mesh_error_cm","triangles","active_joints"}]},
 //             "assets":[{"path","unit_scale","joints":{NAME:{"alpha","thresholds":[E|null],"locked"}}}],
 //             "mappings":[{"motion","character","table":<motion_mapping.h's JSON>}],  (optional)
 //             "current":{"asset","clip","level","joint"}}
-inline constexpr int kProjectVersion = 1;
+// Version 1 (read, never written): "levels":[{"threshold"}] with no original level: level i
+// of version 1 becomes LodSet level i + 1 ("LOD<i+1>", mesh ratio 1, distance 0), and with it
+// the per-joint overrides and the current level.
+inline constexpr int kProjectVersion = 2;
 inline constexpr const char* kProjectFormat = "motionlod-project";
 
 // Per-joint settings compare by value (JointSettings has no operator== of its own).
@@ -55,25 +62,32 @@ struct ProjectMapping {
 struct ProjectView {
   int asset = -1;
   int clip = 0;
-  int level = 0;
+  int level = 1; // a new project shows its first simplified level (clamped to the levels there are)
   std::string joint;
   friend bool operator==(const ProjectView&, const ProjectView&) = default;
 };
+
+// The levels of a new project: the original and the paper's Table 1 thresholds 5, 50, 100,
+// 300 cm·degrees, full meshes, switch distances unset (0) until edited or generated.
+LodSet defaultLodSet();
 
 struct Project {
   std::vector<ProjectAsset> assets;
   double alpha = kDefaultJpcAlpha; // cm, every joint without its own
   JpcMode mode = JpcMode::Greedy;
-  std::vector<double> levelThresholds = {5.0, 50.0, 100.0, 300.0}; // per LOD level, cm·degrees (Table 1)
+  LodSet lods = defaultLodSet(); // level 0 the original
   std::vector<ProjectMapping> mappings;
   ProjectView view;
 
   // The JPC settings of one asset whose file unit is `unitScale` cm (for the zero-length
   // rule, 1e-6 file units): the project's alpha and mode, the asset's joints.
   JpcSettings jpcSettings(int asset, double unitScale) const;
+  // Every level's motion threshold (level 0's is 0), cm·degrees.
+  std::vector<double> levelThresholds() const;
+  int levelCount() const { return static_cast<int>(lods.levels.size()); }
 
-  // Rules: alpha finite and >= 0; at least one level; every level threshold finite and
-  // >= 0; every asset has a path and a unit scale finite and >= 0; every per-joint alpha
+  // Rules: alpha finite and >= 0; the LodSet validates (LodSet::validate(): level 0 the
+  // original, names unique ...); no joint overrides level 0's threshold; every asset has a path and a unit scale finite and >= 0; every per-joint alpha
   // and threshold finite and >= 0; every mapping names two different assets of the project.
   Error validate() const;
 
@@ -100,7 +114,8 @@ void eraseProjectAsset(Project& project, int index);
 void insertProjectAsset(Project& project, int index, ProjectAsset asset);
 
 // A project's levels after an edit of the level list: per-joint threshold overrides follow
-// their level. `order[i]` is the old index of new level i, or -1 for a new level.
-void remapLevels(Project& project, const std::vector<int>& order, const std::vector<double>& thresholds);
+// their level. `order[i]` is the old index of new level i, or -1 for a new level; `levels`
+// are the new levels (same size as `order`).
+void remapLevels(Project& project, const std::vector<int>& order, const std::vector<LodLevel>& levels);
 
 } // namespace mlod

@@ -364,6 +364,10 @@ void MainWindow::buildDocks() {
   m_levelsView = new QTableView;
   m_levelsView->setObjectName("levelsView");
   m_levelsView->setModel(m_levelsModel);
+  m_levelsView->setItemDelegate(new LevelDelegate(m_levelsView));
+  m_levelsView->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed |
+                                QAbstractItemView::SelectedClicked);
+  connect(m_levelsModel, &LevelsModel::editRefused, this, [this](const QString& reason) { log(reason); });
   m_levelsView->setSelectionBehavior(QAbstractItemView::SelectRows);
   m_levelsView->setSelectionMode(QAbstractItemView::SingleSelection);
   m_levelsView->horizontalHeader()->setStretchLastSection(true);
@@ -578,8 +582,8 @@ void MainWindow::buildActions() {
   edit->addSeparator();
   action(edit, "actionAddLevel", tr("&Add Level"), QKeySequence("Ctrl+Shift+L"),
          tr("Add a LOD level with twice the last threshold (cm·degrees)"), [this] {
-           const auto& levels = m_document->project().levelThresholds;
-           m_document->addLevel(levels.empty() || levels.back() <= 0.0 ? 5.0 : levels.back() * 2.0);
+           const double last = m_document->project().lods.levels.back().motionThreshold;
+           m_document->addLevel(last <= 0.0 ? 5.0 : last * 2.0);
          });
   action(edit, "actionRemoveLevel", tr("&Remove Current Level"), QKeySequence(), tr("Remove the current LOD level"),
          [this] { m_document->removeLevel(m_document->currentLevel()); });
@@ -645,7 +649,10 @@ void MainWindow::refreshViews() {
   const int level = m_document->currentLevel();
   m_clusteringView->setAnalysis(analysis, joint, level);
   m_trajectoryView->setAnalysis(analysis, joint, level);
-  m_statisticsView->setAnalysis(analysis, level);
+  QStringList names;
+  for (const LodLevel& lod : m_document->project().lods.levels)
+    names << QString::fromStdString(lod.name);
+  m_statisticsView->setAnalysis(analysis, level, names);
   const QModelIndex row = m_levelsModel->index(level, 0);
   if (m_levelsView->currentIndex().row() != level) {
     const QSignalBlocker block(m_levelsView->selectionModel());
@@ -667,8 +674,9 @@ void MainWindow::refreshStatus() {
   m_clipLabel->setText(clip ? tr("%1 · %2 frames at %3 fps").arg(QString::fromStdString(clip->name)).arg(clip->frameCount).arg(clip->fps)
                             : tr("no clip"));
   const int level = m_document->currentLevel();
-  const auto& levels = m_document->project().levelThresholds;
-  m_levelLabel->setText(tr("L%1 · E = %2 cm·°").arg(level).arg(levels[std::size_t(level)]));
+  const LodLevel& shown = m_document->project().lods.levels[std::size_t(level)];
+  m_levelLabel->setText(level == 0 ? tr("L0 %1 · original").arg(QString::fromStdString(shown.name))
+                                   : tr("L%1 %2 · E = %3 cm·°").arg(level).arg(QString::fromStdString(shown.name)).arg(shown.motionThreshold));
   const auto analysis = m_document->analysis();
   const int joint = m_document->currentJoint();
   if (analysis && joint >= 0 && joint < analysis->prepared->jointCount() && level < analysis->levelCount()) {

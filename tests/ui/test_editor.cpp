@@ -10,6 +10,7 @@
 #include "editor/main_window.h"
 #include "editor/models/asset_tree.h"
 #include "editor/models/joint_tree_model.h"
+#include "editor/models/levels_model.h"
 #include "editor/views/clustering_table_view.h"
 #include "editor/views/trajectory_view.h"
 
@@ -23,6 +24,7 @@
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QLineEdit>
 #include <QMessageBox>
 #include <QProcess>
 #include <QProgressDialog>
@@ -131,6 +133,28 @@ class TestEditor : public QObject {
     return true;
   }
 
+  // Edits a cell of the LOD Levels dock through its delegate: F2, type, Return.
+  bool editLevelCell(MainWindow& window, int level, int column, const QString& value) {
+    QTableView* view = window.levelsView();
+    const QModelIndex index = view->model()->index(level, column);
+    view->setFocus();
+    view->selectionModel()->setCurrentIndex(index, QItemSelectionModel::ClearAndSelect | QItemSelectionModel::Rows);
+    QTest::keyClick(view, Qt::Key_F2);
+    QWidget* editor = view->indexWidget(index);
+    if (!editor)
+      editor = QApplication::focusWidget();
+    if (!editor || editor == view)
+      return false;
+    if (auto* box = qobject_cast<QDoubleSpinBox*>(editor))
+      box->selectAll();
+    else if (auto* line = qobject_cast<QLineEdit*>(editor))
+      line->selectAll();
+    QTest::keyClicks(editor, value);
+    QTest::keyClick(editor, Qt::Key_Return);
+    QCoreApplication::processEvents();
+    return true;
+  }
+
 private slots:
   void initTestCase() {
     QCoreApplication::setOrganizationName("MotionLODEditorTest");
@@ -146,16 +170,18 @@ private slots:
     auto window = openSample();
     QVERIFY(window);
     Document* document = window->document();
-    QCOMPARE(document->analysis()->levelCount(), 4);
+    QCOMPARE(document->analysis()->levelCount(), 5); // the original + the paper's four
+    QCOMPARE(document->currentLevel(), 1);
     QCOMPARE(window->jointModel()->rowCount(), 1); // Hips
-    QCOMPARE(window->statisticsView()->table()->columnCount(), 5); // Original + 4 levels
+    QCOMPARE(window->statisticsView()->table()->columnCount(), 5); // one per level
     QCOMPARE(window->statisticsView()->table()->item(StatisticsView::SimplifiedRow, 0)->text(), QString("0.0"));
     QVERIFY(!window->statisticsView()->jointChart()->series().isEmpty());
     QVERIFY(!window->statisticsView()->frameChart()->series().isEmpty());
     QVERIFY(!window->statisticsView()->errorChart()->series().isEmpty());
     // Greedy is not monotone per joint, but the sample's clip-wide figure grows with E here.
     const auto& levels = document->analysis()->levels;
-    QVERIFY(levels[0].simplifiedPercent < levels[3].simplifiedPercent);
+    QCOMPARE(levels[0].clusterCount, 0); // the original
+    QVERIFY(levels[1].simplifiedPercent < levels[4].simplifiedPercent);
   }
 
   // Clicking a joint selects it everywhere: heat map, trajectory, status bar.
@@ -182,14 +208,14 @@ private slots:
     window->clusteringView()->repaint();
     const QImage heatBefore = window->clusteringView()->renderedImage();
     const QString tableBefore = tableText(window->statisticsView());
-    const double jointBefore = document->analysis()->levels[0].joints[std::size_t(joint)].simplifiedPercent;
+    const double jointBefore = document->analysis()->levels[1].joints[std::size_t(joint)].simplifiedPercent;
     QVERIFY(editThreshold(*window, joint, "200"));
     QVERIFY(waitForFigures(document));
     QCOMPARE(document->undoStack()->count(), 2); // the import and this edit
     QVERIFY(document->project().assets[0].joints.count("LeftUpLeg"));
-    QCOMPARE(*document->project().assets[0].joints.at("LeftUpLeg").thresholds[0], 200.0);
-    QCOMPARE(document->analysis()->levels[0].joints[std::size_t(joint)].threshold, 200.0);
-    QVERIFY(document->analysis()->levels[0].joints[std::size_t(joint)].simplifiedPercent > jointBefore);
+    QCOMPARE(*document->project().assets[0].joints.at("LeftUpLeg").thresholds[1], 200.0);
+    QCOMPARE(document->analysis()->levels[1].joints[std::size_t(joint)].threshold, 200.0);
+    QVERIFY(document->analysis()->levels[1].joints[std::size_t(joint)].simplifiedPercent > jointBefore);
     QVERIFY(tableText(window->statisticsView()) != tableBefore);
     window->clusteringView()->repaint();
     QVERIFY(window->clusteringView()->renderedImage() != heatBefore);
@@ -246,7 +272,7 @@ private slots:
     Document* document = window->document();
     const int joint = jointIndex(*window, "Spine");
     clickJoint(*window, joint);
-    QVERIFY(document->analysis()->levels[3].joints[std::size_t(joint)].clusters > 0);
+    QVERIFY(document->analysis()->levels[4].joints[std::size_t(joint)].clusters > 0);
     QTreeView* view = window->skeletonView();
     const QModelIndex lock = window->jointModel()->indexOfJoint(joint, JointTreeModel::LockColumn);
     view->scrollTo(lock);
@@ -263,7 +289,7 @@ private slots:
     QTest::keyClick(window.get(), Qt::Key_L, Qt::ControlModifier);
     QVERIFY(waitForFigures(document));
     QVERIFY(!document->project().assets[0].joints.count("Spine"));
-    QVERIFY(document->analysis()->levels[3].joints[std::size_t(joint)].clusters > 0);
+    QVERIFY(document->analysis()->levels[4].joints[std::size_t(joint)].clusters > 0);
   }
 
   // With two joints selected (Ctrl+click), one edit sets both.
@@ -280,8 +306,8 @@ private slots:
     QVERIFY(waitForFigures(document));
     const auto& joints = document->project().assets[0].joints;
     QVERIFY(joints.count("LeftLeg") && joints.count("RightLeg"));
-    QCOMPARE(*joints.at("LeftLeg").thresholds[0], 77.0);
-    QCOMPARE(*joints.at("RightLeg").thresholds[0], 77.0);
+    QCOMPARE(*joints.at("LeftLeg").thresholds[1], 77.0);
+    QCOMPARE(*joints.at("RightLeg").thresholds[1], 77.0);
     QCOMPARE(document->undoStack()->count(), 2);
   }
 
@@ -298,7 +324,7 @@ private slots:
     const auto& joints = document->project().assets[0].joints;
     for (const char* name : {"LeftLeg", "LeftFoot", "LeftToeBase"}) {
       QVERIFY(joints.count(name));
-      QCOMPARE(*joints.at(name).thresholds[0], 60.0);
+      QCOMPARE(*joints.at(name).thresholds[1], 60.0);
     }
     QCOMPARE(document->undoStack()->count(), 3);
     document->undoStack()->undo();
@@ -316,15 +342,21 @@ private slots:
     QVERIFY(add && remove);
     QTest::mouseClick(add, Qt::LeftButton);
     QVERIFY(waitForFigures(document));
-    QCOMPARE(document->project().levelThresholds.back(), 600.0);
-    QCOMPARE(document->analysis()->levelCount(), 5);
+    QCOMPARE(document->project().lods.levels.back().motionThreshold, 600.0);
+    QCOMPARE(document->project().lods.levels.back().name, std::string("LOD5"));
+    QCOMPARE(document->analysis()->levelCount(), 6);
     QCOMPARE(window->statisticsView()->table()->columnCount(), 6);
-    QCOMPARE(window->levelsView()->model()->rowCount(), 5);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 6);
     QCOMPARE(document->analysis()->clusteredPairs, document->analysis()->prepared->clusterableCount());
-    // Remove level 0 (current), then undo both.
+    // Remove level 1 (current), then undo both.
     QTest::mouseClick(remove, Qt::LeftButton);
     QVERIFY(waitForFigures(document));
-    QCOMPARE(document->project().levelThresholds, (std::vector<double>{50, 100, 300, 600}));
+    QCOMPARE(document->project().levelThresholds(), (std::vector<double>{0, 50, 100, 300, 600}));
+    // The original cannot go.
+    document->setCurrentLevel(0);
+    QTest::mouseClick(remove, Qt::LeftButton);
+    QCOMPARE(document->project().levelCount(), 5);
+    QCOMPARE(document->undoStack()->count(), 3);
     document->undoStack()->undo();
     document->undoStack()->undo();
     QVERIFY(waitForFigures(document));
@@ -336,16 +368,80 @@ private slots:
     auto window = openSample();
     QVERIFY(window);
     Document* document = window->document();
-    document->setCurrentLevel(1);
+    document->setCurrentLevel(2);
     QVERIFY(editThreshold(*window, jointIndex(*window, "Neck"), "11"));
     QTest::mouseClick(window->findChild<QToolButton*>("levelDownButton"), Qt::LeftButton);
     QVERIFY(waitForFigures(document));
-    QCOMPARE(document->project().levelThresholds, (std::vector<double>{5, 100, 50, 300}));
+    QCOMPARE(document->project().levelThresholds(), (std::vector<double>{0, 5, 100, 50, 300}));
     QVERIFY(document->project().assets[0].joints.count("Neck"));
     const auto& neck = document->project().assets[0].joints.at("Neck").thresholds;
-    QCOMPARE(neck.size(), std::size_t(3));
-    QVERIFY(!neck[1]);
-    QCOMPARE(*neck[2], 11.0);
+    QCOMPARE(neck.size(), std::size_t(4));
+    QVERIFY(!neck[2]);
+    QCOMPARE(*neck[3], 11.0);
+    // The original stays first: level 1 cannot move up.
+    document->setCurrentLevel(1);
+    QTest::mouseClick(window->findChild<QToolButton*>("levelUpButton"), Qt::LeftButton);
+    QCOMPARE(document->project().levelThresholds(), (std::vector<double>{0, 5, 100, 50, 300}));
+  }
+
+  // The LOD Levels dock edits name, threshold, mesh ratio and switch distance in place;
+  // each edit is one undo step; the original level keeps its figures; a switch distance out
+  // of order is refused with a reason in the log; everything survives save and reopen.
+  void levelsDockEditsEveryField() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("levels.mlod");
+    LodSet edited;
+    {
+      auto window = openSample();
+      QVERIFY(window);
+      Document* document = window->document();
+      const int steps = document->undoStack()->count();
+      QAbstractItemModel* model = window->levelsView()->model();
+      QCOMPARE(model->columnCount(), int(LevelsModel::ColumnCount));
+      QVERIFY(editLevelCell(*window, 2, LevelsModel::NameColumn, "Crowd"));
+      QCOMPARE(document->project().lods.levels[2].name, std::string("Crowd"));
+      QCOMPARE(model->index(2, LevelsModel::NameColumn).data().toString(), QString("Crowd"));
+      QVERIFY(editLevelCell(*window, 2, LevelsModel::MeshRatioColumn, "0.4"));
+      QCOMPARE(document->project().lods.levels[2].meshRatio, 0.4);
+      QVERIFY(editLevelCell(*window, 1, LevelsModel::SwitchDistanceColumn, "800"));
+      QVERIFY(editLevelCell(*window, 2, LevelsModel::SwitchDistanceColumn, "1500"));
+      QCOMPARE(document->project().lods.levels[2].switchDistanceCm, 1500.0);
+      QCOMPARE(document->project().lods.levels[4].switchDistanceCm, 1500.0); // kept in order
+      QCOMPARE(document->project().lods.levels[1].switchDistanceCm, 800.0);
+      QVERIFY(editLevelCell(*window, 2, LevelsModel::ThresholdColumn, "70"));
+      QVERIFY(waitForFigures(document));
+      QCOMPARE(document->project().lods.levels[2].motionThreshold, 70.0);
+      QCOMPARE(document->analysis()->levels[2].threshold, 70.0);
+      QCOMPARE(document->undoStack()->count(), steps + 5);
+      // Refused: a name in use, a distance nearer than the previous level's; nothing pushed.
+      QVERIFY(editLevelCell(*window, 3, LevelsModel::NameColumn, "Crowd"));
+      QVERIFY(editLevelCell(*window, 3, LevelsModel::SwitchDistanceColumn, "100"));
+      QCOMPARE(document->undoStack()->count(), steps + 5);
+      QCOMPARE(document->project().lods.levels[3].name, std::string("LOD3"));
+      QVERIFY(window->logText().contains("already named"));
+      QVERIFY(window->logText().contains("at least the previous level's"));
+      // The original: only its name is editable.
+      QVERIFY(!(model->flags(model->index(0, LevelsModel::ThresholdColumn)) & Qt::ItemIsEditable));
+      QVERIFY(!(model->flags(model->index(0, LevelsModel::MeshRatioColumn)) & Qt::ItemIsEditable));
+      QVERIFY(model->flags(model->index(0, LevelsModel::NameColumn)) & Qt::ItemIsEditable);
+      QVERIFY(!document->project().lods.validate()); // no error
+      // Undo the threshold: the figures come back.
+      document->undoStack()->undo();
+      QVERIFY(waitForFigures(document));
+      QCOMPARE(document->analysis()->levels[2].threshold, 50.0);
+      document->undoStack()->redo();
+      QVERIFY(waitForFigures(document));
+      edited = document->project().lods;
+      QVERIFY(window->saveProject(path));
+      window->close();
+    }
+    MainWindow reopened;
+    reopened.show();
+    QSignalSpy opened(reopened.document(), &Document::projectOpened);
+    QVERIFY(reopened.openProject(path));
+    QVERIFY(opened.wait(60000));
+    QVERIFY(reopened.document()->project().lods == edited);
+    QCOMPARE(reopened.levelsView()->model()->index(2, LevelsModel::NameColumn).data().toString(), QString("Crowd"));
   }
 
   // PgDown shows the next level in every view.
@@ -356,11 +452,11 @@ private slots:
     clickJoint(*window, jointIndex(*window, "LeftUpLeg"));
     QTest::keyClick(window.get(), Qt::Key_PageDown);
     QTest::keyClick(window.get(), Qt::Key_PageDown);
-    QCOMPARE(document->currentLevel(), 2);
-    QCOMPARE(window->levelsView()->currentIndex().row(), 2);
+    QCOMPARE(document->currentLevel(), 3);
+    QCOMPARE(window->levelsView()->currentIndex().row(), 3);
     QCOMPARE(window->jointModel()->headerData(JointTreeModel::ThresholdColumn, Qt::Horizontal).toString(),
-             QString("T L2 (cm·°)"));
-    QVERIFY(window->statusText().contains("L2 · E = 100"));
+             QString("T L3 (cm·°)"));
+    QVERIFY(window->statusText().contains("L3 LOD3 · E = 100"));
     QVERIFY(window->statusText().contains("LeftUpLeg: T 100 cm·°"));
     QVERIFY(window->statisticsView()->table()->item(0, 3)->font().bold());
   }
@@ -485,8 +581,8 @@ private slots:
     QVERIFY(opened.wait(60000));
     QVERIFY(waitForFigures(next.document()));
     QVERIFY(next.document()->project().assets.size() == 1 && next.document()->project().assets[0].joints.count("RightArm"));
-    QCOMPARE(*next.document()->project().assets[0].joints.at("RightArm").thresholds[0], 250.0);
-    QVERIFY(next.document()->project().levelThresholds == lost.levelThresholds);
+    QCOMPARE(*next.document()->project().assets[0].joints.at("RightArm").thresholds[1], 250.0);
+    QVERIFY(next.document()->project().lods == lost.lods);
     QVERIFY(next.document()->isModified());
     QVERIFY(next.document()->fileName().isEmpty());
     // Closing asks about the unsaved changes; Discard closes cleanly and removes the recovery file.
@@ -544,13 +640,13 @@ private slots:
     const auto analysis = window->document()->analysis();
     for (int l = 0; l < 4; ++l) {
       const QJsonObject level = levels[l].toObject();
-      const JpcLevelResult& mine = analysis->levels[std::size_t(l)];
+      const JpcLevelResult& mine = analysis->levels[std::size_t(l) + 1]; // level 0 is the original
       QCOMPARE(mine.simplifiedPercent, level["simplified_joint_percent"].toDouble());
       QCOMPARE(mine.clusterCount, level["clusters"].toInt());
       QCOMPARE(mine.maxError, level["max_error"].toDouble());
       QCOMPARE(mine.maxJointPositionErrorCm, level["max_joint_position_error_cm"].toDouble());
       QCOMPARE(table->item(StatisticsView::SimplifiedRow, l + 1)->text(),
-               QString::number(level["simplified_joint_percent"].toDouble(), 'f', 1));
+               QString::number(level["simplified_joint_percent"].toDouble(), 'f', 1)); // column = level
       QCOMPARE(table->item(StatisticsView::ClustersRow, l + 1)->text(), QString::number(level["clusters"].toInt()));
       QCOMPARE(table->item(StatisticsView::MaxPositionRow, l + 1)->text(),
                QString::number(level["max_joint_position_error_cm"].toDouble(), 'f', 3));

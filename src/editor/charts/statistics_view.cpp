@@ -53,41 +53,42 @@ QChart* StatisticsView::jointChart() const { return m_jointView->chart(); }
 QChart* StatisticsView::frameChart() const { return m_frameView->chart(); }
 QChart* StatisticsView::errorChart() const { return m_errorView->chart(); }
 
-void StatisticsView::setAnalysis(std::shared_ptr<const Analysis> analysis, int level) {
+void StatisticsView::setAnalysis(std::shared_ptr<const Analysis> analysis, int level, const QStringList& names) {
   m_analysis = std::move(analysis);
   m_level = level;
+  m_names = names;
   fillTable();
   fillCharts();
 }
 
 void StatisticsView::fillTable() {
+  // One column per LOD level; level 0 is the original (nothing clustered: zeros, measured).
   const int levels = m_analysis ? m_analysis->levelCount() : 0;
-  m_table->setColumnCount(levels + 1);
-  QStringList headers{tr("Original")};
-  for (int l = 0; l < levels; ++l)
-    headers << tr("E=%1").arg(m_analysis->levels[static_cast<std::size_t>(l)].threshold);
+  m_table->setColumnCount(levels);
+  QStringList headers;
+  for (int l = 0; l < levels; ++l) {
+    const QString name = l < m_names.size() ? m_names[l] : tr("L%1").arg(l);
+    headers << (l == 0 ? tr("%1\nOriginal").arg(name)
+                       : tr("%1\nE=%2").arg(name).arg(m_analysis->levels[static_cast<std::size_t>(l)].threshold));
+  }
   m_table->setHorizontalHeaderLabels(headers);
   const auto set = [&](int row, int column, const QString& text) {
     auto* item = new QTableWidgetItem(text);
     item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
-    if (column - 1 == m_level) {
+    if (column == m_level) {
       QFont bold = item->font();
       bold.setBold(true);
       item->setFont(bold);
     }
     m_table->setItem(row, column, item);
   };
-  // The Original column is no simplification: zero by definition.
-  for (const auto& [row, text] : {std::pair{SimplifiedRow, "0.0"}, {ClustersRow, "0"}, {MaxErrorRow, "0"},
-                                  {MaxPositionRow, "0"}, {MeanPositionRow, "0"}})
-    set(row, 0, text);
   for (int l = 0; l < levels; ++l) {
     const JpcLevelResult& r = m_analysis->levels[static_cast<std::size_t>(l)];
-    set(SimplifiedRow, l + 1, QString::number(r.simplifiedPercent, 'f', 1));
-    set(ClustersRow, l + 1, QString::number(r.clusterCount));
-    set(MaxErrorRow, l + 1, QString::number(r.maxError, 'f', 2));
-    set(MaxPositionRow, l + 1, QString::number(r.maxJointPositionErrorCm, 'f', 3));
-    set(MeanPositionRow, l + 1, QString::number(r.meanJointPositionErrorCm, 'f', 3));
+    set(SimplifiedRow, l, QString::number(r.simplifiedPercent, 'f', 1));
+    set(ClustersRow, l, QString::number(r.clusterCount));
+    set(MaxErrorRow, l, QString::number(r.maxError, 'f', 2));
+    set(MaxPositionRow, l, QString::number(r.maxJointPositionErrorCm, 'f', 3));
+    set(MeanPositionRow, l, QString::number(r.meanJointPositionErrorCm, 'f', 3));
   }
 }
 

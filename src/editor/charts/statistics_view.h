@@ -5,6 +5,7 @@
 
 #include "editor/document/analysis.h"
 
+#include <QStringList>
 #include <QWidget>
 
 #include <memory>
@@ -21,7 +22,8 @@ class StatisticsView : public QWidget {
 public:
   enum Row { SimplifiedRow, ClustersRow, MaxErrorRow, MaxPositionRow, MeanPositionRow, RowCount };
   explicit StatisticsView(QWidget* parent = nullptr);
-  void setAnalysis(std::shared_ptr<const Analysis> analysis, int level);
+  // `names`: the LOD levels' names for the column headers (L<i> where missing).
+  void setAnalysis(std::shared_ptr<const Analysis> analysis, int level, const QStringList& names = {});
   QTableWidget* table() const { return m_table; }
   QChart* jointChart() const;
   QChart* frameChart() const;
@@ -33,6 +35,7 @@ private:
 
   std::shared_ptr<const Analysis> m_analysis;
   int m_level = 0;
+  QStringList m_names;
   QTableWidget* m_table;
   QTabWidget* m_tabs;
   QChartView* m_jointView;

@@ -82,10 +82,10 @@ std::shared_ptr<const Analysis> buildAnalysis(const AnalysisRequest& request, st
       if (same)
         same = trackSame && keyOf(*previous->prepared, joint, level,
                                   previous->levelThresholds[static_cast<std::size_t>(level)]) == key;
-      if (!key.active)
+      if (!key.active || level == 0) // level 0 is the original: nothing clustered
         continue;
       bool reused = false;
-      for (int old = 0; previous && trackSame && old < previous->levelCount() && !reused; ++old)
+      for (int old = 1; previous && trackSame && old < previous->levelCount() && !reused; ++old)
         if (keyOf(*previous->prepared, joint, old, previous->levelThresholds[static_cast<std::size_t>(old)]) == key) {
           out->clusterings[static_cast<std::size_t>(level)][static_cast<std::size_t>(joint)] =
               previous->clusterings[static_cast<std::size_t>(old)][static_cast<std::size_t>(joint)];

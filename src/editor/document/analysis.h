@@ -2,7 +2,9 @@
 // The JPC figures of the clip in view, as one immutable snapshot the views read. Built off
 // the UI thread from the core (JpcClip, measureLevel); only the (level, joint) pairs whose
 // inputs changed since the previous snapshot are clustered again, so an edit of one joint's
-// threshold re-clusters one joint at one level.
+// threshold re-clusters one joint at one level. Levels are the project's LodSet levels:
+// level 0 is the original (nothing clustered, zero error), level i >= 1 clusters at its
+// threshold with the per-joint overrides of level i.
 
 #include "core/asset.h"
 #include "core/jpc/jpc.h"

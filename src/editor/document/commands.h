@@ -22,6 +22,8 @@ enum CommandId {
   kCommandSetJointAlpha,
   kCommandSetJointThreshold,
   kCommandSetLevelThreshold,
+  kCommandSetLevelMeshRatio,
+  kCommandSetLevelSwitchDistance,
 };
 
 // Replaces one asset's per-joint settings (threshold, alpha, lock, apply to children).
@@ -48,9 +50,10 @@ private:
 class SetLevels : public QUndoCommand {
 public:
   struct State {
-    std::vector<double> thresholds;
+    std::vector<LodLevel> levels;                             // the project's LodSet levels
     std::vector<std::map<std::string, JointSettings>> joints; // per asset
   };
+  // Merges with the previous command of the same id and `level` (a spin box's steps).
   SetLevels(Document* document, State before, State after, const QString& text, int id = -1, int level = -1);
   void undo() override;
   void redo() override;

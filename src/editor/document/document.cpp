@@ -10,6 +10,8 @@
 #include <QtConcurrent>
 
 #include <algorithm>
+#include <limits>
+#include <numeric>
 
 namespace mlod {
 
@@ -97,7 +99,7 @@ void Document::setCurrentAsset(int asset, int clip) {
 }
 
 void Document::setCurrentLevel(int level) {
-  level = std::clamp(level, 0, static_cast<int>(m_project.levelThresholds.size()) - 1);
+  level = std::clamp(level, 0, m_project.levelCount() - 1);
   if (level == currentLevel())
     return;
   m_project.view.level = level;
@@ -221,8 +223,8 @@ void Document::setJointAlpha(const std::vector<int>& joints, std::optional<doubl
 }
 
 void Document::setJointThreshold(const std::vector<int>& joints, int level, std::optional<double> threshold) {
-  if (currentAsset() < 0 || joints.empty() || level < 0 || level >= static_cast<int>(m_project.levelThresholds.size()))
-    return;
+  if (currentAsset() < 0 || joints.empty() || level <= 0 || level >= m_project.levelCount())
+    return; // level 0 is the original: nothing to override
   auto after = jointSettings(currentAsset());
   for (int joint : joints) {
     auto& t = after[jointName(joint)].thresholds;
@@ -281,73 +283,152 @@ void Document::applyToChildren(int joint) {
 namespace {
 SetLevels::State levelState(const Project& project) {
   SetLevels::State state;
-  state.thresholds = project.levelThresholds;
+  state.levels = project.lods.levels;
   for (const ProjectAsset& asset : project.assets)
     state.joints.push_back(asset.joints);
   return state;
 }
-SetLevels::State remapped(const Project& project, const std::vector<int>& order, const std::vector<double>& thresholds) {
+SetLevels::State remapped(const Project& project, const std::vector<int>& order, const std::vector<LodLevel>& levels) {
   Project copy = project;
-  remapLevels(copy, order, thresholds);
+  remapLevels(copy, order, levels);
   return levelState(copy);
+}
+std::vector<int> identity(int count) {
+  std::vector<int> order(static_cast<std::size_t>(count));
+  std::iota(order.begin(), order.end(), 0);
+  return order;
+}
+bool refuse(QString* out_error, const QString& reason) {
+  if (out_error)
+    *out_error = reason;
+  return false;
 }
 } // namespace
 
 void Document::addLevel(double threshold) {
   if (!std::isfinite(threshold) || threshold < 0.0)
     return;
-  std::vector<int> order(m_project.levelThresholds.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    order[i] = static_cast<int>(i);
-  std::vector<double> thresholds = m_project.levelThresholds;
+  std::vector<LodLevel> levels = m_project.lods.levels;
+  std::vector<int> order = identity(static_cast<int>(levels.size()));
+  LodLevel level;
+  int n = static_cast<int>(levels.size());
+  auto taken = [&](const std::string& name) {
+    return std::any_of(levels.begin(), levels.end(), [&](const LodLevel& l) { return l.name == name; });
+  };
+  while (taken("LOD" + std::to_string(n)))
+    ++n;
+  level.name = "LOD" + std::to_string(n);
+  level.motionThreshold = threshold;
+  level.meshRatio = levels.back().meshRatio;
+  level.switchDistanceCm = levels.back().switchDistanceCm;
+  levels.push_back(level);
   order.push_back(-1);
-  thresholds.push_back(threshold);
-  m_undo->push(new SetLevels(this, levelState(m_project), remapped(m_project, order, thresholds),
-                             tr("Add level %1 (E = %2)").arg(thresholds.size() - 1).arg(threshold)));
+  m_undo->push(new SetLevels(this, levelState(m_project), remapped(m_project, order, levels),
+                             tr("Add level %1 (E = %2)").arg(QString::fromStdString(level.name)).arg(threshold)));
 }
 
 void Document::removeLevel(int level) {
-  const int count = static_cast<int>(m_project.levelThresholds.size());
-  if (count <= 1 || level < 0 || level >= count)
-    return;
+  const int count = m_project.levelCount();
+  if (count <= 1 || level <= 0 || level >= count)
+    return; // the original stays
   std::vector<int> order;
-  std::vector<double> thresholds;
+  std::vector<LodLevel> levels;
   for (int i = 0; i < count; ++i)
     if (i != level) {
       order.push_back(i);
-      thresholds.push_back(m_project.levelThresholds[static_cast<std::size_t>(i)]);
+      levels.push_back(m_project.lods.levels[static_cast<std::size_t>(i)]);
     }
-  m_undo->push(new SetLevels(this, levelState(m_project), remapped(m_project, order, thresholds),
-                             tr("Remove level %1").arg(level)));
+  m_undo->push(new SetLevels(this, levelState(m_project), remapped(m_project, order, levels),
+                             tr("Remove level %1").arg(QString::fromStdString(m_project.lods.levels[std::size_t(level)].name))));
 }
 
 void Document::moveLevel(int from, int to) {
-  const int count = static_cast<int>(m_project.levelThresholds.size());
-  if (from < 0 || from >= count || to < 0 || to >= count || from == to)
-    return;
-  std::vector<int> order(static_cast<std::size_t>(count));
-  for (int i = 0; i < count; ++i)
-    order[static_cast<std::size_t>(i)] = i;
+  const int count = m_project.levelCount();
+  if (from <= 0 || from >= count || to <= 0 || to >= count || from == to)
+    return; // the original stays first
+  std::vector<int> order = identity(count);
   const int moved = order[static_cast<std::size_t>(from)];
   order.erase(order.begin() + from);
   order.insert(order.begin() + to, moved);
-  std::vector<double> thresholds;
+  std::vector<LodLevel> levels;
   for (int i : order)
-    thresholds.push_back(m_project.levelThresholds[static_cast<std::size_t>(i)]);
-  m_undo->push(new SetLevels(this, levelState(m_project), remapped(m_project, order, thresholds),
-                             tr("Move level %1 to %2").arg(from).arg(to)));
+    levels.push_back(m_project.lods.levels[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < count; ++i) // distances stay with the positions, so they stay in order
+    levels[std::size_t(i)].switchDistanceCm = m_project.lods.levels[std::size_t(i)].switchDistanceCm;
+  m_undo->push(new SetLevels(this, levelState(m_project), remapped(m_project, order, levels),
+                             tr("Move level %1 to position %2")
+                                 .arg(QString::fromStdString(m_project.lods.levels[std::size_t(from)].name))
+                                 .arg(to)));
 }
 
 void Document::setLevelThreshold(int level, double threshold) {
-  const int count = static_cast<int>(m_project.levelThresholds.size());
-  if (level < 0 || level >= count || !std::isfinite(threshold) || threshold < 0.0 ||
-      m_project.levelThresholds[static_cast<std::size_t>(level)] == threshold)
+  const int count = m_project.levelCount();
+  if (level <= 0 || level >= count || !std::isfinite(threshold) || threshold < 0.0 ||
+      m_project.lods.levels[static_cast<std::size_t>(level)].motionThreshold == threshold)
     return;
   SetLevels::State after = levelState(m_project);
-  after.thresholds[static_cast<std::size_t>(level)] = threshold;
+  after.levels[static_cast<std::size_t>(level)].motionThreshold = threshold;
   m_undo->push(new SetLevels(this, levelState(m_project), std::move(after),
                              tr("Set level %1 threshold to %2").arg(level).arg(threshold), kCommandSetLevelThreshold,
                              level));
+}
+
+bool Document::renameLevel(int level, const QString& name, QString* out_error) {
+  if (level < 0 || level >= m_project.levelCount())
+    return refuse(out_error, tr("no level %1").arg(level));
+  const std::string text = name.trimmed().toStdString();
+  if (text.empty())
+    return refuse(out_error, tr("a level needs a name"));
+  for (int i = 0; i < m_project.levelCount(); ++i)
+    if (i != level && m_project.lods.levels[std::size_t(i)].name == text)
+      return refuse(out_error, tr("level %1 is already named '%2'").arg(i).arg(name.trimmed()));
+  if (m_project.lods.levels[std::size_t(level)].name == text)
+    return true;
+  SetLevels::State after = levelState(m_project);
+  after.levels[static_cast<std::size_t>(level)].name = text;
+  m_undo->push(new SetLevels(this, levelState(m_project), std::move(after),
+                             tr("Rename level %1 to %2").arg(level).arg(name.trimmed())));
+  return true;
+}
+
+bool Document::setLevelMeshRatio(int level, double ratio, QString* out_error) {
+  if (level < 0 || level >= m_project.levelCount())
+    return refuse(out_error, tr("no level %1").arg(level));
+  if (level == 0)
+    return refuse(out_error, tr("level 0 is the original: its mesh ratio is 1"));
+  if (!(ratio > 0.0 && ratio <= 1.0))
+    return refuse(out_error, tr("a mesh ratio is in (0, 1]"));
+  if (m_project.lods.levels[std::size_t(level)].meshRatio == ratio)
+    return true;
+  SetLevels::State after = levelState(m_project);
+  after.levels[static_cast<std::size_t>(level)].meshRatio = ratio;
+  m_undo->push(new SetLevels(this, levelState(m_project), std::move(after),
+                             tr("Set level %1 mesh ratio to %2").arg(level).arg(ratio), kCommandSetLevelMeshRatio, level));
+  return true;
+}
+
+bool Document::setLevelSwitchDistance(int level, double cm, QString* out_error) {
+  const int count = m_project.levelCount();
+  if (level < 0 || level >= count)
+    return refuse(out_error, tr("no level %1").arg(level));
+  if (level == 0)
+    return refuse(out_error, tr("level 0 is the original: it is used from distance 0"));
+  const auto& levels = m_project.lods.levels;
+  const double low = levels[std::size_t(level - 1)].switchDistanceCm;
+  if (!std::isfinite(cm) || cm < low)
+    return refuse(out_error, tr("level %1's switch distance must be finite and at least the previous level's (%2 cm)")
+                                 .arg(level)
+                                 .arg(low));
+  if (levels[std::size_t(level)].switchDistanceCm == cm)
+    return true;
+  SetLevels::State after = levelState(m_project);
+  for (int i = level; i < count; ++i) // later levels nearer than this one move out with it
+    if (i == level || after.levels[std::size_t(i)].switchDistanceCm < cm)
+      after.levels[std::size_t(i)].switchDistanceCm = cm;
+  m_undo->push(new SetLevels(this, levelState(m_project), std::move(after),
+                             tr("Set level %1 switch distance to %2 cm").arg(level).arg(cm),
+                             kCommandSetLevelSwitchDistance, level));
+  return true;
 }
 
 void Document::setAssetUnitScale(int index, double cmPerUnit) {
@@ -386,12 +467,12 @@ void Document::setJointSettings(int asset, const std::map<std::string, JointSett
     requestAnalysis(true);
 }
 
-void Document::setLevels(const std::vector<double>& thresholds,
+void Document::setLevels(const std::vector<LodLevel>& levels,
                          const std::vector<std::map<std::string, JointSettings>>& joints) {
-  m_project.levelThresholds = thresholds;
+  m_project.lods.levels = levels;
   for (std::size_t a = 0; a < joints.size() && a < m_project.assets.size(); ++a)
     m_project.assets[a].joints = joints[a];
-  m_project.view.level = std::clamp(m_project.view.level, 0, static_cast<int>(thresholds.size()) - 1);
+  m_project.view.level = std::clamp(m_project.view.level, 0, static_cast<int>(levels.size()) - 1);
   emit settingsChanged();
   emit currentChanged();
   requestAnalysis(true);
@@ -459,7 +540,7 @@ void Document::startAnalysis() {
   request.asset = m_assets[static_cast<std::size_t>(currentAsset())];
   request.clip = currentClip();
   request.settings = m_project.jpcSettings(currentAsset(), a->unitScale);
-  request.levelThresholds = m_project.levelThresholds;
+  request.levelThresholds = m_project.levelThresholds();
   if (m_analysis && m_analysis->asset == request.asset && m_analysis->clip == request.clip &&
       m_analysis->levelThresholds == request.levelThresholds && m_analysis->settings.alpha == request.settings.alpha &&
       m_analysis->settings.mode == request.settings.mode && m_analysis->settings.joints == request.settings.joints) {

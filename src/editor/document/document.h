@@ -72,10 +72,19 @@ public:
   void setJointThreshold(const std::vector<int>& joints, int level, std::optional<double> threshold);
   void setJointsLocked(const std::vector<int>& joints, bool locked);
   void applyToChildren(int joint); // copies the joint's settings to every descendant
+  // LOD levels (the project's LodSet; level 0 is the original: it keeps threshold 0, ratio 1
+  // and distance 0, can be renamed, never removed or moved). A new level goes last, named
+  // "LOD<n>", with the last level's mesh ratio and switch distance. Switch distances belong
+  // to the positions: moving a level keeps the distance column in order.
   void addLevel(double threshold);
   void removeLevel(int level);
   void moveLevel(int from, int to);
-  void setLevelThreshold(int level, double threshold);
+  void setLevelThreshold(int level, double threshold);  // cm·degrees, >= 0
+  // Each returns false (with a reason) and pushes nothing when the value is refused.
+  bool renameLevel(int level, const QString& name, QString* out_error = nullptr); // non-empty, unique
+  bool setLevelMeshRatio(int level, double ratio, QString* out_error = nullptr);  // (0, 1]
+  // cm, at least the previous level's; later levels nearer than `cm` move out to it (same step).
+  bool setLevelSwitchDistance(int level, double cm, QString* out_error = nullptr);
   // Imports the asset's file again at `cmPerUnit` (0 = the file's own) in the background,
   // then pushes one command; unitScaleChanged() follows either way.
   void setAssetUnitScale(int index, double cmPerUnit);
@@ -95,7 +104,7 @@ public:
   void setProjectAlpha(double alpha);
   void setProjectMode(JpcMode mode);
   void setJointSettings(int asset, const std::map<std::string, JointSettings>& joints);
-  void setLevels(const std::vector<double>& thresholds, const std::vector<std::map<std::string, JointSettings>>& joints);
+  void setLevels(const std::vector<LodLevel>& levels, const std::vector<std::map<std::string, JointSettings>>& joints);
   void insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);
   void eraseAsset(int index);
   void replaceAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);

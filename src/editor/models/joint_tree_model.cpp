@@ -90,7 +90,7 @@ QVariant JointTreeModel::data(const QModelIndex& index, int role) const {
   const Clip* clip = m_document->currentClipPtr();
   const bool clusterable = clip && clip->hasRotation[static_cast<std::size_t>(joint)] != 0;
   const int level = m_document->currentLevel();
-  const double levelThreshold = project.levelThresholds[static_cast<std::size_t>(level)];
+  const double levelThreshold = project.lods.levels[static_cast<std::size_t>(level)].motionThreshold;
   const bool ownThreshold = level < static_cast<int>(settings.thresholds.size()) &&
                             settings.thresholds[static_cast<std::size_t>(level)].has_value();
   const double threshold = ownThreshold ? *settings.thresholds[static_cast<std::size_t>(level)] : levelThreshold;
@@ -188,8 +188,10 @@ Qt::ItemFlags JointTreeModel::flags(const QModelIndex& index) const {
   Qt::ItemFlags flags = Qt::ItemIsEnabled | Qt::ItemIsSelectable;
   const Clip* clip = m_document->currentClipPtr();
   const bool clusterable = clip && clip->hasRotation[static_cast<std::size_t>(jointAt(index))] != 0;
-  if (clusterable && (index.column() == AlphaColumn || index.column() == ThresholdColumn))
+  if (clusterable && index.column() == AlphaColumn)
     flags |= Qt::ItemIsEditable;
+  if (clusterable && index.column() == ThresholdColumn && m_document->currentLevel() > 0)
+    flags |= Qt::ItemIsEditable; // level 0 is the original: no threshold to override
   if (clusterable && index.column() == LockColumn)
     flags |= Qt::ItemIsUserCheckable;
   return flags;

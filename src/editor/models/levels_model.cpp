@@ -2,14 +2,26 @@
 
 #include "editor/document/document.h"
 
+#include <QDoubleSpinBox>
 #include <QFont>
+#include <QLineEdit>
+
+#include <cmath>
 
 namespace mlod {
 
 LevelsModel::LevelsModel(Document* document, QObject* parent) : QAbstractTableModel(parent), m_document(document) {
+  m_rows = rowCount();
+  // A reset only when levels come or go: a reset in the middle of a delegate's commit would
+  // destroy the editor the view is still closing.
   const auto reset = [this] {
-    beginResetModel();
-    endResetModel();
+    if (rowCount() != m_rows) {
+      beginResetModel();
+      m_rows = rowCount();
+      endResetModel();
+    } else if (m_rows > 0) {
+      emit dataChanged(index(0, 0), index(m_rows - 1, ColumnCount - 1));
+    }
   };
   connect(document, &Document::settingsChanged, this, reset);
   connect(document, &Document::currentChanged, this, reset);
@@ -17,60 +29,103 @@ LevelsModel::LevelsModel(Document* document, QObject* parent) : QAbstractTableMo
 }
 
 int LevelsModel::rowCount(const QModelIndex& parent) const {
-  return parent.isValid() ? 0 : static_cast<int>(m_document->project().levelThresholds.size());
+  return parent.isValid() ? 0 : m_document->project().levelCount();
 }
 
 int LevelsModel::columnCount(const QModelIndex& parent) const { return parent.isValid() ? 0 : ColumnCount; }
 
 QVariant LevelsModel::data(const QModelIndex& index, int role) const {
-  if (!index.isValid())
+  if (!index.isValid() || index.row() >= rowCount())
     return {};
-  const int level = index.row();
-  const double threshold = m_document->project().levelThresholds[static_cast<std::size_t>(level)];
+  const int row = index.row();
+  const LodLevel& level = m_document->project().lods.levels[static_cast<std::size_t>(row)];
   const auto analysis = m_document->analysis();
   switch (role) {
   case Qt::DisplayRole:
     switch (index.column()) {
-    case NameColumn: return tr("LOD %1").arg(level);
-    case ThresholdColumn: return QString::number(threshold, 'g', 6);
+    case NameColumn: return QString::fromStdString(level.name);
+    case ThresholdColumn: return row == 0 ? tr("original") : QString::number(level.motionThreshold, 'g', 6);
+    case MeshRatioColumn: return QString::number(level.meshRatio * 100.0, 'g', 4) + "%";
+    case SwitchDistanceColumn: return QString::number(level.switchDistanceCm / 100.0, 'g', 6) + " m";
     case SimplifiedColumn:
-      return analysis && level < analysis->levelCount()
-                 ? QString::number(analysis->levels[static_cast<std::size_t>(level)].simplifiedPercent, 'f', 1)
+      return analysis && row < analysis->levelCount()
+                 ? QString::number(analysis->levels[static_cast<std::size_t>(row)].simplifiedPercent, 'f', 1)
                  : QString();
     default: return {};
     }
-  case Qt::EditRole: return index.column() == ThresholdColumn ? QVariant(threshold) : data(index, Qt::DisplayRole);
+  case Qt::EditRole:
+    switch (index.column()) {
+    case NameColumn: return QString::fromStdString(level.name);
+    case ThresholdColumn: return level.motionThreshold;
+    case MeshRatioColumn: return level.meshRatio;
+    case SwitchDistanceColumn: return level.switchDistanceCm;
+    default: return data(index, Qt::DisplayRole);
+    }
   case Qt::FontRole:
-    if (level == m_document->currentLevel()) {
+    if (row == m_document->currentLevel()) {
       QFont bold;
       bold.setBold(true); // the level every view shows
       return bold;
     }
     return {};
   case Qt::ToolTipRole:
-    if (index.column() == ThresholdColumn)
-      return tr("Motion error threshold E of the level, cm·degrees (E/57.3 ≈ cm); joints may override it");
-    if (index.column() == SimplifiedColumn)
+    switch (index.column()) {
+    case NameColumn: return tr("The level's name (unique). Double-click a row to show the level in every view; F2 renames");
+    case ThresholdColumn:
+      return row == 0 ? tr("Level 0 is the original motion: nothing is clustered")
+                      : tr("Motion error threshold E of the level, cm·degrees (E/57.3 ≈ cm); joints may override it");
+    case MeshRatioColumn: return tr("Triangles the level's mesh keeps, % of the original (0–100]");
+    case SwitchDistanceColumn:
+      return tr("Camera distance from which the level is used (edited in cm, shown in m); never nearer than the "
+                "previous level's");
+    case SimplifiedColumn:
       return tr("Simplified joints of the clip in view at this level, % of joint-frames (the paper's Table 1)");
-    return tr("Double-click a level to show it in every view");
+    default: return {};
+    }
   default: return {};
   }
 }
 
 bool LevelsModel::setData(const QModelIndex& index, const QVariant& value, int role) {
-  if (!index.isValid() || role != Qt::EditRole || index.column() != ThresholdColumn)
+  if (!index.isValid() || role != Qt::EditRole)
     return false;
+  const int row = index.row();
+  QString reason;
   bool ok = false;
-  const double threshold = value.toDouble(&ok);
-  if (!ok || !std::isfinite(threshold) || threshold < 0.0)
-    return false;
-  m_document->setLevelThreshold(index.row(), threshold);
-  return true;
+  switch (index.column()) {
+  case NameColumn: ok = m_document->renameLevel(row, value.toString(), &reason); break;
+  case ThresholdColumn: {
+    const double threshold = value.toDouble(&ok);
+    ok = ok && std::isfinite(threshold) && threshold >= 0.0 && row > 0;
+    if (ok)
+      m_document->setLevelThreshold(row, threshold);
+    else
+      reason = tr("a threshold is a number >= 0 cm·degrees, and level 0 has none");
+    break;
+  }
+  case MeshRatioColumn: {
+    const double ratio = value.toDouble(&ok);
+    ok = ok && m_document->setLevelMeshRatio(row, ratio, &reason);
+    break;
+  }
+  case SwitchDistanceColumn: {
+    const double cm = value.toDouble(&ok);
+    ok = ok && m_document->setLevelSwitchDistance(row, cm, &reason);
+    break;
+  }
+  default: return false;
+  }
+  if (!ok)
+    emit editRefused(tr("Level %1: %2").arg(row).arg(reason));
+  return ok;
 }
 
 Qt::ItemFlags LevelsModel::flags(const QModelIndex& index) const {
   Qt::ItemFlags flags = QAbstractTableModel::flags(index);
-  if (index.column() == ThresholdColumn)
+  if (!index.isValid())
+    return flags;
+  const bool original = index.row() == 0; // the original keeps E 0, ratio 1, distance 0
+  if (index.column() == NameColumn || (!original && index.column() != SimplifiedColumn))
     flags |= Qt::ItemIsEditable;
   return flags;
 }
@@ -81,9 +136,46 @@ QVariant LevelsModel::headerData(int section, Qt::Orientation orientation, int r
   switch (section) {
   case NameColumn: return tr("Level");
   case ThresholdColumn: return tr("E (cm·°)");
+  case MeshRatioColumn: return tr("Mesh");
+  case SwitchDistanceColumn: return tr("From");
   case SimplifiedColumn: return tr("Simplified %");
   default: return {};
   }
+}
+
+QWidget* LevelDelegate::createEditor(QWidget* parent, const QStyleOptionViewItem& option, const QModelIndex& index) const {
+  auto spin = [parent](double low, double high, int decimals, double step, const QString& suffix) {
+    auto* box = new QDoubleSpinBox(parent);
+    box->setRange(low, high);
+    box->setDecimals(decimals);
+    box->setSingleStep(step);
+    box->setSuffix(suffix);
+    box->setFrame(false);
+    return box;
+  };
+  switch (index.column()) {
+  case LevelsModel::ThresholdColumn: return spin(0.0, 1e6, 2, 5.0, tr(" cm·°"));
+  case LevelsModel::MeshRatioColumn: return spin(0.001, 1.0, 3, 0.05, QString()); // a fraction of the triangles
+  case LevelsModel::SwitchDistanceColumn: return spin(0.0, 1e7, 1, 100.0, tr(" cm"));
+  default: return QStyledItemDelegate::createEditor(parent, option, index);
+  }
+}
+
+void LevelDelegate::setEditorData(QWidget* editor, const QModelIndex& index) const {
+  if (auto* box = qobject_cast<QDoubleSpinBox*>(editor)) {
+    box->setValue(index.data(Qt::EditRole).toDouble());
+    return;
+  }
+  QStyledItemDelegate::setEditorData(editor, index);
+}
+
+void LevelDelegate::setModelData(QWidget* editor, QAbstractItemModel* model, const QModelIndex& index) const {
+  if (auto* box = qobject_cast<QDoubleSpinBox*>(editor)) {
+    box->interpretText();
+    model->setData(index, box->value(), Qt::EditRole);
+    return;
+  }
+  QStyledItemDelegate::setModelData(editor, model, index);
 }
 
 } // namespace mlod

@@ -1,8 +1,11 @@
 #pragma once
-// The LOD levels dock's model: one row per level with its motion threshold (editable) and
-// the clip's simplified % there. Until the core LodSet lands, a level is its threshold.
+// The LOD levels dock's model: one row per level of the project's LodSet with its name,
+// motion threshold, mesh ratio and switch distance (each edit one undo command through the
+// Document) and the clip's simplified % there. Level 0 is the original: only its name can
+// be edited.
 
 #include <QAbstractTableModel>
+#include <QStyledItemDelegate>
 
 namespace mlod {
 
@@ -11,7 +14,7 @@ class Document;
 class LevelsModel : public QAbstractTableModel {
   Q_OBJECT
 public:
-  enum Column { NameColumn, ThresholdColumn, SimplifiedColumn, ColumnCount };
+  enum Column { NameColumn, ThresholdColumn, MeshRatioColumn, SwitchDistanceColumn, SimplifiedColumn, ColumnCount };
   explicit LevelsModel(Document* document, QObject* parent = nullptr);
 
   int rowCount(const QModelIndex& parent = {}) const override;
@@ -21,8 +24,23 @@ public:
   Qt::ItemFlags flags(const QModelIndex& index) const override;
   QVariant headerData(int section, Qt::Orientation orientation, int role = Qt::DisplayRole) const override;
 
+signals:
+  void editRefused(const QString& reason); // a value the level cannot take (for the log)
+
 private:
   Document* m_document;
+  int m_rows = 0; // rows the view knows of
+};
+
+// Spin boxes with the units and ranges of each column (threshold cm·degrees, ratio (0, 1],
+// distance cm); a line edit for the name.
+class LevelDelegate : public QStyledItemDelegate {
+  Q_OBJECT
+public:
+  using QStyledItemDelegate::QStyledItemDelegate;
+  QWidget* createEditor(QWidget* parent, const QStyleOptionViewItem& option, const QModelIndex& index) const override;
+  void setEditorData(QWidget* editor, const QModelIndex& index) const override;
+  void setModelData(QWidget* editor, QAbstractItemModel* model, const QModelIndex& index) const override;
 };
 
 } // namespace mlod

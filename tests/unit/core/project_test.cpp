@@ -11,15 +11,29 @@
 namespace mlod {
 namespace {
 
+LodLevel level(std::string name, double threshold, double ratio = 1.0, double distance = 0.0) {
+  LodLevel out;
+  out.name = std::move(name);
+  out.motionThreshold = threshold;
+  out.meshRatio = ratio;
+  out.switchDistanceCm = distance;
+  return out;
+}
+
 Project sampleProject() {
   Project project;
   project.alpha = 7.5;
   project.mode = JpcMode::Optimal;
-  project.levelThresholds = {5.0, 42.25, 300.0};
+  project.lods.levels = {level("Original", 0.0), level("Near", 5.0, 0.75, 500.0), level("Mid", 42.25, 0.5, 1234.5),
+                         level("Far", 300.0, 0.1 / 3.0, 4000.0)};
+  project.lods.levels[2].pixelError = 0.75;
+  project.lods.levels[2].triangles = 2500;
+  project.lods.projection.verticalFovDegrees = 45.0;
+  project.lods.boundingRadiusCm = 95.5;
   ProjectAsset asset;
   asset.path = "clips/01_01.bvh";
   asset.unitScale = 2.54 / 0.45; // not representable in a short decimal: the round trip must be exact
-  asset.joints["LeftUpLeg"].thresholds = {std::nullopt, 12.5};
+  asset.joints["LeftUpLeg"].thresholds = {std::nullopt, std::nullopt, 12.5};
   asset.joints["Head"].alpha = 0.1;
   asset.joints["Spine"].locked = true;
   project.assets.push_back(asset);
@@ -33,7 +47,7 @@ Project sampleProject() {
   mapping.mapping.characterName = "BCN_Epileptic.X";
   mapping.mapping.pairs = {{"Bip01_Pelvis", "Hips"}, {"Bip01_Spine", "LowerBack"}};
   project.mappings.push_back(mapping);
-  project.view = {0, 0, 1, "LeftUpLeg"};
+  project.view = {0, 0, 2, "LeftUpLeg"};
   return project;
 }
 
@@ -53,8 +67,8 @@ TEST(Project, JpcSettingsComeFromTheProject) {
   EXPECT_EQ(settings.alpha, 7.5);
   EXPECT_EQ(settings.mode, JpcMode::Optimal);
   EXPECT_EQ(settings.zeroLength, 2e-6);
-  EXPECT_EQ(settings.thresholdFor("LeftUpLeg", 1, 42.25), 12.5);
-  EXPECT_EQ(settings.thresholdFor("LeftUpLeg", 0, 5.0), 5.0);
+  EXPECT_EQ(settings.thresholdFor("LeftUpLeg", 2, 42.25), 12.5);
+  EXPECT_EQ(settings.thresholdFor("LeftUpLeg", 1, 5.0), 5.0);
   EXPECT_TRUE(settings.lockedFor("Spine"));
   EXPECT_EQ(settings.alphaFor("Head"), 0.1);
 }
@@ -71,7 +85,9 @@ TEST(Project, BadDocumentsAreRefusedWithAReason) {
       {"[1, 2]", "not a Motion LOD project"},
       {"{\"format\": \"something-else\", \"version\": 1}", "not a Motion LOD project"},
       {"{\"format\": \"motionlod-project\"}", "no version"},
-      {"{\"format\": \"motionlod-project\", \"version\": 2}", "newer Motion LOD Studio"},
+      {"{\"format\": \"motionlod-project\", \"version\": 3}", "newer Motion LOD Studio"},
+      {"{\"format\": \"motionlod-project\", \"version\": 2, \"alpha\": 5, \"mode\": \"greedy\", \"assets\": []}",
+       "has no \"lods\""},
       {"{\"format\": \"motionlod-project\", \"version\": 1}", "has no \"alpha\""},
       {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": \"5\", \"mode\": \"greedy\", \"levels\": [], "
        "\"assets\": []}",
@@ -79,12 +95,13 @@ TEST(Project, BadDocumentsAreRefusedWithAReason) {
       {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": 5, \"mode\": \"best\", \"levels\": [], "
        "\"assets\": []}",
        "neither greedy nor optimal"},
-      {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": 5, \"mode\": \"greedy\", \"levels\": [], "
-       "\"assets\": []}",
-       "at least one LOD level"},
+      {"{\"format\": \"motionlod-project\", \"version\": 2, \"alpha\": 5, \"mode\": \"greedy\", \"lods\": "
+       "{\"projection\": {\"vertical_fov_degrees\": 60, \"viewport_height_pixels\": 1080}, \"bounding_radius_cm\": 0, "
+       "\"levels\": []}, \"assets\": []}",
+       "no level"},
       {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": 5, \"mode\": \"greedy\", \"levels\": "
        "[{\"threshold\": -1}], \"assets\": []}",
-       "level 0 threshold"},
+       "level 1 threshold"},
       {"{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": 5, \"mode\": \"greedy\", \"levels\": "
        "[{\"threshold\": 5}], \"assets\": [{\"path\": \"a.bvh\", \"unit_scale\": 1, \"joints\": {\"J\": {\"alpha\": "
        "null, \"thresholds\": [-3], \"locked\": false}}}]}",
@@ -99,6 +116,40 @@ TEST(Project, BadDocumentsAreRefusedWithAReason) {
     EXPECT_NE(read.message().find(c.reason), std::string::npos) << read.message();
   }
   EXPECT_TRUE(projectFromJson(good));
+  // A version-2 level 0 that is not the original, a duplicate name, a joint overriding level 0.
+  Project bad = sampleProject();
+  bad.lods.levels[0].motionThreshold = 1.0;
+  EXPECT_FALSE(projectFromJson(projectToJson(bad)));
+  bad = sampleProject();
+  bad.lods.levels[3].name = "Near";
+  EXPECT_NE(projectFromJson(projectToJson(bad)).message().find("used twice"), std::string::npos);
+  bad = sampleProject();
+  bad.assets[0].joints["Head"].thresholds = {1.0};
+  EXPECT_NE(projectFromJson(projectToJson(bad)).message().find("level 0 is the original"), std::string::npos);
+}
+
+// Guards version 1 (a threshold per level, no original): it reads as a LodSet with the
+// original in front, every per-joint override and the current level one level later.
+TEST(Project, VersionOneGetsTheOriginalLevelInFront) {
+  const Result<Project> read = projectFromJson(
+      "{\"format\": \"motionlod-project\", \"version\": 1, \"alpha\": 5, \"mode\": \"greedy\", \"levels\": "
+      "[{\"threshold\": 5}, {\"threshold\": 50}], \"assets\": [{\"path\": \"a.bvh\", \"unit_scale\": 1, \"joints\": "
+      "{\"J\": {\"alpha\": null, \"thresholds\": [null, 20], \"locked\": false}, \"K\": {\"alpha\": 1, "
+      "\"thresholds\": [], \"locked\": true}}}], \"current\": {\"asset\": 0, \"clip\": 0, \"level\": 1, \"joint\": "
+      "\"J\"}}");
+  ASSERT_TRUE(read) << read.message();
+  ASSERT_EQ(read->levelCount(), 3);
+  EXPECT_EQ(read->levelThresholds(), (std::vector<double>{0.0, 5.0, 50.0}));
+  EXPECT_EQ(read->lods.levels[1].name, "LOD1");
+  EXPECT_EQ(read->lods.levels[2].meshRatio, 1.0);
+  EXPECT_EQ(read->assets[0].joints.at("J").thresholds,
+            (std::vector<std::optional<double>>{std::nullopt, std::nullopt, 20.0}));
+  EXPECT_TRUE(read->assets[0].joints.at("K").thresholds.empty());
+  EXPECT_EQ(read->view.level, 2);
+  // Saved again, it is version 2 and reads back equal.
+  const std::string saved = projectToJson(*read);
+  EXPECT_NE(saved.find("\"version\": 2"), std::string::npos);
+  EXPECT_TRUE(*projectFromJson(saved) == *read);
 }
 
 // Guards mappings: they follow their assets when one is removed or inserted, and a mapping
@@ -130,14 +181,16 @@ TEST(Project, AssetPathsAreRelativeToTheProject) {
 
 // Guards level edits: per-joint overrides follow their level when levels move or go.
 TEST(Project, RemapLevelsCarriesOverrides) {
-  Project project = sampleProject(); // LeftUpLeg overrides level 1 only
-  remapLevels(project, {1, 0, 2}, {42.25, 5.0, 300.0});
+  Project project = sampleProject(); // LeftUpLeg overrides level 2 only
+  const std::vector<LodLevel> levels = project.lods.levels;
+  remapLevels(project, {0, 2, 1, 3}, {levels[0], levels[2], levels[1], levels[3]});
   const auto& moved = project.assets[0].joints.at("LeftUpLeg").thresholds;
-  ASSERT_EQ(moved.size(), 1u);
-  EXPECT_EQ(*moved[0], 12.5);
-  remapLevels(project, {1, 2, -1}, {5.0, 300.0, 600.0}); // remove level 0, add one
+  ASSERT_EQ(moved.size(), 2u);
+  EXPECT_EQ(*moved[1], 12.5);
+  remapLevels(project, {0, 2, 3, -1}, {levels[0], levels[1], levels[3], level("Farther", 600.0)}); // remove level 1, add one
   EXPECT_TRUE(project.assets[0].joints.at("LeftUpLeg").thresholds.empty());
-  EXPECT_EQ(project.levelThresholds, (std::vector<double>{5.0, 300.0, 600.0}));
+  EXPECT_EQ(project.levelThresholds(), (std::vector<double>{0.0, 5.0, 300.0, 600.0}));
+  EXPECT_EQ(project.lods.levels[3].name, "Farther");
 }
 
 // Guards loadProjectFile on files that are not there or empty.
