@@ -98,7 +98,7 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   clip.m_staticPair.assign(joints, 0);
   clip.m_staticTranslation.resize(joints);
   clip.m_staticScale.resize(joints);
-  clip.m_staticLocal.resize(joints);
+  clip.m_locals.resize(joints);
   clip.m_translationTrack.assign(joints, -1);
   clip.m_scaleTrack.assign(joints, -1);
   clip.m_segmentBegin.assign(joints + 1, 0);
@@ -129,7 +129,7 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
     clip.m_rotations.push_back(rotations[0]);
     clip.m_staticTranslation[j] = translations[0];
     clip.m_staticScale[j] = scales[0];
-    clip.m_staticLocal[j] = toMatrix(Transform{translations[0], rotations[0], scales[0]});
+    clip.m_locals[j] = toMatrix(Transform{translations[0], rotations[0], scales[0]});
 
     clip.m_segmentBegin[j] = static_cast<std::uint32_t>(clip.m_segments.size());
     clip.m_clusterBegin[j] = static_cast<std::uint32_t>(clip.m_clusters.size());
@@ -159,7 +159,8 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
       const glm::quat key = rotations[static_cast<std::size_t>(cluster.key)];
       clip.m_rotations.push_back(key);
       clip.m_rotations.push_back(key);
-      out.keyLocal = toMatrix(Transform{translations[0], key, scales[0]});
+      out.local = static_cast<std::int32_t>(clip.m_locals.size());
+      clip.m_locals.push_back(toMatrix(Transform{translations[0], key, scales[0]}));
       clip.m_clusters.push_back(out);
     }
     // Segments in i0 order: frozen [first, last - 1] per cluster, sampled in between.
@@ -208,6 +209,16 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
           previous = c;
         }
       }
+      if (segment.cluster >= 0) {
+        const Cluster& cluster = clip.m_clusters[clusterBase + static_cast<std::size_t>(segment.cluster)];
+        segment.base = cluster.keyPair;
+        segment.step = 0;
+        segment.local = cluster.local;
+      } else {
+        segment.base = segment.rotation - segment.first;
+        segment.step = 1;
+        segment.local = static_cast<std::int32_t>(j);
+      }
       clip.m_segments.push_back(segment);
       i0 = segment.last + 1;
     }
@@ -241,7 +252,7 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
 std::size_t LodClip::byteSize() const {
   return sizeof(LodClip) + m_flags.size() * sizeof(std::uint8_t) + m_staticPair.size() * sizeof(std::int32_t) +
          m_staticTranslation.size() * sizeof(glm::vec3) + m_staticScale.size() * sizeof(glm::vec3) +
-         m_staticLocal.size() * sizeof(glm::mat4) + m_translationTrack.size() * sizeof(std::int32_t) +
+         m_locals.size() * sizeof(glm::mat4) + m_translationTrack.size() * sizeof(std::int32_t) +
          m_scaleTrack.size() * sizeof(std::int32_t) + m_tracks.size() * sizeof(glm::vec3) +
          m_segmentBegin.size() * sizeof(std::uint32_t) + m_segments.size() * sizeof(Segment) +
          m_clusterBegin.size() * sizeof(std::uint32_t) + m_clusters.size() * sizeof(Cluster) +

@@ -79,6 +79,12 @@ public:
     std::int32_t cluster = -1; // frozen: the cluster (index in the joint's clusters); sampled: -1
     std::int32_t rotation = 0; // sampled: index in rotations() of R(first); R(first .. last + 1) follow
     std::int32_t previous = -1; // the joint's latest cluster that ended at or before `first`, or -1
+    // What the evaluator reads, ready-made: rotations at rotations()[base + step * i0] and the
+    // next one; the constant local matrix locals()[local] (frozen segments; else the joint's
+    // static local matrix, unused).
+    std::int32_t base = 0;
+    std::int32_t step = 0;
+    std::int32_t local = 0;
   };
   struct Cluster {
     std::int32_t first = 0; // frames, inclusive
@@ -87,7 +93,7 @@ public:
     std::int32_t keyPair = 0; // index in rotations() of two copies of the key's rotation
     glm::quat lastRotation{1.0f, 0.0f, 0.0f, 0.0f}; // q(last), the original rotation, sign-aligned with R(last + 1)
     glm::quat exitOffset{1.0f, 0.0f, 0.0f, 0.0f};   // D = key * q(last)^-1, w >= 0; identity at the clip's end
-    glm::mat4 keyLocal{1.0f}; // the key posture's local matrix (static translation and scale)
+    std::int32_t local = 0; // locals()[local]: the key posture's local matrix (static translation and scale)
   };
   enum JointFlags : std::uint8_t {
     kRotationAnimated = 1,
@@ -139,7 +145,9 @@ public:
   std::int32_t staticRotationPair(int joint) const { return m_staticPair[static_cast<std::size_t>(joint)]; }
   const glm::vec3& staticTranslation(int joint) const { return m_staticTranslation[static_cast<std::size_t>(joint)]; }
   const glm::vec3& staticScale(int joint) const { return m_staticScale[static_cast<std::size_t>(joint)]; }
-  const glm::mat4& staticLocal(int joint) const { return m_staticLocal[static_cast<std::size_t>(joint)]; }
+  const glm::mat4& staticLocal(int joint) const { return m_locals[static_cast<std::size_t>(joint)]; }
+  // Constant local matrices: the static one of each joint (index = joint), then each cluster's key.
+  std::span<const glm::mat4> locals() const { return m_locals; }
   // Animated translation / scale: the track's first element, frameCount values; null when static.
   const glm::vec3* translationTrack(int joint) const {
     const std::int32_t at = m_translationTrack[static_cast<std::size_t>(joint)];
@@ -194,7 +202,7 @@ private:
   std::vector<std::int32_t> m_staticPair;
   std::vector<glm::vec3> m_staticTranslation;
   std::vector<glm::vec3> m_staticScale;
-  std::vector<glm::mat4> m_staticLocal;
+  std::vector<glm::mat4> m_locals; // joints' static local matrices, then clusters' key local matrices
   std::vector<std::int32_t> m_translationTrack; // per joint: start in m_tracks, or -1
   std::vector<std::int32_t> m_scaleTrack;
   std::vector<glm::vec3> m_tracks;

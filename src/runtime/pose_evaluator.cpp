@@ -30,7 +30,8 @@ enum SoaArray {
   kAx, kAy, kAz, kAw, // rotation at the frame before
   kBx, kBy, kBz, kBw, // rotation at the frame after
   kQx, kQy, kQz, kQw, // the interpolated rotation
-  kM00, kM01, kM02, kM10, kM11, kM12, kM20, kM21, kM22, // local rotation matrix, columns
+  kM00, kM01, kM02, kM10, kM11, kM12, kM20, kM21, kM22, // local rotation x scale, columns
+  kSx, kSy, kSz,       // local scale
   kSoaArrays
 };
 constexpr int kLanes = 8;
@@ -40,7 +41,6 @@ constexpr std::size_t kBlockFloats = kSoaArrays * kLanes;
 // constant joints (frozen or static) take a precomputed local matrix.
 constexpr std::uint8_t kActive = 1;
 constexpr std::uint8_t kBlend = 2; // its rotation gets blend offsets (implies active)
-constexpr std::uint8_t kHold = 4;  // inside [last, last + 1) of a cluster it leaves: S reads q(last), not the key
 constexpr std::uint8_t kLevel = 8; // a level-change offset applies
 constexpr std::uint8_t kWrap = 16; // a loop-wrap offset applies
 
@@ -67,34 +67,6 @@ inline void mulAffine(const float* __restrict a, const float* __restrict b, floa
   store4(out + 12, a0 * b[12] + a1 * b[13] + a2 * b[14] + a3);
 }
 
-// out = a x (the local matrix whose rotation columns are at `m` (stride kLanes), scaled by
-// `scale`, translated by `t`); a null `a` is the identity.
-inline void mulLocal(const float* __restrict a, const float* __restrict m, const glm::vec3* scale, const glm::vec3& t,
-                     float* __restrict out) {
-  if (!a) {
-    const float s0 = scale ? scale->x : 1.0f, s1 = scale ? scale->y : 1.0f, s2 = scale ? scale->z : 1.0f;
-    const float local[16] = {m[0 * kLanes] * s0, m[1 * kLanes] * s0, m[2 * kLanes] * s0, 0.0f,
-                             m[3 * kLanes] * s1, m[4 * kLanes] * s1, m[5 * kLanes] * s1, 0.0f,
-                             m[6 * kLanes] * s2, m[7 * kLanes] * s2, m[8 * kLanes] * s2, 0.0f,
-                             t.x,                t.y,                t.z,                1.0f};
-    std::memcpy(out, local, sizeof local);
-    return;
-  }
-  const v4 a0 = load4(a), a1 = load4(a + 4), a2 = load4(a + 8), a3 = load4(a + 12);
-  v4 c0 = a0 * m[0 * kLanes] + a1 * m[1 * kLanes] + a2 * m[2 * kLanes];
-  v4 c1 = a0 * m[3 * kLanes] + a1 * m[4 * kLanes] + a2 * m[5 * kLanes];
-  v4 c2 = a0 * m[6 * kLanes] + a1 * m[7 * kLanes] + a2 * m[8 * kLanes];
-  if (scale) {
-    c0 *= scale->x;
-    c1 *= scale->y;
-    c2 *= scale->z;
-  }
-  store4(out, c0);
-  store4(out + 4, c1);
-  store4(out + 8, c2);
-  store4(out + 12, a0 * t.x + a1 * t.y + a2 * t.z + a3);
-}
-
 // nlerp of a block's 8 rotation pairs (stored rotations are sign-aligned: no sign test).
 inline void nlerpBlock(float* __restrict b, float fraction) {
   for (int l = 0; l < kLanes; ++l) {
@@ -110,21 +82,22 @@ inline void nlerpBlock(float* __restrict b, float fraction) {
   }
 }
 
-// Rotation matrices of a block's 8 rotations (glm::mat3_cast).
+// Rotation matrices of a block's 8 rotations (glm::mat3_cast), columns scaled.
 inline void matrixBlock(float* __restrict b) {
   for (int l = 0; l < kLanes; ++l) {
     const float x = b[kQx * kLanes + l], y = b[kQy * kLanes + l], z = b[kQz * kLanes + l], w = b[kQw * kLanes + l];
     const float xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z, wx = w * x, wy = w * y,
                 wz = w * z;
-    b[kM00 * kLanes + l] = 1.0f - 2.0f * (yy + zz);
-    b[kM01 * kLanes + l] = 2.0f * (xy + wz);
-    b[kM02 * kLanes + l] = 2.0f * (xz - wy);
-    b[kM10 * kLanes + l] = 2.0f * (xy - wz);
-    b[kM11 * kLanes + l] = 1.0f - 2.0f * (xx + zz);
-    b[kM12 * kLanes + l] = 2.0f * (yz + wx);
-    b[kM20 * kLanes + l] = 2.0f * (xz + wy);
-    b[kM21 * kLanes + l] = 2.0f * (yz - wx);
-    b[kM22 * kLanes + l] = 1.0f - 2.0f * (xx + yy);
+    const float sx = b[kSx * kLanes + l], sy = b[kSy * kLanes + l], sz = b[kSz * kLanes + l];
+    b[kM00 * kLanes + l] = (1.0f - 2.0f * (yy + zz)) * sx;
+    b[kM01 * kLanes + l] = 2.0f * (xy + wz) * sx;
+    b[kM02 * kLanes + l] = 2.0f * (xz - wy) * sx;
+    b[kM10 * kLanes + l] = 2.0f * (xy - wz) * sy;
+    b[kM11 * kLanes + l] = (1.0f - 2.0f * (xx + zz)) * sy;
+    b[kM12 * kLanes + l] = 2.0f * (yz + wx) * sy;
+    b[kM20 * kLanes + l] = 2.0f * (xz + wy) * sz;
+    b[kM21 * kLanes + l] = 2.0f * (yz - wx) * sz;
+    b[kM22 * kLanes + l] = (1.0f - 2.0f * (xx + yy)) * sz;
   }
 }
 
@@ -253,7 +226,9 @@ struct PoseEvaluation {
 
   // Re-reads joint j of character c at frame i0: its segment, unfreeze windows and blend
   // offsets. Returns true when the joint toggled between active and constant, or now holds
-  // another constant local matrix.
+  // another constant local matrix. Written without branches on the joint's state where it
+  // can be: which joints have events differs from character to character, and a
+  // mispredicted branch costs as much as a matrix product.
   static bool updateJoint(const PoseEvaluatorJob& job, const State& st, std::size_t i, int j, std::int32_t i0) {
     PoseEvaluatorContext& ctx = *job.context;
     const LodClip& clip = *st.clip;
@@ -261,17 +236,11 @@ struct PoseEvaluation {
     const std::uint8_t oldStatus = ctx.m_status[i];
     const glm::mat4* oldLocal = ctx.m_constLocal[i];
     const std::uint8_t flags = clip.flags(j);
-    bool constant = false;
-    const glm::mat4* local = nullptr;
-    std::uint8_t status = 0;
-    std::int32_t rotationIndex = 0, rotationStep = 0, windowLatest = -1, windowCount = 0;
-    if (!(flags & LodClip::kRotationAnimated)) {
-      rotationIndex = clip.staticRotationPair(j);
-      local = &clip.staticLocal(j);
-      constant = !(flags & kAnimatedTranslationOrScale);
-    } else {
-      const std::span<const LodClip::Segment> list = clip.segments(j);
-      const LodClip::Segment* segments = list.data();
+    std::int32_t rotationIndex = clip.staticRotationPair(j), rotationStep = 0, windowLatest = -1, windowCount = 0;
+    const glm::mat4* local = &clip.staticLocal(j);
+    bool frozen = true;
+    if (flags & LodClip::kRotationAnimated) {
+      const LodClip::Segment* segments = clip.segments(j).data();
       int s = ctx.m_cursor[i];
       if (s < 0) {
         s = clip.findSegment(j, i0);
@@ -285,50 +254,38 @@ struct PoseEvaluation {
       }
       ctx.m_cursor[i] = s;
       const LodClip::Segment& segment = segments[s];
-      const LodClip::Cluster* clusters = clip.clusters(j).data();
+      rotationIndex = segment.base;
+      rotationStep = segment.step;
+      local = &clip.locals()[static_cast<std::size_t>(segment.local)];
+      frozen = segment.cluster >= 0;
       if (blendFrames > 0) {
+        const LodClip::Cluster* clusters = clip.clusters(j).data();
         for (int cc = segment.previous; cc >= 0 && clusters[cc].last + blendFrames > i0; --cc)
           ++windowCount;
         windowLatest = segment.previous;
-        if (segment.cluster < 0 && segment.previous >= 0 && clusters[segment.previous].last == i0)
-          status |= kHold;
-      }
-      if (segment.cluster >= 0) {
-        const LodClip::Cluster& cluster = clusters[segment.cluster];
-        rotationIndex = cluster.keyPair;
-        local = &cluster.keyLocal;
-        constant = windowCount == 0 && !(flags & kAnimatedTranslationOrScale);
-      } else {
-        rotationIndex = segment.rotation - segment.first;
-        rotationStep = 1;
       }
     }
-    if (st.levelBlend && !isIdentity(ctx.m_levelOffset[i])) {
-      status |= kLevel;
-      constant = false;
-    }
-    if (st.wrapWindow && !isIdentity(ctx.m_wrapOffset[i])) {
-      status |= kWrap;
-      constant = false;
-    }
-    if (windowCount > 0 || (status & (kHold | kLevel | kWrap)))
-      status |= kBlend;
-    if (!constant)
-      status |= kActive;
+    const bool level = st.levelBlend && !isIdentity(ctx.m_levelOffset[i]);
+    const bool wrap = st.wrapWindow && !isIdentity(ctx.m_wrapOffset[i]);
+    const bool blend = (windowCount > 0) | level | wrap;
+    const bool constant = frozen & !(flags & kAnimatedTranslationOrScale) & !blend;
+    const std::uint8_t status = static_cast<std::uint8_t>((constant ? 0 : kActive) | (blend ? kBlend : 0) |
+                                                          (level ? kLevel : 0) | (wrap ? kWrap : 0));
     ctx.m_status[i] = status;
     ctx.m_constLocal[i] = constant ? local : nullptr;
+    if (constant && oldLocal != local)
+      ctx.m_local[i] = *local; // the character's own copy: read every frame, next to its other state
     ctx.m_rotationIndex[i] = rotationIndex;
     ctx.m_rotationStep[i] = rotationStep;
     ctx.m_windowLatest[i] = windowLatest;
     ctx.m_windowCount[i] = windowCount;
-    return ((oldStatus ^ status) & kActive) || (constant && oldLocal != local);
+    return ((oldStatus ^ status) & kActive) | (constant & (oldLocal != local));
   }
 
   // Makes the plan of character c hold at frame i0. `full`: re-reads every joint. Else the
   // character steps forward from the frame of its plan, and only the joints with an event
-  // in between are re-read: a segment that starts (a cluster starts or ends), the end of
-  // the first frame after a cluster (hold) and of an unfreeze window, straight from the
-  // clip's per-frame lists. Then refolds the frozen joints below the ones that changed
+  // in between are re-read: a segment that starts (a cluster starts or ends) or an unfreeze
+  // window that ends, straight from the clip's per-frame lists. Then refolds the frozen joints below the ones that changed
   // (palette-only jobs). Returns false when no joint had an event.
   static bool rebuild(const PoseEvaluatorJob& job, int c, std::int32_t i0, bool full, Scratch& scratch) {
     PoseEvaluatorContext& ctx = *job.context;
@@ -338,7 +295,6 @@ struct PoseEvaluation {
     const std::size_t words = ctx.m_words;
     const std::size_t base = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
     std::uint64_t* activeSet = &ctx.m_activeSet[static_cast<std::size_t>(c) * words];
-    std::uint64_t* dirty = scratch.dirty.data();
     std::uint8_t* __restrict changed = scratch.changed.data();
     std::uint8_t* __restrict foldChanged = scratch.foldChanged.data();
     const std::uint8_t* statuses = &ctx.m_status[base];
@@ -348,60 +304,46 @@ struct PoseEvaluation {
     // product from its parent's, folded or not
     const bool folds = job.folding && job.out_models.empty();
 
-    // 1. the joints to re-read
-    std::fill_n(dirty, words, 0);
+    bool any = false, statusChanged = full;
+    int firstChanged = joints;
+    std::int32_t active = st.activeCount;
+    const auto reread = [&](int j) {
+      const std::uint8_t before = statuses[j];
+      const bool toggled = updateJoint(job, st, base + static_cast<std::size_t>(j), j, i0) || full;
+      const std::uint8_t status = statuses[j];
+      changed[j] = changed[j] | toggled;
+      firstChanged = toggled ? std::min(firstChanged, j) : firstChanged;
+      statusChanged = statusChanged | (status != before);
+      active += (status & kActive) - (full ? 0 : (before & kActive));
+      assign(activeSet, j, status & kActive);
+      any = true;
+    };
     if (full) {
-      for (int j = 0; j < joints; ++j)
-        assign(dirty, j, true);
       if (st.wrapWindow)
         for (int j = 0; j < joints; ++j)
           ctx.m_wrapOffset[base + static_cast<std::size_t>(j)] =
               positiveW(clip.rotationAt(j, clip.frameCount() - 1, blendFrames) *
                         glm::inverse(clip.rotationAt(j, 0.0, blendFrames)));
+      active = 0;
+      for (int j = 0; j < joints; ++j)
+        reread(j);
     } else {
-      const auto mark = [&](std::span<const std::int16_t> list) {
-        for (std::int16_t j : list)
-          assign(dirty, j, true);
-      };
+      // a joint on two lists is re-read twice: harmless, it reads the same state
       for (std::int32_t x = st.i0 + 1; x <= i0; ++x) {
-        mark(clip.segmentStarts(x));
-        if (blendFrames > 0 && x - 1 >= 0)
-          mark(clip.clusterEnds(x - 1)); // the hold of [last, last + 1) ends
-        if (blendFrames > 1 && x - blendFrames >= 0)
-          mark(clip.clusterEnds(x - blendFrames)); // the unfreeze window ends
+        for (std::int16_t j : clip.segmentStarts(x))
+          reread(j);
+        if (blendFrames > 0 && x - blendFrames >= 0)
+          for (std::int16_t j : clip.clusterEnds(x - blendFrames)) // the unfreeze window ends
+            reread(j);
       }
     }
     st.i0 = i0;
-    bool any = false;
-    for (std::size_t w = 0; w < words; ++w)
-      any = any || dirty[w] != 0;
+    st.activeCount = active;
     if (!any)
       return false;
 
-    // 2. re-read them
-    bool statusChanged = full;
-    int firstChanged = joints;
-    forEachJoint(dirty, words, [&](int j) {
-      const std::uint8_t before = statuses[j];
-      if (updateJoint(job, st, base + static_cast<std::size_t>(j), j, i0) || full) {
-        changed[j] = 1;
-        firstChanged = std::min(firstChanged, j);
-      }
-      const std::uint8_t status = statuses[j];
-      if (status != before || full) {
-        statusChanged = true;
-        assign(activeSet, j, status & kActive);
-      }
-    });
-    if (statusChanged) {
-      int active = 0;
-      for (std::size_t w = 0; w < words; ++w)
-        active += __builtin_popcountll(activeSet[w]);
-      st.activeCount = active;
-    }
-
-    // 3. palette only: which constant joints' model matrices are needed (those on the way
-    //    from an active joint up to its nearest active ancestor; the others are folded)
+    // palette only: which constant joints' model matrices are needed (those on the way
+    // from an active joint up to its nearest active ancestor; the others are folded)
     if (folds && statusChanged) {
       std::uint8_t* needModel = &ctx.m_needModel[base];
       std::uint8_t* __restrict need = foldChanged; // as scratch here
@@ -417,7 +359,7 @@ struct PoseEvaluation {
           firstChanged = std::min(firstChanged, j);
         }
     }
-    // 4. the folds below the joints that changed
+    // the folds below the joints that changed
     if (folds) {
       const std::uint8_t* needModel = &ctx.m_needModel[base];
       for (int j = firstChanged; j < joints; ++j) {
@@ -438,10 +380,8 @@ struct PoseEvaluation {
         mulAffine(glm::value_ptr(ctx.m_fold[i]), glm::value_ptr(job.inverseBinds[static_cast<std::size_t>(j)]),
                   glm::value_ptr(ctx.m_foldPalette[i]));
       }
-      std::fill_n(changed, joints, 0);
-    } else {
-      forEachJoint(dirty, words, [&](int j) { changed[j] = 0; });
     }
+    std::fill_n(changed, joints, 0);
     st.planValid = true;
     st.folding = job.folding;
     st.models = !job.out_models.empty();
@@ -460,6 +400,7 @@ struct PoseEvaluation {
     const std::size_t base = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
     const std::uint64_t* activeSet = &ctx.m_activeSet[static_cast<std::size_t>(c) * words];
     float* __restrict soa = scratch.soa.data();
+    float* __restrict locals = glm::value_ptr(scratch.locals[0]); // active slot k's local matrix: locals[16 k ...]
     const glm::quat* rotations = clip.rotations().data();
     const std::int32_t* rotationIndex = &ctx.m_rotationIndex[base];
     const std::int32_t* rotationStep = &ctx.m_rotationStep[base];
@@ -490,11 +431,30 @@ struct PoseEvaluation {
       b[kBy * kLanes] = p[1].y;
       b[kBz * kLanes] = p[1].z;
       b[kBw * kLanes] = p[1].w;
+      // translation straight into the local matrix; scale into the block
+      const std::uint8_t flags = clip.flags(j);
+      glm::vec3 translation = clip.staticTranslation(j);
+      if (flags & LodClip::kTranslationAnimated) {
+        const glm::vec3* track = clip.translationTrack(j);
+        translation = track[i0] + (track[i0 + 1] - track[i0]) * fraction;
+      }
+      float* local = locals + 16 * static_cast<std::size_t>(k);
+      local[12] = translation.x;
+      local[13] = translation.y;
+      local[14] = translation.z;
+      glm::vec3 scale(1.0f);
+      if (flags & LodClip::kScaled) {
+        const glm::vec3* track = clip.scaleTrack(j);
+        scale = track ? track[i0] + (track[i0 + 1] - track[i0]) * fraction : clip.staticScale(j);
+      }
+      b[kSx * kLanes] = scale.x;
+      b[kSy * kLanes] = scale.y;
+      b[kSz * kLanes] = scale.z;
       b = next(b, k++);
     });
     for (; k < blocks * kLanes; b = next(b, k++)) { // unused lanes: the identity
       b[kAx * kLanes] = b[kAy * kLanes] = b[kAz * kLanes] = b[kBx * kLanes] = b[kBy * kLanes] = b[kBz * kLanes] = 0.0f;
-      b[kAw * kLanes] = b[kBw * kLanes] = 1.0f;
+      b[kAw * kLanes] = b[kBw * kLanes] = b[kSx * kLanes] = b[kSy * kLanes] = b[kSz * kLanes] = 1.0f;
     }
     // 2. nlerp, 8 joints at once
     for (int block = 0; block < blocks; ++block)
@@ -507,7 +467,8 @@ struct PoseEvaluation {
       b = lane(blending[2 * n + 1]);
       glm::quat q(b[kQw * kLanes], b[kQx * kLanes], b[kQy * kLanes], b[kQz * kLanes]);
       const LodClip::Cluster* clusters = clip.clusters(j).data();
-      if (status[j] & kHold) {
+      if (ctx.m_windowCount[i] > 0 && clusters[ctx.m_windowLatest[i]].last == i0) {
+        // [last, last + 1) of the cluster it leaves: S starts from q(last), not the key
         const glm::quat& a = clusters[ctx.m_windowLatest[i]].lastRotation;
         q = glm::normalize(glm::quat(a.w + (b[kBw * kLanes] - a.w) * fraction, a.x + (b[kBx * kLanes] - a.x) * fraction,
                                      a.y + (b[kBy * kLanes] - a.y) * fraction, a.z + (b[kBz * kLanes] - a.z) * fraction));
@@ -525,10 +486,25 @@ struct PoseEvaluation {
       b[kQz * kLanes] = q.z;
       b[kQw * kLanes] = q.w;
     }
-    // 4. rotation matrices, 8 joints at once
+    // 4. rotation matrices, 8 joints at once, then into each active joint's local matrix
     for (int block = 0; block < blocks; ++block)
       matrixBlock(soa + static_cast<std::size_t>(block) * kBlockFloats);
-    // 5. the hierarchy, parents first
+    b = soa;
+    for (k = 0; k < count; b = next(b, k++)) {
+      float* local = locals + 16 * static_cast<std::size_t>(k);
+      local[0] = b[kM00 * kLanes];
+      local[1] = b[kM01 * kLanes];
+      local[2] = b[kM02 * kLanes];
+      local[4] = b[kM10 * kLanes];
+      local[5] = b[kM11 * kLanes];
+      local[6] = b[kM12 * kLanes];
+      local[8] = b[kM20 * kLanes];
+      local[9] = b[kM21 * kLanes];
+      local[10] = b[kM22 * kLanes];
+    }
+    // 5. the hierarchy, parents first: the same two products for every joint whose model
+    //    matrix is computed, whatever its status (no branch on it: statuses differ from
+    //    character to character, and a mispredicted branch costs as much as a product)
     glm::mat4* models = job.out_models.empty() ? scratch.models.data() : &job.out_models[base];
     glm::mat4* palette = &job.out_palette[base];
     const std::int16_t* parents = job.parents.data();
@@ -536,46 +512,30 @@ struct PoseEvaluation {
     const std::int16_t* anchor = &ctx.m_anchor[base];
     const std::uint8_t* needModel = &ctx.m_needModel[base];
     const glm::mat4* foldPalette = &ctx.m_foldPalette[base];
-    const glm::mat4* const* constLocal = &ctx.m_constLocal[base];
+    const glm::mat4* localCopy = &ctx.m_local[base];
     const bool folds = job.folding && job.out_models.empty();
-    k = 0;
-    b = soa + kM00 * kLanes;
+    const float* active = locals;
     for (int j = 0; j < joints; ++j) {
-      float* model = glm::value_ptr(models[j]);
-      const int p = parents[j];
-      if (status[j] & kActive) {
-        const std::uint8_t flags = clip.flags(j);
-        glm::vec3 translation;
-        if (flags & LodClip::kTranslationAnimated) {
-          const glm::vec3* track = clip.translationTrack(j);
-          translation = track[i0] + (track[i0 + 1] - track[i0]) * fraction;
-        } else {
-          translation = clip.staticTranslation(j);
-        }
-        glm::vec3 scale;
-        if (flags & LodClip::kScaled) {
-          const glm::vec3* track = clip.scaleTrack(j);
-          scale = track ? track[i0] + (track[i0 + 1] - track[i0]) * fraction : clip.staticScale(j);
-        }
-        mulLocal(p >= 0 ? glm::value_ptr(models[p]) : nullptr, b, (flags & LodClip::kScaled) ? &scale : nullptr,
-                 translation, model);
-        mulAffine(model, glm::value_ptr(inverseBinds[j]), glm::value_ptr(palette[j]));
-        b = next(b, k++);
-      } else if (!folds || needModel[j]) {
-        // a constant joint whose model matrix is needed: one product from its parent's
-        if (p >= 0)
-          mulAffine(glm::value_ptr(models[p]), glm::value_ptr(*constLocal[j]), model);
-        else
-          models[j] = *constLocal[j];
-        mulAffine(model, glm::value_ptr(inverseBinds[j]), glm::value_ptr(palette[j]));
-      } else {
+      const bool isActive = status[j] & kActive;
+      // (a constant joint's matrix, or the next active one's: a select, not a branch)
+      const float* local = isActive ? active : glm::value_ptr(localCopy[j]);
+      active += isActive ? 16 : 0;
+      if (folds && !isActive && !needModel[j]) {
         // folded: the palette straight from the nearest ancestor with a model matrix
         const int a = anchor[j];
         if (a >= 0)
           mulAffine(glm::value_ptr(models[a]), glm::value_ptr(foldPalette[j]), glm::value_ptr(palette[j]));
         else
           palette[j] = foldPalette[j];
+        continue;
       }
+      float* model = glm::value_ptr(models[j]);
+      const int p = parents[j];
+      if (p >= 0)
+        mulAffine(glm::value_ptr(models[p]), local, model);
+      else
+        std::memcpy(model, local, sizeof(glm::mat4));
+      mulAffine(model, glm::value_ptr(inverseBinds[j]), glm::value_ptr(palette[j]));
     }
   }
 };
@@ -596,6 +556,7 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
   m_windowLatest.assign(n, -1);
   m_windowCount.assign(n, 0);
   m_constLocal.assign(n, nullptr);
+  m_local.assign(n, glm::mat4(1.0f));
   m_anchor.assign(n, -1);
   m_needModel.assign(n, 1);
   m_activeSet.assign(static_cast<std::size_t>(characters) * m_words, 0);
@@ -608,7 +569,7 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
   for (Scratch& scratch : m_scratch) {
     scratch.soa.assign(kBlockFloats * std::max<std::size_t>(m_blocks, 1), 0.0f);
     scratch.models.assign(static_cast<std::size_t>(joints), glm::mat4(1.0f));
-    scratch.dirty.assign(std::max<std::size_t>(m_words, 1), 0);
+    scratch.locals.assign(std::max(joints, 1), glm::mat4(1.0f)); // rows 3 stay 0 0 0 1
     scratch.blending.assign(2 * static_cast<std::size_t>(joints), 0);
     scratch.changed.assign(static_cast<std::size_t>(joints), 0);
     scratch.foldChanged.assign(static_cast<std::size_t>(joints), 0);
@@ -630,15 +591,15 @@ void PoseEvaluatorContext::reset(int character) {
 
 std::size_t PoseEvaluatorContext::bytesPerCharacter() const {
   const std::size_t perJoint = 5 * sizeof(std::int32_t) + 2 * sizeof(std::uint8_t) + sizeof(const glm::mat4*) +
-                               sizeof(std::int16_t) + 2 * sizeof(glm::mat4) + 2 * sizeof(glm::quat);
+                               sizeof(std::int16_t) + 3 * sizeof(glm::mat4) + 2 * sizeof(glm::quat);
   return sizeof(CharacterState) + perJoint * static_cast<std::size_t>(m_joints) + m_words * sizeof(std::uint64_t);
 }
 
 std::size_t PoseEvaluatorContext::byteSize() const {
   std::size_t scratch = 0;
   for (const Scratch& s : m_scratch)
-    scratch += sizeof(Scratch) + s.soa.size() * sizeof(float) + s.models.size() * sizeof(glm::mat4) +
-               s.dirty.size() * sizeof(std::uint64_t) + s.blending.size() * sizeof(std::int16_t) + s.changed.size() + s.foldChanged.size();
+    scratch += sizeof(Scratch) + s.soa.size() * sizeof(float) + (s.models.size() + s.locals.size()) * sizeof(glm::mat4) +
+               s.blending.size() * sizeof(std::int16_t) + s.changed.size() + s.foldChanged.size();
   return sizeof(*this) + bytesPerCharacter() * m_states.size() + scratch;
 }
 

@@ -10,11 +10,19 @@
 //   translation and scale lerped, turned into a local matrix, composed with its parent's;
 // - a *frozen* joint (inside a cluster, translation and scale static) or a static one (a
 //   joint the clip never moves: BVH end sites) takes its constant local matrix: no
-//   sampling, no quaternion work. With `folding`, a chain of frozen joints below an active
-//   ancestor A is folded into one constant matrix F relative to A (and F x inverse bind
-//   for the palette), so such a joint costs one product per output. The folded matrices
-//   are rebuilt only when a cluster starts or ends ("hierarchy reconstruction"), and then
-//   only below the joints that changed.
+//   sampling, no quaternion work, but still one product for its model matrix and one for
+//   its palette entry.
+// - folding: in a palette-only job (no out_models), a frozen joint whose model matrix
+//   nobody needs (no active joint below it) is folded: F, the product of the constant
+//   local matrices from its nearest ancestor A with a model matrix down to it, and
+//   F x inverse bind are kept per character, so it costs one product (model_A x F x IB).
+//   Where model matrices are written, every joint's is computed anyway and a folded one
+//   would cost the same product, so nothing folds.
+// The plan (which joints are active, where their rotations are read, the folds) is
+// rebuilt incrementally: a character stepping forward re-reads only the joints with an
+// event in between (a cluster starts or ends, an unfreeze window ends), from the clip's
+// per-frame event lists ("hierarchy reconstruction", the paper's cost of variable
+// motion); a jump back or far ahead re-reads every joint.
 //
 // With blendFrames = 0 the result is forward kinematics of the simplified motion M'(t)
 // (LodClip::rotationAt() etc.). With blendFrames = N > 0, joints resume without popping:
@@ -95,7 +103,7 @@ private:
   struct alignas(64) Scratch {
     std::vector<float> soa;             // the active joints' sampling buffers, in blocks of 8 (AoSoA)
     std::vector<glm::mat4> models;      // model matrices when the job has no out_models
-    std::vector<std::uint64_t> dirty;   // joints a rebuild re-reads (bit set)
+    std::vector<glm::mat4> locals;      // the active joints' local matrices, in active order
     std::vector<std::int16_t> blending; // (joint, lane) of the joints that blend this frame
     std::vector<std::uint8_t> changed;  // all 0 between rebuilds
     std::vector<std::uint8_t> foldChanged;
@@ -114,7 +122,8 @@ private:
   std::vector<std::int32_t> m_rotationStep;
   std::vector<std::int32_t> m_windowLatest;
   std::vector<std::int32_t> m_windowCount;
-  std::vector<const glm::mat4*> m_constLocal;
+  std::vector<const glm::mat4*> m_constLocal; // constant joints: their local matrix in the clip
+  std::vector<glm::mat4> m_local;             // constant joints: a copy of it
   std::vector<std::int16_t> m_anchor;
   std::vector<std::uint8_t> m_needModel;
   // per character x word: the active joints (bit j % 64 of word j / 64)
@@ -143,7 +152,7 @@ struct PoseEvaluatorJob {
   std::span<const double> times;
   // Frames over which a resuming joint blends back (0 = off: exactly M'(t)).
   int blendFrames = 0;
-  // Fold chains of frozen joints into one matrix relative to their active ancestor.
+  // Fold frozen chains whose model matrices are not needed (palette-only jobs; see above).
   bool folding = true;
   // Threads to spread characters over; null = the calling thread only.
   WorkerPool* pool = nullptr;
