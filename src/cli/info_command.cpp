@@ -1,15 +1,19 @@
 #include "cli/info_command.h"
 
+#include "core/project.h"
+
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 namespace mlod::cli {
 
 void InfoCommand::attach(CLI::App& app) {
   CLI::App* command = app.add_subcommand("info", "Describe a file: joints, clips, meshes, unit");
-  command->add_option("FILE", file, "character or motion file (any format Assimp reads)")->required();
+  command->add_option("FILE", file, "character or motion file (any format Assimp reads), or a .mlod project")->required();
   command->add_flag("--json", json, "print one JSON document on stdout");
   addImportOptions(*command, import);
 }
@@ -31,7 +35,118 @@ void printJointTree(const Skeleton& skeleton, const Clip* clip) {
 }
 } // namespace
 
+namespace {
+bool isProjectFile(const std::string& file) {
+  return file.size() >= 5 && file.compare(file.size() - 5, 5, ".mlod") == 0;
+}
+
+std::string exactNumber(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+// The project's settings, levels and mappings, and every asset imported as the editor would.
+int describeProject(const std::string& file, bool json, const ImportArguments& import) {
+  Result<Project> read = loadProjectFile(file);
+  if (!read) {
+    printError(file, read.message());
+    return kExitBadInput;
+  }
+  const Project& project = *read;
+  nlohmann::json doc;
+  doc["file"] = file;
+  doc["version"] = kProjectVersion;
+  doc["alpha"] = project.alpha;
+  doc["mode"] = toString(project.mode);
+  nlohmann::json levels = nlohmann::json::array();
+  for (const LodLevel& level : project.lods.levels)
+    levels.push_back({{"name", level.name},
+                      {"threshold", level.motionThreshold},
+                      {"mesh_ratio", level.meshRatio},
+                      {"switch_distance_cm", level.switchDistanceCm}});
+  doc["levels"] = levels;
+  bool allFound = true;
+  nlohmann::json assets = nlohmann::json::array();
+  for (std::size_t a = 0; a < project.assets.size(); ++a) {
+    const ProjectAsset& entry = project.assets[a];
+    const std::string path = resolveAssetPath(file, entry.path).string();
+    int tuned = 0;
+    for (const auto& [name, joint] : entry.joints)
+      tuned += joint.alpha || joint.locked || !joint.thresholds.empty() ? 1 : 0;
+    nlohmann::json item = {{"path", entry.path}, {"resolved", path}, {"unit_scale", entry.unitScale},
+                           {"tuned_joints", tuned}, {"asset", nullptr}};
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) {
+      item["error"] = "missing";
+      allFound = false;
+    } else {
+      ImportArguments arguments = import;
+      if (arguments.unitScale.empty() && entry.unitScale > 0.0)
+        arguments.unitScale = exactNumber(entry.unitScale);
+      const std::optional<Asset> asset = importForCommand(path, arguments);
+      if (asset)
+        item["asset"] = nlohmann::json::parse(describeAssetJson(*asset));
+      else {
+        item["error"] = "cannot be imported";
+        allFound = false;
+      }
+    }
+    assets.push_back(std::move(item));
+  }
+  doc["assets"] = assets;
+  nlohmann::json mappings = nlohmann::json::array();
+  for (const ProjectMapping& mapping : project.mappings)
+    mappings.push_back({{"motion", mapping.motion},
+                        {"character", mapping.character},
+                        {"pairs", mapping.mapping.pairs.size()}});
+  doc["mappings"] = mappings;
+
+  if (json) {
+    std::cout << doc.dump(2) << std::endl;
+    return allFound ? kExitOk : kExitBadInput;
+  }
+  std::printf("project:  %s (Motion LOD project)\nsettings: mode %s, alpha %g cm\n", file.c_str(), toString(project.mode),
+              project.alpha);
+  std::printf("levels:   %zu (E in cm·degrees)\n", project.lods.levels.size());
+  for (std::size_t i = 0; i < project.lods.levels.size(); ++i) {
+    const LodLevel& level = project.lods.levels[i];
+    if (i == 0)
+      std::printf("  %-12s original\n", level.name.c_str());
+    else
+      std::printf("  %-12s E=%-8g mesh %5.1f%%  from %g m\n", level.name.c_str(), level.motionThreshold,
+                  100.0 * level.meshRatio, level.switchDistanceCm / 100.0);
+  }
+  std::printf("assets:   %zu\n", project.assets.size());
+  for (std::size_t a = 0; a < assets.size(); ++a) {
+    const nlohmann::json& item = assets[a];
+    std::printf("  [%zu] %s", a, item["resolved"].get<std::string>().c_str());
+    if (item.contains("error")) {
+      std::printf("  %s\n", item["error"].get<std::string>() == "missing" ? "MISSING (relink it in the editor)"
+                                                                           : "CANNOT BE IMPORTED");
+      continue;
+    }
+    const nlohmann::json& asset = item["asset"];
+    std::printf("\n       %g cm per file unit, %zu joints, %d tuned; clips:", project.assets[a].unitScale > 0.0
+                                                                                    ? project.assets[a].unitScale
+                                                                                    : asset.value("unit_scale", 0.0),
+                asset.contains("joints") ? asset["joints"].size() : std::size_t(0), item["tuned_joints"].get<int>());
+    if (asset.contains("clips"))
+      for (const nlohmann::json& clip : asset["clips"])
+        std::printf(" %s (%d frames)", clip.value("name", std::string()).c_str(), clip.value("frames", 0));
+    std::printf("; meshes: %zu\n", asset.contains("meshes") ? asset["meshes"].size() : std::size_t(0));
+  }
+  std::printf("mappings: %zu\n", project.mappings.size());
+  for (const ProjectMapping& mapping : project.mappings)
+    std::printf("  asset %d drives asset %d (%zu joint pairs)\n", mapping.motion, mapping.character,
+                mapping.mapping.pairs.size());
+  return allFound ? kExitOk : kExitBadInput;
+}
+} // namespace
+
 int InfoCommand::run() const {
+  if (isProjectFile(file))
+    return describeProject(file, json, import);
   const std::optional<Asset> asset = importForCommand(file, import);
   if (!asset)
     return kExitBadInput;

@@ -2,12 +2,15 @@
 
 #include "core/jpc/jpc.h"
 #include "core/jpc/jpc_report.h"
+#include "core/project.h"
 
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <optional>
 #include <iostream>
 #include <sstream>
 
@@ -19,13 +22,14 @@ void SimplifyCommand::attach(CLI::App& app) {
                   "(the paper's Table 1)");
   command
       ->add_option("FILE", file,
-                   "motion or character file (any format Assimp reads); .mlod projects are not supported yet")
+                   "motion or character file (any format Assimp reads), or a .mlod project: its asset and clip in "
+                   "view, levels, alpha, mode and per-joint settings, unless flags override them")
       ->required();
   command->add_option("--clip", clip, "the clip, by name or index (default: the first)");
   command
       ->add_option("--threshold", thresholds,
-                   "error threshold E per LOD level, cm·degrees (E / 57.3 ~ cm), comma-separated: 5,50,100,300")
-      ->required()
+                   "error threshold E per LOD level, cm·degrees (E / 57.3 ~ cm), comma-separated: 5,50,100,300 "
+                   "(required for a file; a project's default: its levels after the original)")
       ->delimiter(',');
   command->add_option("--alpha", alpha, "orientation weight alpha of every joint, cm, >= 0 (default 5)");
   command->add_option("--joint", jointThresholds, "NAME=E: joint NAME's threshold at every level (repeatable)");
@@ -36,9 +40,21 @@ void SimplifyCommand::attach(CLI::App& app) {
                     "print one JSON document on stdout (\"joints\" lists the joints with a rotation channel; "
                     "\"seconds\" is clustering and measuring, import excluded)");
   addImportOptions(*command, import);
+  subcommand = command;
 }
 
 namespace {
+bool isProjectFile(const std::string& file) {
+  return file.size() >= 5 && file.compare(file.size() - 5, 5, ".mlod") == 0;
+}
+
+// A number as text that parses back to the same double.
+std::string exactNumber(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
 std::string formatNumber(double value) {
   std::ostringstream out;
   out << value;
@@ -122,6 +138,12 @@ void printTable(const JpcReport& report, const Clip& clip, int clusterable) {
 } // namespace
 
 int SimplifyCommand::run() const {
+  const auto flagGiven = [this](const char* name) { return subcommand && subcommand->count(name) > 0; };
+  const bool project = isProjectFile(file);
+  if (!project && thresholds.empty()) {
+    printError(file, "--threshold is required for a file (a .mlod project has its own levels)");
+    return kExitBadInput;
+  }
   // Arguments that need no file first: a typo costs no import.
   const std::optional<JpcMode> jpcMode = parseJpcMode(mode);
   if (!jpcMode) {
@@ -147,9 +169,7 @@ int SimplifyCommand::run() const {
     printError(file, "--alpha is '" + alpha + "'; it must be a finite number >= 0 (cm)");
     return kExitBadInput;
   }
-  JpcSettings settings;
-  settings.mode = *jpcMode;
-  settings.alpha = alphaValue;
+  std::vector<std::pair<std::string, double>> jointOverrides; // --joint NAME=E
   for (const std::string& text : jointThresholds) {
     std::string name;
     double threshold = 0.0;
@@ -157,21 +177,51 @@ int SimplifyCommand::run() const {
       printError(file, "--joint '" + text + "' is not NAME=E (a joint name and a threshold in cm·degrees)");
       return kExitBadInput;
     }
-    settings.joints[name].thresholds.assign(levelThresholds.size(), threshold);
+    jointOverrides.emplace_back(name, threshold);
   }
 
-  if (file.size() >= 5 && file.compare(file.size() - 5, 5, ".mlod") == 0) {
-    printError(file, ".mlod projects are not supported yet: give the motion file itself");
-    return kExitBadInput;
+  // The project, when one is given: which asset, at which unit, with which settings.
+  std::optional<Project> loaded;
+  std::string assetFile = file;
+  ImportArguments importArguments = import;
+  int assetIndex = -1;
+  if (project) {
+    Result<Project> read = loadProjectFile(file);
+    if (!read) {
+      printError(file, read.message());
+      return kExitBadInput;
+    }
+    loaded = std::move(read).value();
+    if (loaded->assets.empty()) {
+      printError(file, "the project has no asset to simplify");
+      return kExitBadInput;
+    }
+    assetIndex = loaded->view.asset >= 0 && loaded->view.asset < static_cast<int>(loaded->assets.size())
+                     ? loaded->view.asset
+                     : 0;
+    const ProjectAsset& entry = loaded->assets[static_cast<std::size_t>(assetIndex)];
+    assetFile = resolveAssetPath(file, entry.path).string();
+    std::error_code error;
+    if (!std::filesystem::exists(assetFile, error)) {
+      printError(file, "asset " + std::to_string(assetIndex) + " (" + assetFile +
+                           ") is missing; relink it in the editor");
+      return kExitBadInput;
+    }
+    if (importArguments.unitScale.empty() && entry.unitScale > 0.0)
+      importArguments.unitScale = exactNumber(entry.unitScale);
   }
-  const std::optional<Asset> asset = importForCommand(file, import);
+  const std::optional<Asset> asset = importForCommand(assetFile, importArguments);
   if (!asset)
     return kExitBadInput;
   if (asset->clips.empty()) {
     printError(file, "has no animation clip to simplify");
     return kExitBadInput;
   }
-  const int clipIndex = findClip(*asset, clip);
+  std::string clipSelector = clip;
+  if (loaded && clipSelector.empty() && loaded->view.asset == assetIndex && loaded->view.clip >= 0 &&
+      loaded->view.clip < static_cast<int>(asset->clips.size()))
+    clipSelector = std::to_string(loaded->view.clip);
+  const int clipIndex = findClip(*asset, clipSelector);
   if (clipIndex < 0) {
     std::string names;
     for (const Clip& c : asset->clips)
@@ -180,7 +230,34 @@ int SimplifyCommand::run() const {
     return kExitBadInput;
   }
   const Clip& selected = asset->clips[static_cast<std::size_t>(clipIndex)];
+
+  JpcSettings settings;
+  if (loaded) {
+    // As the editor: the project's alpha, mode and joints (Project::jpcSettings).
+    settings = loaded->jpcSettings(assetIndex, asset->unitScale);
+    if (levelThresholds.empty()) {
+      // The levels after the original; a joint's override of level i is entry i - 1 here.
+      for (std::size_t i = 1; i < loaded->lods.levels.size(); ++i)
+        levelThresholds.push_back(loaded->lods.levels[i].motionThreshold);
+      for (auto& [name, joint] : settings.joints)
+        if (!joint.thresholds.empty())
+          joint.thresholds.erase(joint.thresholds.begin());
+      if (levelThresholds.empty()) {
+        printError(file, "the project has no LOD level beyond the original; give --threshold");
+        return kExitBadInput;
+      }
+    } else {
+      for (auto& [name, joint] : settings.joints) // other levels: the overrides do not apply
+        joint.thresholds.clear();
+    }
+  }
   settings.zeroLength = 1e-6 * asset->unitScale; // DESIGN.md: 1e-6 file units
+  if (!loaded || flagGiven("--mode"))
+    settings.mode = *jpcMode;
+  if (!loaded || flagGiven("--alpha"))
+    settings.alpha = alphaValue;
+  for (const auto& [name, threshold] : jointOverrides)
+    settings.joints[name].thresholds.assign(levelThresholds.size(), threshold);
 
   const auto start = std::chrono::steady_clock::now();
   Result<std::vector<JpcLevelResult>> levels = simplifyClip(asset->skeleton, selected, settings, levelThresholds);
@@ -194,7 +271,7 @@ int SimplifyCommand::run() const {
   report.frames = selected.frameCount;
   report.fps = selected.fps;
   report.mode = settings.mode;
-  report.alpha = alphaValue;
+  report.alpha = settings.alpha;
   report.unitScale = asset->unitScale;
   for (const Joint& joint : asset->skeleton.joints)
     report.jointNames.push_back(joint.name);

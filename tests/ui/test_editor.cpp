@@ -653,6 +653,53 @@ private slots:
     }
   }
 
+  // `motionlod simplify PROJECT.mlod` prints exactly the figures the editor shows for that
+  // project: per-joint thresholds (through the delegate), locks, alpha, a renamed and
+  // re-thresholded level.
+  void savedProjectMatchesCommandLine() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("tuned.mlod");
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QVERIFY(editThreshold(*window, jointIndex(*window, "LeftUpLeg"), "2"));
+    document->setJointsLocked({jointIndex(*window, "Spine1")}, true);
+    document->setAlpha(6.5);
+    QVERIFY(editLevelCell(*window, 3, LevelsModel::ThresholdColumn, "120"));
+    QVERIFY(waitForFigures(document));
+    QVERIFY(window->saveProject(path));
+    QProcess cli;
+    cli.start(MLOD_CLI, {"simplify", path, "--json"});
+    QVERIFY(cli.waitForFinished(120000));
+    QCOMPARE(cli.exitCode(), 0);
+    const QJsonObject report = QJsonDocument::fromJson(cli.readAllStandardOutput()).object();
+    QCOMPARE(report["alpha"].toDouble(), 6.5);
+    const QJsonArray levels = report["thresholds"].toArray();
+    const auto analysis = document->analysis();
+    QCOMPARE(levels.size(), analysis->levelCount() - 1); // the original is no clustering
+    const QTableWidget* table = window->statisticsView()->table();
+    for (int l = 1; l < analysis->levelCount(); ++l) {
+      const QJsonObject level = levels[l - 1].toObject();
+      const JpcLevelResult& mine = analysis->levels[std::size_t(l)];
+      QCOMPARE(mine.threshold, level["threshold"].toDouble());
+      QCOMPARE(mine.simplifiedPercent, level["simplified_joint_percent"].toDouble());
+      QCOMPARE(mine.clusterCount, level["clusters"].toInt());
+      QCOMPARE(mine.maxError, level["max_error"].toDouble());
+      QCOMPARE(mine.maxJointPositionErrorCm, level["max_joint_position_error_cm"].toDouble());
+      QCOMPARE(table->item(StatisticsView::SimplifiedRow, l)->text(),
+               QString::number(level["simplified_joint_percent"].toDouble(), 'f', 1));
+      for (const QJsonValue& value : level["joints"].toArray()) {
+        const QJsonObject joint = value.toObject();
+        const int j = jointIndex(*window, joint["name"].toString().toUtf8().constData());
+        QCOMPARE(mine.joints[std::size_t(j)].clusters, joint["clusters"].toInt());
+        QCOMPARE(mine.joints[std::size_t(j)].simplifiedPercent, joint["simplified_percent"].toDouble());
+      }
+    }
+    const int leftUpLeg = jointIndex(*window, "LeftUpLeg");
+    QCOMPARE(analysis->levels[1].joints[std::size_t(leftUpLeg)].threshold, 2.0);
+    QVERIFY(analysis->levels[1].joints[std::size_t(jointIndex(*window, "Spine1"))].locked);
+  }
+
   // A project whose asset moved opens with the asset marked missing; relinking brings it back.
   void relinkMissingAsset() {
     QTemporaryDir dir;
