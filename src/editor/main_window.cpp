@@ -10,6 +10,7 @@
 #include "editor/models/joint_tree_model.h"
 #include "editor/models/levels_model.h"
 #include "editor/views/clustering_table_view.h"
+#include "editor/views/mapping_dialog.h"
 #include "editor/views/trajectory_view.h"
 #include "ui_main_window.h"
 
@@ -566,6 +567,9 @@ void MainWindow::buildActions() {
            else
              log(m_document->undoStack()->text(m_document->undoStack()->index() - 1));
          });
+  action(edit, "actionEditMapping", tr("Edit Joint &Mapping…"), QKeySequence("Ctrl+Alt+M"),
+         tr("Edit which motion joint drives each character joint, for the asset in view (motion or character)"),
+         [this] { editMapping(); });
   action(edit, "actionAssetUnit", tr("Asset &Unit…"), QKeySequence(),
          tr("Import the asset in view again with another unit (cm per file unit); every length and figure follows"),
          [this] {
@@ -663,6 +667,26 @@ void MainWindow::refreshViews() {
       m_jointModel->jointAt(m_skeletonView->currentIndex()) != joint)
     m_skeletonView->setCurrentIndex(jointIndex);
   refreshStatus();
+}
+
+MappingDialog* MainWindow::editMapping() {
+  const int asset = m_document->currentAsset();
+  const auto& mappings = m_document->project().mappings;
+  int found = -1;
+  for (std::size_t m = 0; m < mappings.size() && found < 0; ++m)
+    if (mappings[m].motion == asset || mappings[m].character == asset)
+      found = static_cast<int>(m);
+  if (found < 0) {
+    showError(tr("No joint mapping"), tr("Assign the motion in view to a character first (Ctrl+Shift+M)."),
+              tr("edit mapping: the asset in view has no mapping"));
+    return nullptr;
+  }
+  if (m_mappingDialog)
+    m_mappingDialog->close();
+  m_mappingDialog = new MappingDialog(m_document, found, this);
+  m_mappingDialog->setAttribute(Qt::WA_DeleteOnClose);
+  m_mappingDialog->show();
+  return m_mappingDialog;
 }
 
 QString MainWindow::statusText() const {

@@ -7,6 +7,7 @@
 #include "io/import_options.h"
 
 #include <QMainWindow>
+#include <QPointer>
 
 #include <memory>
 
@@ -30,6 +31,7 @@ class Document;
 class ImportJob;
 class JointTreeModel;
 class LevelsModel;
+class MappingDialog;
 class StatisticsView;
 class TrajectoryView;
 
@@ -60,6 +62,9 @@ public:
   QComboBox* modeBox() const { return m_modeBox; }
   QProgressDialog* analysisProgress() const { return m_analysisProgress; }
   QString statusText() const; // the permanent status-bar figures
+  // Opens the joint-mapping table of the asset in view (its first mapping, as motion or
+  // character); null, with a message, when it has none.
+  MappingDialog* editMapping();
 
   // Projects: errors show in a non-modal message box and the log; the document is kept.
   bool openProject(const QString& path);
@@ -115,6 +120,7 @@ private:
   JointTreeModel* m_jointModel = nullptr;
   QTableView* m_levelsView = nullptr;
   LevelsModel* m_levelsModel = nullptr;
+  QPointer<MappingDialog> m_mappingDialog;
   ClusteringTableView* m_clusteringView = nullptr;
   TrajectoryView* m_trajectoryView = nullptr;
   StatisticsView* m_statisticsView = nullptr;

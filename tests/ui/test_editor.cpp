@@ -11,6 +11,8 @@
 #include "editor/models/asset_tree.h"
 #include "editor/models/joint_tree_model.h"
 #include "editor/models/levels_model.h"
+#include "editor/models/mapping_model.h"
+#include "editor/views/mapping_dialog.h"
 #include "editor/views/clustering_table_view.h"
 #include "editor/views/trajectory_view.h"
 
@@ -890,6 +892,86 @@ private slots:
     QVERIFY(document->project().mappings[0] == mapping);
     document->undoStack()->undo(); // the assignment
     QVERIFY(document->project().mappings.empty());
+  }
+
+  // The joint-mapping table: a combo box per character joint edits the pair through the
+  // delegate (one undo step), "(none)" unmaps, Automatic restores the name match; the edited
+  // table is saved in the .mlod.
+  void editJointMappingTable() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QSignalSpy spy(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0);
+    QVERIFY(spy.wait(60000));
+    document->setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    QTest::keyClick(window.get(), Qt::Key_M, Qt::ControlModifier | Qt::ShiftModifier); // assign
+    QCOMPARE(document->project().mappings.size(), std::size_t(1));
+    const MotionMapping automatic = document->project().mappings[0].mapping;
+    QTest::keyClick(window.get(), Qt::Key_M, Qt::ControlModifier | Qt::AltModifier);
+    auto* dialog = window->findChild<MappingDialog*>("mappingDialog");
+    QVERIFY(dialog);
+    QVERIFY(QTest::qWaitForWindowExposed(dialog));
+    QTableView* table = dialog->table();
+    const Skeleton& character = document->asset(1)->skeleton;
+    QCOMPARE(table->model()->rowCount(), character.jointCount());
+    // A mapped character joint, and a motion joint other than its own.
+    int row = -1;
+    for (int r = 0; r < character.jointCount() && row < 0; ++r)
+      if (automatic.motionFor(character.joints[std::size_t(r)].name))
+        row = r;
+    QVERIFY(row >= 0);
+    const std::string characterJoint = character.joints[std::size_t(row)].name;
+    const std::string before = *automatic.motionFor(characterJoint);
+    QCOMPARE(table->model()->index(row, MappingModel::MotionColumn).data().toString(), QString::fromStdString(before));
+    const int steps = document->undoStack()->count();
+    const auto chooseInCell = [&](int r, int offset) -> QString {
+      const QModelIndex cell = table->model()->index(r, MappingModel::MotionColumn);
+      table->scrollTo(cell);
+      table->setFocus();
+      table->selectionModel()->setCurrentIndex(cell, QItemSelectionModel::ClearAndSelect | QItemSelectionModel::Rows);
+      QTest::keyClick(table, Qt::Key_F2);
+      auto* box = qobject_cast<QComboBox*>(table->indexWidget(cell)); // the open editor (a closed one lingers until deleteLater)
+      if (!box || box->objectName() != "motionJointEditor")
+        return "no editor";
+      const int target = offset == 0 ? 0 : (box->currentIndex() + offset) % box->count();
+      while (box->currentIndex() != target)
+        QTest::keyClick(box, box->currentIndex() < target ? Qt::Key_Down : Qt::Key_Up);
+      const QString chosen = box->currentData().toString();
+      QTest::keyClick(box, Qt::Key_Return);
+      QCoreApplication::processEvents();
+      return chosen;
+    };
+    const QString chosen = chooseInCell(row, 1);
+    QVERIFY(chosen != "no editor" && !chosen.isEmpty() && chosen.toStdString() != before);
+    QCOMPARE(document->undoStack()->count(), steps + 1);
+    const MotionMapping& edited = document->project().mappings[0].mapping;
+    QVERIFY(edited.motionFor(characterJoint) && *edited.motionFor(characterJoint) == chosen.toStdString());
+    QCOMPARE(table->model()->index(row, MappingModel::MotionColumn).data().toString(), chosen);
+    QVERIFY(!edited.validate(document->asset(0)->skeleton, character)); // set() kept it one-to-one
+    // (none): the character joint keeps its rest pose.
+    QCOMPARE(chooseInCell(row, 0), QString());
+    QVERIFY(!document->project().mappings[0].mapping.motionFor(characterJoint));
+    QCOMPARE(document->undoStack()->count(), steps + 2);
+    // Ctrl+Z in the dialog undoes there; the table follows.
+    QTest::keyClick(dialog, Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(table->model()->index(row, MappingModel::MotionColumn).data().toString(), chosen);
+    const MotionMapping saved = document->project().mappings[0].mapping;
+    QTemporaryDir dir;
+    QVERIFY(window->saveProject(dir.filePath("mapped.mlod")));
+    {
+      MainWindow reopened;
+      QSignalSpy opened(reopened.document(), &Document::projectOpened);
+      QVERIFY(reopened.openProject(dir.filePath("mapped.mlod")));
+      QVERIFY(opened.wait(60000));
+      QVERIFY(reopened.document()->project().mappings[0].mapping == saved);
+    }
+    // Automatic: the name match again, one step.
+    QTest::mouseClick(dialog->findChild<QPushButton*>("automaticMappingButton"), Qt::LeftButton);
+    QVERIFY(document->project().mappings[0].mapping == automatic);
+    document->undoStack()->undo();
+    QVERIFY(document->project().mappings[0].mapping == saved);
   }
 
   // The common editor actions have shortcuts and tooltips.

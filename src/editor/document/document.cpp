@@ -192,6 +192,48 @@ void Document::unassignMotion(int mapping) {
   m_undo->push(new SetMappings(this, m_project.mappings, std::move(after), tr("Unassign motion")));
 }
 
+bool Document::setMappingPair(int mapping, const QString& characterJoint, const QString& motionJoint) {
+  if (mapping < 0 || mapping >= static_cast<int>(m_project.mappings.size()))
+    return false;
+  const ProjectMapping& entry = m_project.mappings[std::size_t(mapping)];
+  const Asset* motion = entry.motion < assetCount() ? m_assets[std::size_t(entry.motion)].get() : nullptr;
+  const Asset* character = entry.character < assetCount() ? m_assets[std::size_t(entry.character)].get() : nullptr;
+  const std::string characterName = characterJoint.toStdString(), motionName = motionJoint.toStdString();
+  if (!motion || !character || character->skeleton.find(characterName) < 0 ||
+      (!motionName.empty() && motion->skeleton.find(motionName) < 0))
+    return false;
+  std::vector<ProjectMapping> after = m_project.mappings;
+  MotionMapping& table = after[std::size_t(mapping)].mapping;
+  if (motionName.empty())
+    table.clear(characterName);
+  else
+    table.set(characterName, motionName);
+  if (after == m_project.mappings)
+    return false;
+  const QString text = motionName.empty() ? tr("Unmap %1").arg(characterJoint)
+                                          : tr("Map %1 to %2").arg(motionJoint, characterJoint);
+  m_undo->push(new SetMappings(this, m_project.mappings, std::move(after), text));
+  return true;
+}
+
+void Document::resetMapping(int mapping) {
+  if (mapping < 0 || mapping >= static_cast<int>(m_project.mappings.size()))
+    return;
+  const ProjectMapping& entry = m_project.mappings[std::size_t(mapping)];
+  const Asset* motion = entry.motion < assetCount() ? m_assets[std::size_t(entry.motion)].get() : nullptr;
+  const Asset* character = entry.character < assetCount() ? m_assets[std::size_t(entry.character)].get() : nullptr;
+  if (!motion || !character)
+    return;
+  std::vector<ProjectMapping> after = m_project.mappings;
+  MotionMapping automatic = MotionMapping::automatic(motion->skeleton, character->skeleton);
+  automatic.motionName = entry.mapping.motionName;
+  automatic.characterName = entry.mapping.characterName;
+  after[std::size_t(mapping)].mapping = std::move(automatic);
+  if (after == m_project.mappings)
+    return;
+  m_undo->push(new SetMappings(this, m_project.mappings, std::move(after), tr("Automatic joint mapping")));
+}
+
 namespace {
 // Drops entries that say nothing (all defaults) so projects stay small and compare equal.
 void tidy(std::map<std::string, JointSettings>& joints) {

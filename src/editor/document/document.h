@@ -68,6 +68,13 @@ public:
   // Errors: assets missing, without a clip (motion), or no joint that matches.
   bool assignMotion(int motion, int character, QString* out_error = nullptr);
   void unassignMotion(int mapping);
+  // Joint-mapping table edits of project().mappings[mapping], one undo step each:
+  // `motionJoint` drives `characterJoint` (MotionMapping::set: a pair that held either goes);
+  // an empty `motionJoint` leaves the character joint at its rest pose. Returns false (and
+  // pushes nothing) for an unknown mapping or joint, or when nothing changes.
+  bool setMappingPair(int mapping, const QString& characterJoint, const QString& motionJoint);
+  // The automatic (name-matched) table again.
+  void resetMapping(int mapping);
   void setJointAlpha(const std::vector<int>& joints, std::optional<double> alpha);
   void setJointThreshold(const std::vector<int>& joints, int level, std::optional<double> threshold);
   void setJointsLocked(const std::vector<int>& joints, bool locked);
