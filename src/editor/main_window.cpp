@@ -400,6 +400,9 @@ void MainWindow::buildDocks() {
     const int level = m_document->currentLevel();
     m_document->moveLevel(level, level + 1);
   });
+  connect(button("generateLevelsButton", tr("Budget…"),
+                 tr("Generate the levels from an error budget in pixels on screen — Ctrl+Shift+G")),
+          &QToolButton::clicked, this, [this] { findChild<QAction*>("actionGenerateLevels")->trigger(); });
   buttons->addStretch();
   buttons->addWidget(new QLabel(tr("α")));
   m_alphaBox = new QDoubleSpinBox;
@@ -567,6 +570,20 @@ void MainWindow::buildActions() {
            else
              log(m_document->undoStack()->text(m_document->undoStack()->index() - 1));
          });
+  action(edit, "actionGenerateLevels", tr("&Generate Levels from Pixel Budget…"), QKeySequence("Ctrl+Shift+G"),
+         tr("Compute every level's threshold, mesh ratio and switch distance so that each stays within N pixels on "
+            "screen (motion and mesh together, in the background)"),
+         [this] {
+           bool ok = false;
+           const double pixels = QInputDialog::getDouble(this, tr("Generate levels"), tr("Error budget (pixels on screen):"),
+                                                         1.0, 0.01, 100.0, 2, &ok);
+           if (!ok)
+             return;
+           const int levels = QInputDialog::getInt(this, tr("Generate levels"), tr("Levels (the original included):"),
+                                                   std::max(2, m_document->project().levelCount()), 1, 12, 1, &ok);
+           if (ok)
+             generateLevels(pixels, levels);
+         });
   action(edit, "actionEditMapping", tr("Edit Joint &Mapping…"), QKeySequence("Ctrl+Alt+M"),
          tr("Edit which motion joint drives each character joint, for the asset in view (motion or character)"),
          [this] { editMapping(); });
@@ -667,6 +684,32 @@ void MainWindow::refreshViews() {
       m_jointModel->jointAt(m_skeletonView->currentIndex()) != joint)
     m_skeletonView->setCurrentIndex(jointIndex);
   refreshStatus();
+}
+
+bool MainWindow::generateLevels(double pixels, int levels) {
+  QString error;
+  if (!m_document->generateLevels(pixels, levels, &error)) {
+    showError(tr("Cannot generate levels"), tr("The levels were not generated."), error);
+    return false;
+  }
+  if (!m_levelsProgress) {
+    m_levelsProgress = new QProgressDialog(tr("Generating levels (motion and mesh) …"), tr("Cancel"), 0, 0, this);
+    m_levelsProgress->setObjectName("levelsProgress");
+    m_levelsProgress->setWindowTitle(tr("LOD levels"));
+    m_levelsProgress->setMinimumDuration(0);
+    m_levelsProgress->setAutoClose(false);
+    m_levelsProgress->setAutoReset(false);
+    connect(m_levelsProgress, &QProgressDialog::canceled, m_document, &Document::cancelLevelGeneration);
+    connect(m_document, &Document::levelGenerationFinished, this, [this](bool ok, const QString& message) {
+      m_levelsProgress->reset();
+      m_levelsProgress->hide();
+      statusBar()->showMessage(ok ? message : tr("Level generation: %1").arg(message), 4000);
+    });
+  }
+  m_levelsProgress->reset();
+  m_levelsProgress->setRange(0, 0); // the core reports no steps: busy until it lands
+  m_levelsProgress->show();
+  return true;
 }
 
 MappingDialog* MainWindow::editMapping() {

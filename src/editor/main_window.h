@@ -65,6 +65,10 @@ public:
   // Opens the joint-mapping table of the asset in view (its first mapping, as motion or
   // character); null, with a message, when it has none.
   MappingDialog* editMapping();
+  // Generates the LOD set from a pixel budget in the background with a progress dialog
+  // ("levelsProgress", Cancel drops the result); false with a message when it cannot start.
+  bool generateLevels(double pixels, int levels);
+  QProgressDialog* levelsProgress() const { return m_levelsProgress; }
 
   // Projects: errors show in a non-modal message box and the log; the document is kept.
   bool openProject(const QString& path);
@@ -121,6 +125,7 @@ private:
   QTableView* m_levelsView = nullptr;
   LevelsModel* m_levelsModel = nullptr;
   QPointer<MappingDialog> m_mappingDialog;
+  QProgressDialog* m_levelsProgress = nullptr;
   ClusteringTableView* m_clusteringView = nullptr;
   TrajectoryView* m_trajectoryView = nullptr;
   StatisticsView* m_statisticsView = nullptr;

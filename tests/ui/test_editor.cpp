@@ -627,6 +627,51 @@ private slots:
     QVERIFY(window->logText().contains("cancelled"));
   }
 
+  // Generating the levels from a pixel budget runs off the UI thread behind a progress
+  // dialog: Cancel (the worker held by the test hook until then) leaves the document as it
+  // was; a run that lands replaces the LOD set in one undo step.
+  void generateLevelsCancelThenLand() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Project project = document->project();
+    const int steps = document->undoStack()->count();
+    document->setWorkerHook([](const std::atomic<bool>& cancel) {
+      while (!cancel.load())
+        QThread::msleep(5);
+    });
+    QVERIFY(window->generateLevels(1.0, 4));
+    QVERIFY(document->isGeneratingLevels());
+    QTRY_VERIFY_WITH_TIMEOUT(window->levelsProgress() && window->levelsProgress()->isVisible(), 20000);
+    auto* cancel = window->levelsProgress()->findChild<QPushButton*>();
+    QVERIFY(cancel);
+    QTest::mouseClick(cancel, Qt::LeftButton);
+    QVERIFY(!document->isGeneratingLevels());
+    QVERIFY(!window->levelsProgress()->isVisible());
+    document->setWorkerHook({});
+    QVERIFY(document->project() == project);
+    QCOMPARE(document->undoStack()->count(), steps);
+    QVERIFY(window->logText().contains("Level generation cancelled"));
+
+    QSignalSpy finished(document, &Document::levelGenerationFinished);
+    QTRY_VERIFY_WITH_TIMEOUT(!document->isLevelWorkerBusy(), 20000); // the held worker returns after the cancel
+    QVERIFY(window->generateLevels(1.0, 4));
+    QVERIFY(finished.wait(120000));
+    QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
+    QCOMPARE(document->undoStack()->count(), steps + 1);
+    const LodSet& lods = document->project().lods;
+    QCOMPARE(lods.levels.size(), std::size_t(4));
+    QVERIFY(!lods.validate());
+    QCOMPARE(lods.levels[0].motionThreshold, 0.0);
+    QVERIFY(lods.levels[3].switchDistanceCm > 0.0);
+    QVERIFY(lods.boundingRadiusCm > 0.0);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 4);
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->analysis()->levelCount(), 4);
+    document->undoStack()->undo();
+    QVERIFY(document->project().lods == project.lods);
+  }
+
   // The Table 1 view shows exactly what `motionlod simplify` prints for the same settings.
   void table1MatchesCommandLine() {
     auto window = openSample();

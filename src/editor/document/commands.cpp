@@ -25,15 +25,15 @@ SetLevels::SetLevels(Document* document, State before, State after, const QStrin
     : QUndoCommand(text), m_document(document), m_before(std::move(before)), m_after(std::move(after)), m_id(id),
       m_level(level) {}
 
-void SetLevels::undo() { m_document->setLevels(m_before.levels, m_before.joints); }
-void SetLevels::redo() { m_document->setLevels(m_after.levels, m_after.joints); }
+void SetLevels::undo() { m_document->setLevels(m_before.lods, m_before.joints); }
+void SetLevels::redo() { m_document->setLevels(m_after.lods, m_after.joints); }
 
 bool SetLevels::mergeWith(const QUndoCommand* other) {
   const auto* next = static_cast<const SetLevels*>(other);
-  if (next->m_level != m_level || next->m_after.levels.size() != m_after.levels.size())
+  if (next->m_level != m_level || next->m_after.lods.levels.size() != m_after.lods.levels.size())
     return false;
   m_after = next->m_after;
-  setObsolete(m_after.levels == m_before.levels && m_after.joints == m_before.joints);
+  setObsolete(m_after.lods == m_before.lods && m_after.joints == m_before.joints);
   return true;
 }
 

@@ -50,7 +50,7 @@ private:
 class SetLevels : public QUndoCommand {
 public:
   struct State {
-    std::vector<LodLevel> levels;                             // the project's LodSet levels
+    LodSet lods;                                              // the project's LOD set
     std::vector<std::map<std::string, JointSettings>> joints; // per asset
   };
   // Merges with the previous command of the same id and `level` (a spin box's steps).

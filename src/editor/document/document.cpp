@@ -36,6 +36,7 @@ Document::Document(QObject* parent)
     emit unitScaleChanged(false, reason);
   });
   connect(&m_watcher, &QFutureWatcherBase::finished, this, &Document::onAnalysisDone);
+  connect(&m_levelsWatcher, &QFutureWatcherBase::finished, this, &Document::onLevelsGenerated);
   connect(m_loader, &ImportJob::finished, this, [this](const QString& path, std::shared_ptr<const Asset> asset) {
     if (!m_toLoad.empty()) {
       const int index = m_toLoad.front();
@@ -65,6 +66,9 @@ Document::~Document() {
   if (m_cancel)
     m_cancel->store(true);
   m_watcher.waitForFinished();
+  if (m_levelsCancel)
+    m_levelsCancel->store(true);
+  m_levelsWatcher.waitForFinished();
 }
 
 QString Document::assetFilePath(int index) const {
@@ -325,7 +329,7 @@ void Document::applyToChildren(int joint) {
 namespace {
 SetLevels::State levelState(const Project& project) {
   SetLevels::State state;
-  state.levels = project.lods.levels;
+  state.lods = project.lods;
   for (const ProjectAsset& asset : project.assets)
     state.joints.push_back(asset.joints);
   return state;
@@ -409,7 +413,7 @@ void Document::setLevelThreshold(int level, double threshold) {
       m_project.lods.levels[static_cast<std::size_t>(level)].motionThreshold == threshold)
     return;
   SetLevels::State after = levelState(m_project);
-  after.levels[static_cast<std::size_t>(level)].motionThreshold = threshold;
+  after.lods.levels[static_cast<std::size_t>(level)].motionThreshold = threshold;
   m_undo->push(new SetLevels(this, levelState(m_project), std::move(after),
                              tr("Set level %1 threshold to %2").arg(level).arg(threshold), kCommandSetLevelThreshold,
                              level));
@@ -427,7 +431,7 @@ bool Document::renameLevel(int level, const QString& name, QString* out_error) {
   if (m_project.lods.levels[std::size_t(level)].name == text)
     return true;
   SetLevels::State after = levelState(m_project);
-  after.levels[static_cast<std::size_t>(level)].name = text;
+  after.lods.levels[static_cast<std::size_t>(level)].name = text;
   m_undo->push(new SetLevels(this, levelState(m_project), std::move(after),
                              tr("Rename level %1 to %2").arg(level).arg(name.trimmed())));
   return true;
@@ -443,7 +447,7 @@ bool Document::setLevelMeshRatio(int level, double ratio, QString* out_error) {
   if (m_project.lods.levels[std::size_t(level)].meshRatio == ratio)
     return true;
   SetLevels::State after = levelState(m_project);
-  after.levels[static_cast<std::size_t>(level)].meshRatio = ratio;
+  after.lods.levels[static_cast<std::size_t>(level)].meshRatio = ratio;
   m_undo->push(new SetLevels(this, levelState(m_project), std::move(after),
                              tr("Set level %1 mesh ratio to %2").arg(level).arg(ratio), kCommandSetLevelMeshRatio, level));
   return true;
@@ -465,12 +469,71 @@ bool Document::setLevelSwitchDistance(int level, double cm, QString* out_error) 
     return true;
   SetLevels::State after = levelState(m_project);
   for (int i = level; i < count; ++i) // later levels nearer than this one move out with it
-    if (i == level || after.levels[std::size_t(i)].switchDistanceCm < cm)
-      after.levels[std::size_t(i)].switchDistanceCm = cm;
+    if (i == level || after.lods.levels[std::size_t(i)].switchDistanceCm < cm)
+      after.lods.levels[std::size_t(i)].switchDistanceCm = cm;
   m_undo->push(new SetLevels(this, levelState(m_project), std::move(after),
                              tr("Set level %1 switch distance to %2 cm").arg(level).arg(cm),
                              kCommandSetLevelSwitchDistance, level));
   return true;
+}
+
+bool Document::generateLevels(double pixels, int levels, QString* out_error) {
+  const Asset* a = currentAssetPtr();
+  if (!a)
+    return refuse(out_error, tr("no asset in view"));
+  if (m_levelsWatcher.isRunning())
+    return refuse(out_error, tr("the previous generation is still running"));
+  if (!(pixels > 0.0) || !std::isfinite(pixels) || levels < 1)
+    return refuse(out_error, tr("a budget is > 0 pixels and at least one level"));
+  LodBudgetOptions options;
+  options.jpc = m_project.jpcSettings(currentAsset(), a->unitScale);
+  options.projection = m_project.lods.projection;
+  m_levelsCancel = std::make_shared<std::atomic<bool>>(false);
+  m_levelsRunning = true;
+  m_levelsText = tr("Generate %1 levels within %2 px").arg(levels).arg(pixels);
+  emit levelGenerationStarted();
+  m_levelsWatcher.setFuture(QtConcurrent::run([asset = m_assets[std::size_t(currentAsset())], options, pixels, levels,
+                                               cancel = m_levelsCancel, hook = m_hook]() {
+    if (hook)
+      hook(*cancel);
+    if (cancel->load())
+      return std::shared_ptr<Result<LodSet>>();
+    return std::make_shared<Result<LodSet>>(LodSet::fromPixelBudget(*asset, pixels, levels, options));
+  }));
+  return true;
+}
+
+void Document::cancelLevelGeneration() {
+  if (!m_levelsRunning)
+    return;
+  m_levelsCancel->store(true);
+  m_levelsRunning = false;
+  emit message(tr("Level generation cancelled; the levels are as they were"));
+  emit levelGenerationFinished(false, tr("cancelled"));
+}
+
+void Document::onLevelsGenerated() {
+  const std::shared_ptr<Result<LodSet>> result = m_levelsWatcher.result();
+  if (!m_levelsRunning || (m_levelsCancel && m_levelsCancel->load()))
+    return; // cancelled: already reported, the result is dropped
+  m_levelsRunning = false;
+  if (!result || !*result) {
+    const QString reason = result ? QString::fromStdString(result->message()) : tr("no result");
+    emit message(tr("warning: level generation: %1").arg(reason));
+    emit levelGenerationFinished(false, reason);
+    return;
+  }
+  const LodSet& generated = result->value();
+  std::vector<int> order(generated.levels.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i < m_project.lods.levels.size() ? static_cast<int>(i) : -1;
+  Project copy = m_project;
+  remapLevels(copy, order, generated.levels);
+  copy.lods = generated;
+  SetLevels::State after = levelState(copy);
+  m_undo->push(new SetLevels(this, levelState(m_project), std::move(after), m_levelsText));
+  emit message(m_levelsText);
+  emit levelGenerationFinished(true, m_levelsText);
 }
 
 void Document::setAssetUnitScale(int index, double cmPerUnit) {
@@ -509,12 +572,11 @@ void Document::setJointSettings(int asset, const std::map<std::string, JointSett
     requestAnalysis(true);
 }
 
-void Document::setLevels(const std::vector<LodLevel>& levels,
-                         const std::vector<std::map<std::string, JointSettings>>& joints) {
-  m_project.lods.levels = levels;
+void Document::setLevels(const LodSet& lods, const std::vector<std::map<std::string, JointSettings>>& joints) {
+  m_project.lods = lods;
   for (std::size_t a = 0; a < joints.size() && a < m_project.assets.size(); ++a)
     m_project.assets[a].joints = joints[a];
-  m_project.view.level = std::clamp(m_project.view.level, 0, static_cast<int>(levels.size()) - 1);
+  m_project.view.level = std::clamp(m_project.view.level, 0, static_cast<int>(lods.levels.size()) - 1);
   emit settingsChanged();
   emit currentChanged();
   requestAnalysis(true);

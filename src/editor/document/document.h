@@ -92,6 +92,16 @@ public:
   bool setLevelMeshRatio(int level, double ratio, QString* out_error = nullptr);  // (0, 1]
   // cm, at least the previous level's; later levels nearer than `cm` move out to it (same step).
   bool setLevelSwitchDistance(int level, double cm, QString* out_error = nullptr);
+  // Generates the LOD set from a pixel budget off the UI thread (LodSet::fromPixelBudget:
+  // motion and mesh levels together, for the asset in view with the project's JPC settings,
+  // `levels` levels within `pixels` on screen); one undo step when it lands, per-joint
+  // overrides kept by level index. Cancelling drops the result: the document stays as it was
+  // (the core call has no cancel point, so the worker finishes in the background).
+  // Returns false (with a reason) when no asset is in view or a generation still runs.
+  bool generateLevels(double pixels, int levels, QString* out_error = nullptr);
+  void cancelLevelGeneration();
+  bool isGeneratingLevels() const { return m_levelsRunning; }
+  bool isLevelWorkerBusy() const { return m_levelsWatcher.isRunning(); } // a cancelled one may still run
   // Imports the asset's file again at `cmPerUnit` (0 = the file's own) in the background,
   // then pushes one command; unitScaleChanged() follows either way.
   void setAssetUnitScale(int index, double cmPerUnit);
@@ -111,7 +121,7 @@ public:
   void setProjectAlpha(double alpha);
   void setProjectMode(JpcMode mode);
   void setJointSettings(int asset, const std::map<std::string, JointSettings>& joints);
-  void setLevels(const std::vector<LodLevel>& levels, const std::vector<std::map<std::string, JointSettings>>& joints);
+  void setLevels(const LodSet& lods, const std::vector<std::map<std::string, JointSettings>>& joints);
   void insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);
   void eraseAsset(int index);
   void replaceAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);
@@ -129,6 +139,8 @@ signals:
   void projectOpened(bool ok, const QString& message);
   void unitScaleChanged(bool ok, const QString& message);
   void message(const QString& line); // for the log
+  void levelGenerationStarted();
+  void levelGenerationFinished(bool ok, const QString& message);
 
 private:
   // `fromEdit`: an edit (a command's setter) asks; cancelling its job takes the edit back.
@@ -136,6 +148,7 @@ private:
   void startAnalysis();
   void onAnalysisDone();
   void importNextMissing();
+  void onLevelsGenerated();
   std::string jointName(int joint) const;
 
   Project m_project;
@@ -155,6 +168,11 @@ private:
   bool m_pendingFromEdit = false; // likewise for the request waiting behind it
   qint64 m_requestedAt = 0;
   double m_lastMs = 0.0;
+
+  QFutureWatcher<std::shared_ptr<Result<LodSet>>> m_levelsWatcher;
+  std::shared_ptr<std::atomic<bool>> m_levelsCancel;
+  bool m_levelsRunning = false;
+  QString m_levelsText; // the undo text of the running generation
 
   ImportJob* m_loader = nullptr;
   ImportJob* m_reimport = nullptr; // setAssetUnitScale()
