@@ -37,6 +37,8 @@ void BenchCrowdCommand::attach(CLI::App& app) {
   command->add_option("--repetitions", repetitions, "timed repetitions of each side (default 5; median)")
       ->check(CLI::Range(1, 1000));
   command->add_flag("--palette-only", paletteOnly, "write the skinning palette only, no model matrices");
+  command->add_flag("--no-folding", noFolding,
+                    "with --palette-only: compute frozen joints from their parents instead of folding frozen chains");
   command->add_option("--only", only, "full or lod: run one side only, no warm-up (for callgrind)")
       ->check(CLI::IsMember({"full", "lod"}));
   command->add_flag("--json", json, "print one JSON document on stdout");
@@ -187,6 +189,7 @@ int BenchCrowdCommand::run() const {
       job.clips = side.clips;
       job.times = times;
       job.blendFrames = blendFrames;
+      job.folding = !noFolding;
       job.pool = &pool;
       job.context = &side.context;
       job.out_models = models;
@@ -261,6 +264,7 @@ int BenchCrowdCommand::run() const {
   doc["threads"] = threads;
   doc["blend_frames"] = blendFrames;
   doc["outputs"] = paletteOnly ? "palette" : "models+palette";
+  doc["folding"] = !noFolding && paletteOnly; // folding applies to palette-only jobs
   doc["repetitions"] = repetitions;
   doc["joints"] = joints;
   doc["animated_joints"] = animated;

@@ -24,9 +24,9 @@
 //     nlerp(identity, D, 1 - (f - last) / N) * S(f),
 // where S(f) is M'(f) with frame `last` reading its original rotation q(last) instead of
 // the key, and D = key * q(last)^-1: the cluster's own error at its last frame. It equals
-// the key at f = last and M'(f) from f = last + N on, and differs from M'(f) inside by at
-// most the angle of D, an error M' already makes inside the cluster; each frame it moves by
-// the original motion plus 1/N of that angle. Windows of consecutive clusters that
+// the key at f = last and M'(f) from f = last + N on, and differs from M'(f) inside by
+// about the angle of D at most, an error M' already makes inside the cluster; each frame it
+// moves by the original motion plus 1/N of that angle. Windows of consecutive clusters that
 // overlap compose (older offsets outermost).
 
 #include <glm/glm.hpp>

@@ -67,38 +67,42 @@ inline void mulAffine(const float* __restrict a, const float* __restrict b, floa
   store4(out + 12, a0 * b[12] + a1 * b[13] + a2 * b[14] + a3);
 }
 
-// nlerp of a block's 8 rotation pairs (stored rotations are sign-aligned: no sign test).
-inline void nlerpBlock(float* __restrict b, float fraction) {
+// Lerp of a block's 8 rotation pairs (stored rotations are sign-aligned: no sign test). Not
+// normalised: matrixBlock() divides by the squared length, so that blend offsets can be
+// composed as plain products.
+inline void lerpBlock(float* __restrict b, float fraction) {
   for (int l = 0; l < kLanes; ++l) {
-    const float x = b[kAx * kLanes + l] + (b[kBx * kLanes + l] - b[kAx * kLanes + l]) * fraction;
-    const float y = b[kAy * kLanes + l] + (b[kBy * kLanes + l] - b[kAy * kLanes + l]) * fraction;
-    const float z = b[kAz * kLanes + l] + (b[kBz * kLanes + l] - b[kAz * kLanes + l]) * fraction;
-    const float w = b[kAw * kLanes + l] + (b[kBw * kLanes + l] - b[kAw * kLanes + l]) * fraction;
-    const float inverse = 1.0f / std::sqrt(x * x + y * y + z * z + w * w);
-    b[kQx * kLanes + l] = x * inverse;
-    b[kQy * kLanes + l] = y * inverse;
-    b[kQz * kLanes + l] = z * inverse;
-    b[kQw * kLanes + l] = w * inverse;
+    b[kQx * kLanes + l] = b[kAx * kLanes + l] + (b[kBx * kLanes + l] - b[kAx * kLanes + l]) * fraction;
+    b[kQy * kLanes + l] = b[kAy * kLanes + l] + (b[kBy * kLanes + l] - b[kAy * kLanes + l]) * fraction;
+    b[kQz * kLanes + l] = b[kAz * kLanes + l] + (b[kBz * kLanes + l] - b[kAz * kLanes + l]) * fraction;
+    b[kQw * kLanes + l] = b[kAw * kLanes + l] + (b[kBw * kLanes + l] - b[kAw * kLanes + l]) * fraction;
   }
 }
 
-// Rotation matrices of a block's 8 rotations (glm::mat3_cast), columns scaled.
+// Rotation matrices of a block's 8 quaternions, of any non-zero length (glm::mat3_cast of
+// the normalised quaternion: 2 becomes 2 / |q|^2), columns scaled.
 inline void matrixBlock(float* __restrict b) {
   for (int l = 0; l < kLanes; ++l) {
     const float x = b[kQx * kLanes + l], y = b[kQy * kLanes + l], z = b[kQz * kLanes + l], w = b[kQw * kLanes + l];
-    const float xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z, wx = w * x, wy = w * y,
-                wz = w * z;
+    const float two = 2.0f / (x * x + y * y + z * z + w * w);
+    const float xx = x * x * two, yy = y * y * two, zz = z * z * two, xy = x * y * two, xz = x * z * two,
+                yz = y * z * two, wx = w * x * two, wy = w * y * two, wz = w * z * two;
     const float sx = b[kSx * kLanes + l], sy = b[kSy * kLanes + l], sz = b[kSz * kLanes + l];
-    b[kM00 * kLanes + l] = (1.0f - 2.0f * (yy + zz)) * sx;
-    b[kM01 * kLanes + l] = 2.0f * (xy + wz) * sx;
-    b[kM02 * kLanes + l] = 2.0f * (xz - wy) * sx;
-    b[kM10 * kLanes + l] = 2.0f * (xy - wz) * sy;
-    b[kM11 * kLanes + l] = (1.0f - 2.0f * (xx + zz)) * sy;
-    b[kM12 * kLanes + l] = 2.0f * (yz + wx) * sy;
-    b[kM20 * kLanes + l] = 2.0f * (xz + wy) * sz;
-    b[kM21 * kLanes + l] = 2.0f * (yz - wx) * sz;
-    b[kM22 * kLanes + l] = (1.0f - 2.0f * (xx + yy)) * sz;
+    b[kM00 * kLanes + l] = (1.0f - (yy + zz)) * sx;
+    b[kM01 * kLanes + l] = (xy + wz) * sx;
+    b[kM02 * kLanes + l] = (xz - wy) * sx;
+    b[kM10 * kLanes + l] = (xy - wz) * sy;
+    b[kM11 * kLanes + l] = (1.0f - (xx + zz)) * sy;
+    b[kM12 * kLanes + l] = (yz + wx) * sy;
+    b[kM20 * kLanes + l] = (xz + wy) * sz;
+    b[kM21 * kLanes + l] = (yz - wx) * sz;
+    b[kM22 * kLanes + l] = (1.0f - (xx + yy)) * sz;
   }
+}
+
+// nlerp(identity, offset, weight) before normalisation: (1 - weight) identity + weight offset.
+inline glm::quat lerpOffset(const glm::quat& offset, float weight) {
+  return glm::quat(1.0f - weight + weight * offset.w, weight * offset.x, weight * offset.y, weight * offset.z);
 }
 
 glm::quat positiveW(const glm::quat& q) { return q.w < 0.0f ? -q : q; }
@@ -456,10 +460,11 @@ struct PoseEvaluation {
       b[kAx * kLanes] = b[kAy * kLanes] = b[kAz * kLanes] = b[kBx * kLanes] = b[kBy * kLanes] = b[kBz * kLanes] = 0.0f;
       b[kAw * kLanes] = b[kBw * kLanes] = b[kSx * kLanes] = b[kSy * kLanes] = b[kSz * kLanes] = 1.0f;
     }
-    // 2. nlerp, 8 joints at once
+    // 2. lerp, 8 joints at once
     for (int block = 0; block < blocks; ++block)
-      nlerpBlock(soa + static_cast<std::size_t>(block) * kBlockFloats, fraction);
-    // 3. blend offsets of the few joints that resume (older offsets outermost)
+      lerpBlock(soa + static_cast<std::size_t>(block) * kBlockFloats, fraction);
+    // 3. blend offsets of the few joints that resume (older offsets outermost), as products
+    //    of unnormalised quaternions (each offset's nlerp normalisation is the final one's)
     const float inverseBlendFrames = job.blendFrames > 0 ? 1.0f / static_cast<float>(job.blendFrames) : 0.0f;
     for (int n = 0; n < blendCount; ++n) {
       const int j = blending[2 * n];
@@ -467,20 +472,23 @@ struct PoseEvaluation {
       b = lane(blending[2 * n + 1]);
       glm::quat q(b[kQw * kLanes], b[kQx * kLanes], b[kQy * kLanes], b[kQz * kLanes]);
       const LodClip::Cluster* clusters = clip.clusters(j).data();
-      if (ctx.m_windowCount[i] > 0 && clusters[ctx.m_windowLatest[i]].last == i0) {
+      const int windows = ctx.m_windowCount[i];
+      const int latest = ctx.m_windowLatest[i];
+      if (windows > 0 && clusters[latest].last == i0) {
         // [last, last + 1) of the cluster it leaves: S starts from q(last), not the key
-        const glm::quat& a = clusters[ctx.m_windowLatest[i]].lastRotation;
-        q = glm::normalize(glm::quat(a.w + (b[kBw * kLanes] - a.w) * fraction, a.x + (b[kBx * kLanes] - a.x) * fraction,
-                                     a.y + (b[kBy * kLanes] - a.y) * fraction, a.z + (b[kBz * kLanes] - a.z) * fraction));
+        const glm::quat& a = clusters[latest].lastRotation;
+        q = glm::quat(a.w + (b[kBw * kLanes] - a.w) * fraction, a.x + (b[kBx * kLanes] - a.x) * fraction,
+                      a.y + (b[kBy * kLanes] - a.y) * fraction, a.z + (b[kBz * kLanes] - a.z) * fraction);
       }
-      for (int w = 0, cc = ctx.m_windowLatest[i]; w < ctx.m_windowCount[i]; ++w, --cc) {
-        const float weight = std::clamp(static_cast<float>(f - clusters[cc].last) * inverseBlendFrames, 0.0f, 1.0f);
-        q = scaleOffset(clusters[cc].exitOffset, 1.0f - weight) * q;
+      for (int w = 0; w < windows; ++w) {
+        const LodClip::Cluster& cluster = clusters[latest - w];
+        const float weight = std::clamp(static_cast<float>(f - cluster.last) * inverseBlendFrames, 0.0f, 1.0f);
+        q = lerpOffset(cluster.exitOffset, 1.0f - weight) * q;
       }
       if (status[j] & kWrap)
-        q = scaleOffset(ctx.m_wrapOffset[i], 1.0f - std::min(static_cast<float>(f) * inverseBlendFrames, 1.0f)) * q;
+        q = lerpOffset(ctx.m_wrapOffset[i], 1.0f - std::min(static_cast<float>(f) * inverseBlendFrames, 1.0f)) * q;
       if (status[j] & kLevel)
-        q = scaleOffset(ctx.m_levelOffset[i], levelWeight) * q;
+        q = lerpOffset(ctx.m_levelOffset[i], levelWeight) * q;
       b[kQx * kLanes] = q.x;
       b[kQy * kLanes] = q.y;
       b[kQz * kLanes] = q.z;
