@@ -233,7 +233,8 @@ struct PoseEvaluation {
   // another constant local matrix. Written without branches on the joint's state where it
   // can be: which joints have events differs from character to character, and a
   // mispredicted branch costs as much as a matrix product.
-  static bool updateJoint(const PoseEvaluatorJob& job, const State& st, std::size_t i, int j, std::int32_t i0) {
+  static bool updateJoint(const PoseEvaluatorJob& job, const State& st, std::size_t i, int j, std::int32_t i0,
+                          bool full) {
     PoseEvaluatorContext& ctx = *job.context;
     const LodClip& clip = *st.clip;
     const int blendFrames = job.blendFrames;
@@ -277,7 +278,7 @@ struct PoseEvaluation {
                                                           (level ? kLevel : 0) | (wrap ? kWrap : 0));
     ctx.m_status[i] = status;
     ctx.m_constLocal[i] = constant ? local : nullptr;
-    if (constant && oldLocal != local)
+    if (constant && (oldLocal != local || full)) // (full: the clip may be new at an old address)
       ctx.m_local[i] = *local; // the character's own copy: read every frame, next to its other state
     ctx.m_rotationIndex[i] = rotationIndex;
     ctx.m_rotationStep[i] = rotationStep;
@@ -313,7 +314,7 @@ struct PoseEvaluation {
     std::int32_t active = st.activeCount;
     const auto reread = [&](int j) {
       const std::uint8_t before = statuses[j];
-      const bool toggled = updateJoint(job, st, base + static_cast<std::size_t>(j), j, i0) || full;
+      const bool toggled = updateJoint(job, st, base + static_cast<std::size_t>(j), j, i0, full) || full;
       const std::uint8_t status = statuses[j];
       changed[j] = changed[j] | toggled;
       firstChanged = toggled ? std::min(firstChanged, j) : firstChanged;
