@@ -373,6 +373,7 @@ void MainWindow::buildDocks() {
   m_levelsView->setSelectionMode(QAbstractItemView::SingleSelection);
   m_levelsView->horizontalHeader()->setStretchLastSection(true);
   m_levelsView->verticalHeader()->hide();
+  m_levelsView->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
   connect(m_levelsView->selectionModel(), &QItemSelectionModel::currentRowChanged, this,
           [this](const QModelIndex& current) {
             if (current.isValid())

@@ -23,6 +23,7 @@
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
+#include <QInputDialog>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -670,6 +671,47 @@ private slots:
     QCOMPARE(document->analysis()->levelCount(), 4);
     document->undoStack()->undo();
     QVERIFY(document->project().lods == project.lods);
+  }
+
+  // On a character (a skinned mesh) with a motion assigned, the generated levels reduce the
+  // mesh too, and hold for the assigned motion (retargeted) as well as the character's own clip.
+  void generateLevelsForACharacter() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QSignalSpy imported(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0);
+    QVERIFY(imported.wait(60000));
+    document->setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    QVERIFY(document->assignMotion(0, 1));
+    document->setCurrentAsset(1);
+    QVERIFY(waitForFigures(document));
+    QSignalSpy finished(document, &Document::levelGenerationFinished);
+    // Two modal input dialogs (pixels, then levels) open inside the click: a timer answers each.
+    int answered = 0;
+    QTimer answer;
+    connect(&answer, &QTimer::timeout, this, [&answered] {
+      auto* dialog = qobject_cast<QInputDialog*>(QApplication::activeModalWidget());
+      if (!dialog)
+        return;
+      if (dialog->inputMode() == QInputDialog::IntInput)
+        dialog->setIntValue(3);
+      ++answered;
+      QTest::keyClick(dialog, Qt::Key_Return);
+    });
+    answer.start(20);
+    QTest::mouseClick(window->findChild<QToolButton*>("generateLevelsButton"), Qt::LeftButton);
+    answer.stop();
+    QCOMPARE(answered, 2);
+    QVERIFY(finished.wait(240000));
+    QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
+    const LodSet& lods = document->project().lods;
+    QCOMPARE(lods.levels.size(), std::size_t(3));
+    QVERIFY(!lods.validate());
+    QVERIFY(lods.levels[0].triangles > 0);
+    QVERIFY(lods.levels[2].meshRatio < 1.0);
+    QVERIFY(lods.levels[2].switchDistanceCm >= lods.levels[1].switchDistanceCm);
   }
 
   // The Table 1 view shows exactly what `motionlod simplify` prints for the same settings.

@@ -492,12 +492,30 @@ bool Document::generateLevels(double pixels, int levels, QString* out_error) {
   m_levelsRunning = true;
   m_levelsText = tr("Generate %1 levels within %2 px").arg(levels).arg(pixels);
   emit levelGenerationStarted();
+  // Motions assigned to this character play on it too: every level must hold for them.
+  std::vector<std::pair<std::shared_ptr<const Asset>, MotionMapping>> motions;
+  for (const ProjectMapping& mapping : m_project.mappings)
+    if (mapping.character == currentAsset() && mapping.motion < assetCount() && m_assets[std::size_t(mapping.motion)])
+      motions.emplace_back(m_assets[std::size_t(mapping.motion)], mapping.mapping);
   m_levelsWatcher.setFuture(QtConcurrent::run([asset = m_assets[std::size_t(currentAsset())], options, pixels, levels,
-                                               cancel = m_levelsCancel, hook = m_hook]() {
+                                               motions, cancel = m_levelsCancel, hook = m_hook]() mutable {
     if (hook)
       hook(*cancel);
     if (cancel->load())
       return std::shared_ptr<Result<LodSet>>();
+    std::vector<Clip> clips;
+    for (const auto& [motion, mapping] : motions) {
+      Result<RestPoseDifferences> differences = restPoseDifferences(mapping, motion->skeleton, asset->skeleton);
+      if (!differences)
+        return std::make_shared<Result<LodSet>>(Error("mapping of " + mapping.motionName + ": " + differences.message()));
+      for (const Clip& clip : motion->clips) {
+        Result<Clip> retargeted = retargetClip(*differences, motion->skeleton, clip, asset->skeleton);
+        if (!retargeted)
+          return std::make_shared<Result<LodSet>>(Error(mapping.motionName + ": " + retargeted.message()));
+        clips.push_back(std::move(retargeted).value());
+      }
+    }
+    options.clips = clips;
     return std::make_shared<Result<LodSet>>(LodSet::fromPixelBudget(*asset, pixels, levels, options));
   }));
   return true;

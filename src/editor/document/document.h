@@ -94,7 +94,8 @@ public:
   bool setLevelSwitchDistance(int level, double cm, QString* out_error = nullptr);
   // Generates the LOD set from a pixel budget off the UI thread (LodSet::fromPixelBudget:
   // motion and mesh levels together, for the asset in view with the project's JPC settings,
-  // `levels` levels within `pixels` on screen); one undo step when it lands, per-joint
+  // `levels` levels within `pixels` on screen, holding for the motions assigned to it too,
+  // retargeted); one undo step when it lands, per-joint
   // overrides kept by level index. Cancelling drops the result: the document stays as it was
   // (the core call has no cancel point, so the worker finishes in the background).
   // Returns false (with a reason) when no asset is in view or a generation still runs.
