@@ -1,6 +1,8 @@
 #pragma once
 // Runs `motionlod` with arguments and captures what it printed and its exit status.
 
+#include <nlohmann/json.hpp>
+
 #include <string>
 #include <vector>
 
@@ -13,5 +15,13 @@ struct CliRun {
 };
 
 CliRun runMotionlod(const std::vector<std::string>& arguments);
+
+// The keys of a JSON object, in the document's (sorted) order.
+inline std::vector<std::string> keysOf(const nlohmann::json& object) {
+  std::vector<std::string> keys;
+  for (const auto& item : object.items())
+    keys.push_back(item.key());
+  return keys;
+}
 
 } // namespace mlod::test

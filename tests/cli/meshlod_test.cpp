@@ -11,14 +11,8 @@
 namespace mlod {
 namespace {
 
+using test::keysOf;
 using test::runMotionlod;
-
-std::vector<std::string> keysOf(const nlohmann::json& object) {
-  std::vector<std::string> keys;
-  for (const auto& item : object.items())
-    keys.push_back(item.key());
-  return keys;
-}
 
 // Guards the JSON document: the keys, one level per ratio in order, counts falling
 // with the ratio, max_error in cm, warning null where the ratio is reached.

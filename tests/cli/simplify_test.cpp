@@ -10,14 +10,8 @@
 namespace mlod {
 namespace {
 
+using test::keysOf;
 using test::runMotionlod;
-
-std::vector<std::string> keysOf(const nlohmann::json& object) {
-  std::vector<std::string> keys;
-  for (const auto& item : object.items())
-    keys.push_back(item.key());
-  return keys;
-}
 
 // Guards the JSON document: keys exactly as DESIGN.md lists them, one entry per threshold,
 // the defaults (greedy, alpha 5), the CMU clip's figures.
