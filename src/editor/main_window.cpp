@@ -474,6 +474,8 @@ void MainWindow::buildDocks() {
   connect(m_document, &Document::analysisFinished, this, [this](bool ok, const QString& message) {
     if (m_analysisProgress)
       m_analysisProgress->reset();
+    if (ok && m_document->currentJoint() < 0)
+      selectDefaultJoint();
     refreshViews();
     if (ok && m_document->analysis())
       statusBar()->showMessage(message, 4000);
@@ -663,6 +665,24 @@ std::vector<int> MainWindow::selectedJoints() const {
     joints.push_back(m_document->currentJoint());
   std::sort(joints.begin(), joints.end());
   return joints;
+}
+
+void MainWindow::selectDefaultJoint() {
+  // So that the clustering table and the trajectory show something as soon as a clip
+  // opens: the joint with a child (a direction) and the most clusters at the level in view.
+  const auto analysis = m_document->analysis();
+  const Asset* asset = m_document->currentAssetPtr();
+  const int level = m_document->currentLevel();
+  if (!analysis || !asset || level < 0 || level >= analysis->levelCount())
+    return;
+  const std::vector<JointMetrics>& joints = analysis->levels[std::size_t(level)].joints;
+  int best = -1;
+  for (int j = 0; j < int(joints.size()) && j < asset->skeleton.jointCount(); ++j)
+    if (joints[std::size_t(j)].clusterable && !asset->skeleton.children(j).empty() &&
+        (best < 0 || joints[std::size_t(j)].clusters > joints[std::size_t(best)].clusters))
+      best = j;
+  if (best >= 0)
+    m_document->setCurrentJoint(best);
 }
 
 void MainWindow::refreshViews() {

@@ -101,6 +101,7 @@ private:
   void buildDocks();
   void buildActions();
   void refreshViews();
+  void selectDefaultJoint();
   void refreshStatus();
   void refreshTitle();
   void refreshRecentMenu();
