@@ -306,10 +306,7 @@ glm::quat LodClip::rotationAt(int joint, double frame, int blendFrames) const {
   return s;
 }
 
-glm::vec3 LodClip::translationAt(int joint, double frame) const {
-  const glm::vec3* track = translationTrack(joint);
-  if (!track)
-    return staticTranslation(joint);
+glm::vec3 LodClip::interpolate(const glm::vec3* track, double frame) const {
   std::int32_t i0 = 0;
   float fraction = 0.0f;
   split(frame, i0, fraction);
@@ -318,16 +315,14 @@ glm::vec3 LodClip::translationAt(int joint, double frame) const {
   return a + (b - a) * fraction;
 }
 
+glm::vec3 LodClip::translationAt(int joint, double frame) const {
+  const glm::vec3* track = translationTrack(joint);
+  return track ? interpolate(track, frame) : staticTranslation(joint);
+}
+
 glm::vec3 LodClip::scaleAt(int joint, double frame) const {
   const glm::vec3* track = scaleTrack(joint);
-  if (!track)
-    return staticScale(joint);
-  std::int32_t i0 = 0;
-  float fraction = 0.0f;
-  split(frame, i0, fraction);
-  const glm::vec3& a = track[i0];
-  const glm::vec3& b = track[std::min(i0 + 1, m_frameCount - 1)];
-  return a + (b - a) * fraction;
+  return track ? interpolate(track, frame) : staticScale(joint);
 }
 
 } // namespace mlod

@@ -192,6 +192,8 @@ public:
   }
 
 private:
+  // Linear interpolation of a per-frame track at a fractional frame.
+  glm::vec3 interpolate(const glm::vec3* track, double frame) const;
   double wrapped(double g, std::int64_t* out_loop) const;
 
   double m_fps = 30.0;

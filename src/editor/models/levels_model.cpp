@@ -10,22 +10,11 @@
 
 namespace mlod {
 
-LevelsModel::LevelsModel(Document* document, QObject* parent) : QAbstractTableModel(parent), m_document(document) {
-  m_rows = rowCount();
-  // A reset only when levels come or go: a reset in the middle of a delegate's commit would
-  // destroy the editor the view is still closing.
-  const auto reset = [this] {
-    if (rowCount() != m_rows) {
-      beginResetModel();
-      m_rows = rowCount();
-      endResetModel();
-    } else if (m_rows > 0) {
-      emit dataChanged(index(0, 0), index(m_rows - 1, ColumnCount - 1));
-    }
-  };
-  connect(document, &Document::settingsChanged, this, reset);
-  connect(document, &Document::currentChanged, this, reset);
-  connect(document, &Document::analysisFinished, this, reset);
+LevelsModel::LevelsModel(Document* document, QObject* parent) : DocumentTableModel(parent), m_document(document) {
+  syncRows();
+  connect(document, &Document::settingsChanged, this, &LevelsModel::refresh);
+  connect(document, &Document::currentChanged, this, &LevelsModel::refresh);
+  connect(document, &Document::analysisFinished, this, &LevelsModel::refresh);
 }
 
 int LevelsModel::rowCount(const QModelIndex& parent) const {

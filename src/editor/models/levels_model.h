@@ -4,14 +4,15 @@
 // Document) and the clip's simplified % there. Level 0 is the original: only its name can
 // be edited.
 
-#include <QAbstractTableModel>
+#include "editor/models/document_table_model.h"
+
 #include <QStyledItemDelegate>
 
 namespace mlod {
 
 class Document;
 
-class LevelsModel : public QAbstractTableModel {
+class LevelsModel : public DocumentTableModel {
   Q_OBJECT
 public:
   enum Column { NameColumn, ThresholdColumn, MeshRatioColumn, SwitchDistanceColumn, SimplifiedColumn, ColumnCount };
@@ -29,7 +30,6 @@ signals:
 
 private:
   Document* m_document;
-  int m_rows = 0; // rows the view knows of
 };
 
 // Spin boxes with the units and ranges of each column (threshold cm·degrees, ratio (0, 1],

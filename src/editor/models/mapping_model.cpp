@@ -8,19 +8,10 @@
 namespace mlod {
 
 MappingModel::MappingModel(Document* document, int mapping, QObject* parent)
-    : QAbstractTableModel(parent), m_document(document), m_mapping(mapping) {
-  m_rows = rowCount();
-  const auto refresh = [this] {
-    if (rowCount() != m_rows) {
-      beginResetModel();
-      m_rows = rowCount();
-      endResetModel();
-    } else if (m_rows > 0) {
-      emit dataChanged(index(0, 0), index(m_rows - 1, ColumnCount - 1));
-    }
-  };
-  connect(document, &Document::mappingsChanged, this, refresh);
-  connect(document, &Document::assetsChanged, this, refresh);
+    : DocumentTableModel(parent), m_document(document), m_mapping(mapping) {
+  syncRows();
+  connect(document, &Document::mappingsChanged, this, &MappingModel::refresh);
+  connect(document, &Document::assetsChanged, this, &MappingModel::refresh);
 }
 
 const ProjectMapping* MappingModel::current() const {

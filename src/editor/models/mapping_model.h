@@ -4,14 +4,15 @@
 // Edits go through the Document (one undo command each); the model follows the project, so
 // undo and redo show in the table.
 
-#include <QAbstractTableModel>
+#include "editor/models/document_table_model.h"
+
 #include <QStyledItemDelegate>
 
 namespace mlod {
 
 class Document;
 
-class MappingModel : public QAbstractTableModel {
+class MappingModel : public DocumentTableModel {
   Q_OBJECT
 public:
   enum Column { CharacterColumn, MotionColumn, ColumnCount };
@@ -34,7 +35,6 @@ private:
 
   Document* m_document;
   int m_mapping;
-  int m_rows = 0;
 };
 
 // A combo box of the motion's joints ("(none)" first) for the motion column.
