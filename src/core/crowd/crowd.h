@@ -1,0 +1,164 @@
+#pragma once
+// The crowd the studio previews (DESIGN.md section 7, "Crowd"; Ahn & Wohn, section 6.2:
+// "the detail of the motion and the geometry [chosen] by the distance between the camera and
+// the character's position"): N agents of one character on a grid or scattered, each playing
+// the clip from its own time offset, each at the LOD level the runtime's selection gives it
+// (lod_selection.h, with hysteresis), posed by the runtime's PoseEvaluatorJob, one job per
+// level (each level has its own reduced skeleton). What a frame costs is counted here, so
+// the editor only draws: agents per level, joints evaluated against full detail, vertices
+// skinned, and the CPU time of pose evaluation.
+//
+// Units: cm, seconds. Y is up (the ground is the XZ plane).
+
+#include "core/clip.h"
+#include "core/error.h"
+#include "core/jpc/jpc_settings.h"
+#include "core/lod/lod_set.h"
+#include "core/skeleton.h"
+#include "core/skinned_mesh.h"
+#include "runtime/lod_clip.h"
+#include "runtime/lod_selection.h"
+#include "runtime/pose_evaluator.h"
+
+#include <glm/glm.hpp>
+
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace mlod {
+
+// One LOD level as the crowd plays and draws it.
+struct CrowdLevel {
+  Skeleton skeleton;                      // the level's skeleton (bones reduced)
+  std::vector<std::int16_t> parents;      // of `skeleton`
+  std::vector<glm::mat4> inverseBinds;    // paletteInverseBinds(skeleton)
+  LodClip clip;                           // the level's motion (clusters on the reduced joints), looping
+  SkinnedMesh mesh;                       // the level's mesh; bone capsules for a skeleton without mesh
+  bool capsules = false;                  // `mesh` is bone capsules (no character mesh)
+  int fullDetailSampled = 0;              // joints a full-detail character samples per frame
+};
+
+// The levels of `lods` for `skeleton` playing `clip` (which must validate against it) with
+// `mesh` (null or a mesh that is not skinned: bone capsules are drawn instead): level i
+// clusters at its motion threshold with the JPC settings (per-joint overrides of level i),
+// removes the bones frozen throughout, and keeps levels[i].meshRatio of the triangles
+// (LodCharacter::build). `cancel` (may be null) is polled between levels.
+// Errors: invalid inputs, or a level that cannot be built; "cancelled" when cancelled.
+Result<std::vector<CrowdLevel>> buildCrowdLevels(const Skeleton& skeleton, const SkinnedMesh* mesh, const Clip& clip,
+                                                 const LodSet& lods, const JpcSettings& jpc = {},
+                                                 const std::atomic<bool>* cancel = nullptr);
+
+// A level at full detail alone (the original skeleton, clip and mesh, nothing simplified).
+Result<CrowdLevel> buildOriginalCrowdLevel(const Skeleton& skeleton, const SkinnedMesh* mesh, const Clip& clip);
+
+// Where the agents stand.
+struct CrowdLayout {
+  enum class Kind : std::uint8_t { Grid, Scattered };
+  Kind kind = Kind::Grid;
+  int agents = 100;          // 1 to kMaxCrowdAgents
+  float spacingCm = 200.0f;  // grid step; scattered agents fill the same square area
+  std::uint32_t seed = 1;    // scattered positions, yaws and time offsets
+  bool randomOffsets = true; // each agent its own time offset in [0, period); false: all 0
+};
+inline constexpr int kMaxCrowdAgents = 10000;
+
+struct CrowdAgent {
+  glm::vec3 position{0.0f}; // on the ground, cm; the grid is centred on the origin
+  float yawRadians = 0.0f;  // about +Y
+  double timeOffset = 0.0;  // seconds
+};
+
+// The agents of `layout` for a clip of `periodSeconds` (>= 0). Deterministic for a seed.
+// Grid: a square of ceil(sqrt(N)) columns, row by row. Scattered: uniform in that square.
+std::vector<CrowdAgent> layoutCrowd(const CrowdLayout& layout, double periodSeconds);
+
+// The runtime selection's view of a LodSet: the levels that can be reached and the
+// boundaries between them (lod_selection.h wants them strictly ascending distances or
+// strictly descending sizes, > 0). A level whose switch distance equals the next one's is
+// never used (the next takes over at the same distance), so it is left out; so is level 0
+// when level 1 switches in at distance 0.
+struct LodSwitches {
+  std::vector<int> levels;       // LodSet level of each selection level, ascending
+  std::vector<float> boundaries; // levels.size() - 1 entries
+};
+LodSwitches lodSwitchesByDistance(const LodSet& lods);
+LodSwitches lodSwitchesByScreenSize(const LodSet& lods);
+
+// Figures of the last update().
+struct CrowdFrameStats {
+  std::vector<int> agentsPerLevel; // indexed by crowd level (= LodSet level)
+  std::int64_t jointsEvaluated = 0;  // joints whose local matrix was computed (PoseEvaluatorContext::jointsSampled)
+  std::int64_t jointsFullDetail = 0; // what every agent at full detail would have computed
+  std::int64_t verticesSkinned = 0;  // vertices of each agent's level mesh, summed
+  std::int64_t planRebuilds = 0;
+  double poseCpuMs = 0.0;            // CPU time of the selection and pose evaluation (this thread), ms
+};
+
+// A crowd: levels, agents, and per frame their levels and skinning palettes.
+class Crowd {
+public:
+  struct Selection {
+    LodSelectionJob::Mode mode = LodSelectionJob::Mode::Distance;
+    float hysteresis = 0.1f;       // [0, 1)
+    ScreenProjection projection;   // ScreenSize mode
+    float boundingRadiusCm = 100.0f; // ScreenSize mode
+    int forcedLevel = -1;          // >= 0: every agent at this level (clamped), no selection
+  };
+
+  // `levels` (at least one; level 0 the original). Forgets the agents' levels and state.
+  void setLevels(std::vector<CrowdLevel> levels);
+  void setAgents(std::vector<CrowdAgent> agents);
+  void setSelection(const Selection& selection) { m_selection = selection; }
+  // Where the LOD set switches (lodSwitchesBy...(): levels as crowd level indices).
+  void setSwitches(LodSwitches distance, LodSwitches screenSize);
+
+  int levelCount() const { return static_cast<int>(m_levels.size()); }
+  const CrowdLevel& level(int index) const { return m_levels[static_cast<std::size_t>(index)]; }
+  const std::vector<CrowdAgent>& agents() const { return m_agents; }
+  int agentCount() const { return static_cast<int>(m_agents.size()); }
+  // The point whose distance to the camera decides an agent's level: its position raised by
+  // `centreHeight` (cm; set from the character's bounding box by the caller).
+  void setCentreHeight(float cm) { m_centreHeight = cm; }
+  glm::vec3 agentCentre(int agent) const;
+
+  // Selects every agent's level for a camera at `camera` (cm) and evaluates the poses of
+  // all agents at global time `seconds` (each at seconds + its offset). Errors: no levels,
+  // a runtime job that refuses its inputs.
+  Error update(double seconds, const glm::vec3& camera);
+
+  // After update(): each agent's level, the agents of a level (ascending), and a level's
+  // palettes ([k * joints + j] for the k-th agent of levelAgents(level)).
+  int agentLevel(int agent) const { return m_agentLevel[static_cast<std::size_t>(agent)]; }
+  std::span<const int> levelAgents(int level) const { return m_levelAgents[static_cast<std::size_t>(level)]; }
+  std::span<const glm::mat4> levelPalettes(int level) const { return m_palettes[static_cast<std::size_t>(level)]; }
+  const CrowdFrameStats& stats() const { return m_stats; }
+
+private:
+  std::vector<CrowdLevel> m_levels;
+  std::vector<CrowdAgent> m_agents;
+  Selection m_selection;
+  LodSwitches m_distance, m_size;
+  float m_centreHeight = 0.0f;
+  std::vector<std::int32_t> m_selected;   // per agent: selection level (index into switches), -1 none
+  LodSelectionJob::Mode m_selectedMode = LodSelectionJob::Mode::Distance;
+  std::vector<int> m_agentLevel;          // per agent: crowd level
+  std::vector<std::vector<int>> m_levelAgents;
+  std::vector<std::vector<glm::mat4>> m_palettes;
+  std::vector<PoseEvaluatorContext> m_contexts; // per level, per agent slot
+  std::vector<std::vector<int>> m_slotAgent;    // per level: the agent whose state each context slot holds
+  std::vector<glm::vec3> m_centres;
+  std::vector<float> m_radii;
+  std::vector<const LodClip*> m_clips;
+  std::vector<double> m_times;
+  CrowdFrameStats m_stats;
+};
+
+// A low-poly capsule along every bone (joint to parent, `radiusCm` thick, at most a fifth
+// of the bone's length), rigidly skinned to the parent joint, in the skeleton's rest pose:
+// what the views draw for a skeleton without a mesh. Bones shorter than 1e-3 cm are left
+// out; a skeleton of one joint gets a small sphere-like capsule at the root.
+SkinnedMesh boneCapsuleMesh(const Skeleton& skeleton, float radiusCm);
+
+} // namespace mlod
