@@ -1,0 +1,277 @@
+#include "core/lod/lod_package.h"
+
+#include "core/lod_clip_builder.h"
+#include "core/mapping/motion_mapping.h"
+#include "core/mesh/mesh_lod.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <set>
+
+namespace mlod {
+
+namespace {
+
+const SkinnedMesh* skinnedMesh(const Asset& asset) {
+  for (const SkinnedMesh& mesh : asset.meshes)
+    if (mesh.skinned())
+      return &mesh;
+  return nullptr;
+}
+
+// Reports progress; false when the caller cancelled.
+bool step(const LodPackageProgress& progress, double fraction, std::string_view message) {
+  return !progress || progress(std::clamp(fraction, 0.0, 1.0), message);
+}
+
+// No joint removed: the level's skeleton is the full one.
+BoneReduction identityReduction(const Skeleton& skeleton) {
+  BoneReduction out;
+  for (std::size_t j = 0; j < skeleton.joints.size(); ++j) {
+    const int index = static_cast<int>(j);
+    out.removed.push_back(0);
+    out.activeAncestor.push_back(index);
+    out.frozenRotation.push_back(skeleton.joints[j].rest.rotation);
+    out.frozenError.push_back(0.0);
+    out.reducedIndex.push_back(index);
+    out.fullIndex.push_back(index);
+  }
+  out.skeleton = skeleton;
+  return out;
+}
+
+// The clusters of the full skeleton carried over to the joints that remain at a level.
+ClusterSet reducedClusters(const BoneReduction& bones, const ClusterSet& full) {
+  ClusterSet out;
+  out.frameCount = full.frameCount;
+  out.joints.reserve(bones.fullIndex.size());
+  for (int fullJoint : bones.fullIndex)
+    out.joints.push_back(full.joints.empty() ? std::vector<Cluster>{} : full.joints[std::size_t(fullJoint)]);
+  return out;
+}
+
+// The original as a level: the full skeleton, the clips unclustered, the full mesh.
+LevelBuild originalLevel(const LodPackage& package) {
+  LevelBuild out;
+  out.motion.bones = identityReduction(package.skeleton);
+  out.motion.clips = package.clips;
+  for (const Clip& clip : package.clips) {
+    ClusterSet none;
+    none.frameCount = clip.frameCount;
+    none.joints = std::vector<std::vector<Cluster>>(std::size_t(clip.jointCount));
+    out.motion.clusters.push_back(std::move(none));
+  }
+  if (package.mesh) {
+    out.motion.mesh = *package.mesh;
+    MeshLodLevel full;
+    full.targetTriangles = package.mesh->triangleCount();
+    full.mesh = *package.mesh;
+    for (std::size_t v = 0; v < package.mesh->vertexCount(); ++v)
+      full.sourceVertices.push_back(static_cast<std::uint32_t>(v));
+    out.mesh = std::move(full);
+  }
+  return out;
+}
+
+std::string stemOf(const std::string& path) {
+  return std::filesystem::path(path).stem().string();
+}
+
+} // namespace
+
+Result<std::vector<int>> selectLodLevels(const LodSet& lods, std::span<const int> levels) {
+  std::vector<int> out;
+  if (levels.empty()) {
+    for (int i = 0; i < static_cast<int>(lods.levels.size()); ++i)
+      out.push_back(i);
+    return out;
+  }
+  std::set<int> seen;
+  for (int level : levels) {
+    if (level < 0 || level >= static_cast<int>(lods.levels.size()))
+      return Error("level " + std::to_string(level) + " does not exist (the LOD set has " +
+                   std::to_string(lods.levels.size()) + " levels, 0 to " + std::to_string(lods.levels.size() - 1) + ")");
+    if (!seen.insert(level).second)
+      return Error("level " + std::to_string(level) + " is named twice");
+    out.push_back(level);
+  }
+  return out;
+}
+
+Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const JpcSettings& jpc,
+                                   std::span<const int> levels, const LodPackageProgress& progress,
+                                   std::span<const Clip> extraClips) {
+  if (Error error = asset.validate())
+    return Error("asset: " + error.message());
+  if (Error error = lods.validate())
+    return error;
+  Result<std::vector<int>> selected = selectLodLevels(lods, levels);
+  if (!selected)
+    return selected.error();
+  if (!asset.skeleton.empty())
+    if (Error error = jpc.validate(asset.skeleton))
+      return error;
+  for (const Clip& clip : extraClips)
+    if (Error error = clip.validate(asset.skeleton))
+      return Error("clip '" + clip.name + "': " + error.message());
+
+  LodPackage out;
+  out.name = stemOf(asset.sourcePath);
+  out.sourcePath = asset.sourcePath;
+  out.unitScale = asset.unitScale;
+  out.skeleton = asset.skeleton;
+  out.lods = lods;
+  out.jpc = jpc;
+  out.clips = asset.clips;
+  out.clips.insert(out.clips.end(), extraClips.begin(), extraClips.end());
+  const SkinnedMesh* skinned = skinnedMesh(asset);
+  if (skinned)
+    out.mesh = *skinned;
+  else if (!asset.meshes.empty())
+    out.mesh = asset.meshes.front();
+  if (out.clips.empty() && !out.mesh)
+    return Error("LOD: the asset has neither a clip to simplify nor a mesh");
+  if (!step(progress, 0.0, "preparing " + out.name))
+    return Error(kLodPackageCancelled);
+
+  const double total = static_cast<double>(selected->size()) + 1.0;
+  const bool motion = !out.clips.empty() && !out.skeleton.empty();
+  std::optional<LodCharacter> character;
+  std::vector<JpcClip> prepared;
+  std::optional<MeshLod> meshOnly; // an asset without a clip: its mesh's levels alone
+  if (motion) {
+    Result<LodCharacter> built = LodCharacter::prepare(out.skeleton, skinned, out.clips, jpc);
+    if (!built)
+      return built.error();
+    character = std::move(built).value();
+    for (const Clip& clip : out.clips) {
+      Result<JpcClip> clipPrepared = JpcClip::prepare(out.skeleton, clip, jpc);
+      if (!clipPrepared)
+        return Error("clip '" + clip.name + "': " + clipPrepared.message());
+      prepared.push_back(std::move(clipPrepared).value());
+    }
+  } else {
+    Result<MeshLod> built = MeshLod::build(*out.mesh, out.skeleton.empty() ? nullptr : &out.skeleton);
+    if (!built)
+      return built.error();
+    meshOnly = std::move(built).value();
+  }
+
+  for (std::size_t i = 0; i < selected->size(); ++i) {
+    const int index = (*selected)[i];
+    const LodLevel& settings = lods.levels[std::size_t(index)];
+    if (!step(progress, (static_cast<double>(i) + 1.0) / total, "building level " + settings.name))
+      return Error(kLodPackageCancelled);
+    LodPackageLevel level;
+    level.index = index;
+    level.settings = settings;
+    if (index == 0) {
+      // the original (LodSet::validate(): threshold 0, ratio 1): every joint, nothing
+      // clustered (DESIGN.md section 4: the "Original" column is 0 by definition)
+      level.build = originalLevel(out);
+      for (std::size_t c = 0; c < out.clips.size(); ++c) {
+        Result<LodClip> runtime = buildLodClip(out.clips[c]);
+        if (!runtime)
+          return Error("level " + settings.name + ": " + runtime.message());
+        level.runtimeClips.push_back(std::move(runtime).value());
+        level.metrics.push_back(measureLevel(prepared[c], out.skeleton, out.clips[c], 0, 0.0,
+                                             std::vector<JointClustering>(out.skeleton.joints.size())));
+      }
+    } else if (motion) {
+      Result<LevelBuild> build = character->build(settings.motionThreshold, settings.meshRatio, index);
+      if (!build)
+        return Error("level " + settings.name + ": " + build.message());
+      level.build = std::move(build).value();
+      const LevelMotion& levelMotion = level.build.motion;
+      for (std::size_t c = 0; c < out.clips.size(); ++c) {
+        const ClusterSet clusters = reducedClusters(levelMotion.bones, levelMotion.clusters[c]);
+        Result<LodClip> runtime = buildLodClip(levelMotion.clips[c], &clusters);
+        if (!runtime)
+          return Error("level " + settings.name + ": " + runtime.message());
+        level.runtimeClips.push_back(std::move(runtime).value());
+        level.metrics.push_back(measureLevel(prepared[c], out.skeleton, out.clips[c], index, settings.motionThreshold,
+                                             prepared[c].cluster(index, settings.motionThreshold)));
+      }
+    } else {
+      level.build = originalLevel(out);
+      level.build.motion.threshold = settings.motionThreshold;
+      level.build.mesh = meshOnly->levelForRatio(settings.meshRatio);
+    }
+    level.inverseBinds = paletteInverseBinds(level.skeleton());
+    out.levels.push_back(std::move(level));
+  }
+  if (!step(progress, 1.0, "done"))
+    return Error(kLodPackageCancelled);
+  return out;
+}
+
+Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> levels, const LodPackageProgress& progress) {
+  if (!step(progress, 0.0, "generating the default LOD set"))
+    return Error(kLodPackageCancelled);
+  LodBudgetOptions options;
+  options.jpc.zeroLength = 1e-6 * asset.unitScale; // DESIGN.md section 4: 1e-6 file units
+  Result<LodSet> lods = LodSet::fromPixelBudget(asset, 1.0, 4, options);
+  if (!lods)
+    return lods.error();
+  return buildLodPackage(asset, *lods, options.jpc, levels, progress);
+}
+
+Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset* const> imported, int asset,
+                                   std::span<const int> levels, const LodPackageProgress& progress) {
+  if (Error error = project.validate())
+    return error;
+  if (asset < 0 || asset >= static_cast<int>(project.assets.size()))
+    return Error("the project has no asset " + std::to_string(asset));
+  if (imported.size() != project.assets.size())
+    return Error("the project's assets were not all imported");
+  const Asset* character = imported[std::size_t(asset)];
+  if (!character)
+    return Error(project.assets[std::size_t(asset)].path + " could not be imported");
+  std::vector<Clip> extra;
+  for (const ProjectMapping& mapping : project.mappings) {
+    if (mapping.character != asset)
+      continue;
+    const Asset* motion = imported[std::size_t(mapping.motion)];
+    if (!motion)
+      return Error(project.assets[std::size_t(mapping.motion)].path + " (a motion assigned to the character) could not be imported");
+    Result<RestPoseDifferences> differences = restPoseDifferences(mapping.mapping, motion->skeleton, character->skeleton);
+    if (!differences)
+      return Error("mapping of " + mapping.mapping.motionName + ": " + differences.message());
+    for (const Clip& clip : motion->clips) {
+      Result<Clip> retargeted = retargetClip(*differences, motion->skeleton, clip, character->skeleton);
+      if (!retargeted)
+        return Error(mapping.mapping.motionName + ": " + retargeted.message());
+      extra.push_back(std::move(retargeted).value());
+    }
+  }
+  return buildLodPackage(*character, project.lods, project.jpcSettings(asset, character->unitScale), levels, progress,
+                         extra);
+}
+
+int defaultPackageAsset(const Project& project, std::span<const Asset* const> imported) {
+  if (project.assets.empty())
+    return -1;
+  const auto importedAt = [&](int i) { return std::size_t(i) < imported.size() ? imported[std::size_t(i)] : nullptr; };
+  for (const ProjectMapping& mapping : project.mappings)
+    if (const Asset* a = importedAt(mapping.character); a && (!a->clips.empty() || skinnedMesh(*a)))
+      return mapping.character;
+  for (int i = 0; i < static_cast<int>(project.assets.size()); ++i)
+    if (const Asset* a = importedAt(i); a && skinnedMesh(*a))
+      return i;
+  return 0;
+}
+
+std::optional<SkinnedMesh> levelMeshOnFullSkeleton(const LodPackageLevel& level) {
+  const SkinnedMesh* mesh = level.mesh();
+  if (!mesh)
+    return std::nullopt;
+  SkinnedMesh out = *mesh;
+  const std::vector<int>& full = level.build.motion.bones.fullIndex;
+  for (std::size_t v = 0; v < out.joints.size(); ++v)
+    for (int k = 0; k < kMaxInfluences; ++k)
+      if (std::size_t(out.joints[v][k]) < full.size())
+        out.joints[v][k] = static_cast<std::uint16_t>(full[out.joints[v][k]]);
+  return out;
+}
+
+} // namespace mlod

@@ -1,0 +1,117 @@
+#pragma once
+// What an exporter gets (DESIGN.md sections 3 and 8): one character's LOD set, fully
+// computed. Exporters never recompute anything: every level holds its motion (JPC clusters
+// on the full skeleton, bone reduction, the clips on the reduced skeleton), its mesh, the
+// runtime clips an engine plays, and the paper's Table 1 per clip.
+//
+// Built by core from an imported asset (a plain file: the default LOD set,
+// LodSet::fromPixelBudget(asset, 1 pixel, 4 levels), DESIGN.md section 6) or from a project
+// (its LodSet, joint settings, and the motions assigned to the character through their
+// mappings, played on it as extra clips).
+//
+// Units: lengths in cm, thresholds and errors E in cm·degrees, time in seconds.
+
+#include "core/asset.h"
+#include "core/clip.h"
+#include "core/error.h"
+#include "core/jpc/jpc.h"
+#include "core/jpc/jpc_settings.h"
+#include "core/lod/lod_character.h"
+#include "core/lod/lod_set.h"
+#include "core/project.h"
+#include "core/skeleton.h"
+#include "core/skinned_mesh.h"
+#include "runtime/lod_clip.h"
+
+#include <glm/glm.hpp>
+
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mlod {
+
+// One level of the package.
+struct LodPackageLevel {
+  int index = 0;     // the level's index in LodPackage::lods
+  LodLevel settings; // name, threshold, mesh ratio, switch distance, measured errors
+  // The level built (lod_character.h): build.motion.clusters per clip on the full skeleton,
+  // build.motion.bones the bone reduction (bones.skeleton: the level's skeleton),
+  // build.motion.clips per clip on the level's skeleton, build.motion.mesh the full mesh
+  // rebound to it, build.mesh the level's simplified mesh (bound to the level's skeleton).
+  // For an asset without clips, the motion is the identity (no joint removed, no clip).
+  LevelBuild build;
+  // Per clip, what the runtime plays at this level: build.motion.clips[c] (the level's
+  // skeleton) with the clusters of build.motion.clusters[c] carried over to the joints
+  // that remain. Evaluate with skeleton().parentIndices() and inverseBinds.
+  std::vector<LodClip> runtimeClips;
+  // paletteInverseBinds(skeleton()) (lod_clip_builder.h): one per joint of the level.
+  std::vector<glm::mat4> inverseBinds;
+  // Per clip, Table 1 of the paper and the joint-position fidelity at this level's threshold
+  // (clusters on the full skeleton, as measureLevel() gives them).
+  std::vector<JpcLevelResult> metrics;
+
+  // The level's skeleton (the full one without bone reduction).
+  const Skeleton& skeleton() const { return build.motion.bones.skeleton; }
+  // The level's mesh (simplified, bound to skeleton()), or null without a mesh.
+  const SkinnedMesh* mesh() const { return build.mesh ? &build.mesh->mesh : nullptr; }
+};
+
+struct LodPackage {
+  std::string name;       // the asset's file name without its folder and suffix
+  std::string sourcePath; // the asset's file, as imported
+  double unitScale = 1.0; // cm per file unit the asset was imported at
+  Skeleton skeleton;      // the original skeleton (may be empty for a mesh alone)
+  std::optional<SkinnedMesh> mesh; // the character mesh: the asset's first skinned mesh (else its first mesh)
+  // Every clip the character plays, on `skeleton`: the asset's own, then the motions
+  // assigned to it in a project (retargeted through their mappings).
+  std::vector<Clip> clips;
+  LodSet lods;     // every level of the set (the selected ones are in `levels`)
+  JpcSettings jpc; // alpha, mode and per-joint settings the levels were clustered with
+  std::vector<LodPackageLevel> levels; // the selected levels, in the order asked for
+};
+
+// Progress of a package build: `fraction` in [0, 1] and what is being done. Returns false
+// to cancel (the build then fails with kLodPackageCancelled). Called on the building
+// thread. May be empty.
+using LodPackageProgress = std::function<bool(double fraction, std::string_view message)>;
+inline constexpr const char* kLodPackageCancelled = "cancelled";
+
+// Levels of `lods` as an exporter's --levels names them: empty = every level; else indices
+// in range, each at most once. Errors name the bad index.
+Result<std::vector<int>> selectLodLevels(const LodSet& lods, std::span<const int> levels);
+
+// A package of `asset` with the LOD set `lods` clustered with `jpc`; `extraClips` (of the
+// asset's skeleton) play on the character besides its own clips. Errors: an asset without
+// a skeleton or a mesh, a LOD set that does not validate, bad levels, settings or clips,
+// cancellation.
+Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const JpcSettings& jpc,
+                                   std::span<const int> levels = {}, const LodPackageProgress& progress = {},
+                                   std::span<const Clip> extraClips = {});
+
+// A plain file's package: the default LOD set LodSet::fromPixelBudget(asset, 1 pixel, 4
+// levels) with default JPC settings (zero length 1e-6 file units).
+Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> levels = {},
+                                   const LodPackageProgress& progress = {});
+
+// A project's package of its asset `asset`: the project's LodSet, its JPC settings for the
+// asset, and every motion assigned to the asset through the project's mappings.
+// `imported[i]` is the project's asset i as imported (null where it could not be: an
+// error when the package needs it). Errors as above, plus a bad asset index or mapping.
+Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset* const> imported, int asset,
+                                   std::span<const int> levels = {}, const LodPackageProgress& progress = {});
+
+// The asset of a project a package is made of when none is named: the first asset that
+// plays a clip or carries a skinned mesh and is the character of a mapping, else the first
+// asset with a skinned mesh, else the first asset. -1 for a project without assets.
+int defaultPackageAsset(const Project& project, std::span<const Asset* const> imported);
+
+// A level's mesh bound to the original skeleton (joint indices of the full skeleton, each
+// removed joint's influence already moved to its active ancestor by bone reduction): what a
+// format with one skin for every level (glTF) needs. Null without a mesh.
+std::optional<SkinnedMesh> levelMeshOnFullSkeleton(const LodPackageLevel& level);
+
+} // namespace mlod

@@ -1,0 +1,131 @@
+// The exporter SDK without a plugin: options as data, key=value parsing, atomic writes.
+
+#include "sdk/exporter.h"
+
+#include <QDir>
+#include <QFile>
+#include <QFileInfo>
+#include <QTemporaryDir>
+
+#include <gtest/gtest.h>
+
+namespace mlod {
+namespace {
+
+ExporterOptions sampleOptions() {
+  ExporterOptions options;
+  options.append({"binary", ExporterOption::Bool, true, {}, {}, {}, "Write .glb"});
+  options.append({"levels", ExporterOption::Int, 4, 1, 8, {}, "How many"});
+  options.append({"scale", ExporterOption::Double, 0.01, 1e-6, 1e6, {}, "Metres per cm"});
+  options.append({"title", ExporterOption::String, QString("LODs"), {}, {}, {}, "A title"});
+  options.append({"format", ExporterOption::Choice, QString("html"), {}, {}, {"html", "csv", "json"}, "Which"});
+  return options;
+}
+
+TEST(ExporterOptions, DefaultsFillWhatIsNotGiven) {
+  QVariantMap values;
+  QString error;
+  ASSERT_TRUE(parseExporterOptions(sampleOptions(), {"levels=3", "format=csv"}, &values, &error)) << error.toStdString();
+  EXPECT_EQ(values.size(), 5);
+  EXPECT_EQ(values["binary"].toBool(), true);
+  EXPECT_EQ(values["levels"].typeId(), QMetaType::Int);
+  EXPECT_EQ(values["levels"].toInt(), 3);
+  EXPECT_EQ(values["format"].toString(), "csv");
+  EXPECT_DOUBLE_EQ(values["scale"].toDouble(), 0.01);
+}
+
+TEST(ExporterOptions, TypesConvertFromText) {
+  QVariantMap values;
+  QString error;
+  ASSERT_TRUE(parseExporterOptions(sampleOptions(), {"binary=no", "scale=2.5", "title=a=b"}, &values, &error));
+  EXPECT_EQ(values["binary"].toBool(), false);
+  EXPECT_EQ(values["binary"].typeId(), QMetaType::Bool);
+  EXPECT_DOUBLE_EQ(values["scale"].toDouble(), 2.5);
+  EXPECT_EQ(values["title"].toString(), "a=b"); // only the first '=' splits
+}
+
+TEST(ExporterOptions, BadValuesAreRefusedWithTheOptionNamed) {
+  const ExporterOptions options = sampleOptions();
+  const struct {
+    QString entry;
+    QString expected;
+  } cases[] = {
+      {"nosuch=1", "unknown option 'nosuch'"}, {"levels=9", "out of range"}, {"levels=2.5", "not an integer"},
+      {"scale=nan", "not a finite number"},    {"binary=maybe", "not a bool"}, {"format=pdf", "not one of html, csv, json"},
+      {"levels", "not key=value"},             {"=3", "not key=value"},
+  };
+  for (const auto& c : cases) {
+    QString error;
+    QVariantMap values;
+    EXPECT_FALSE(parseExporterOptions(options, {c.entry}, &values, &error)) << c.entry.toStdString();
+    EXPECT_TRUE(error.contains(c.expected)) << c.entry.toStdString() << ": " << error.toStdString();
+  }
+  QString error;
+  EXPECT_FALSE(parseExporterOptions(options, {"levels=2", "levels=3"}, nullptr, &error));
+  EXPECT_TRUE(error.contains("twice"));
+}
+
+TEST(ExporterOptions, CheckTakesTypedValues) {
+  QVariantMap values;
+  QString error;
+  ASSERT_TRUE(checkExporterOptions(sampleOptions(), {{"levels", 2}, {"binary", false}}, &values, &error));
+  EXPECT_EQ(values["levels"].toInt(), 2);
+  EXPECT_FALSE(checkExporterOptions(sampleOptions(), {{"levels", 0}}, &values, &error));
+}
+
+TEST(AtomicWrite, WritesAndReplaces) {
+  QTemporaryDir dir;
+  ASSERT_TRUE(dir.isValid());
+  const QString path = dir.filePath("out.bin");
+  ASSERT_TRUE(writeFileAtomically(path, "first").ok);
+  ExportResult second = writeFileAtomically(path, "second");
+  ASSERT_TRUE(second.ok) << second.message.toStdString();
+  QFile file(path);
+  ASSERT_TRUE(file.open(QIODevice::ReadOnly));
+  EXPECT_EQ(file.readAll(), QByteArray("second"));
+  EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size(), 1); // no temporary left
+}
+
+TEST(AtomicWrite, UnwritableFolderLeavesNothingAndSaysWhy) {
+  QTemporaryDir dir;
+  const QString missing = dir.filePath("no/such/folder/out.bin");
+  ExportResult result = writeFileAtomically(missing, "data");
+  EXPECT_FALSE(result.ok);
+  EXPECT_TRUE(result.message.contains(missing)) << result.message.toStdString();
+  EXPECT_FALSE(QFileInfo::exists(missing));
+
+  ExportResult pair = writeFilesAtomically({{dir.filePath("a.bin"), "a"}, {missing, "b"}});
+  EXPECT_FALSE(pair.ok);
+  EXPECT_FALSE(QFileInfo::exists(dir.filePath("a.bin"))) << "the first file of a failed set must not stay";
+  EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size(), 0);
+}
+
+TEST(AtomicWrite, SetOfFilesLandsTogether) {
+  QTemporaryDir dir;
+  ExportResult result = writeFilesAtomically({{dir.filePath("x.mlodb"), "xx"}, {dir.filePath("x.mlodb.json"), "{}"}});
+  ASSERT_TRUE(result.ok) << result.message.toStdString();
+  EXPECT_EQ(QFileInfo(dir.filePath("x.mlodb")).size(), 2);
+  EXPECT_EQ(QFileInfo(dir.filePath("x.mlodb.json")).size(), 2);
+  EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size(), 2);
+}
+
+TEST(ExportProgress, ReportsAndCancels) {
+  double last = -1.0;
+  bool cancel = false;
+  ExportProgress progress([&](double f, const QString&) { last = f; }, [&] { return cancel; });
+  EXPECT_TRUE(progress.step(0.5, "half"));
+  EXPECT_DOUBLE_EQ(last, 0.5);
+  progress.report(2.0, "clamped");
+  EXPECT_DOUBLE_EQ(last, 1.0);
+  cancel = true;
+  EXPECT_FALSE(progress.step(0.75, "late"));
+  EXPECT_FALSE(ExportProgress().cancelled());
+}
+
+TEST(Suffix, AppendedOnlyWhenMissing) {
+  EXPECT_EQ(withSuffix("a/b", "glb", {"glb", "gltf"}), "a/b.glb");
+  EXPECT_EQ(withSuffix("a/b.GLTF", "glb", {"glb", "gltf"}), "a/b.GLTF");
+}
+
+} // namespace
+} // namespace mlod
