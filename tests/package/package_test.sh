@@ -68,6 +68,12 @@ check_files() { # root libdir
   while read -r file; do
     [ -f "$1/$file" ] || { echo "missing: $file" >&2; missing=1; }
   done < <(expected_files "$2")
+  # Every exporter plugin the build made (its plugin folder mirrors the install layout).
+  local plugin
+  for plugin in "$build/$2"/motionlod/plugins/*.so; do
+    [ -e "$plugin" ] || continue
+    [ -f "$1/$2/motionlod/plugins/${plugin##*/}" ] || { echo "missing plugin: ${plugin##*/}" >&2; missing=1; }
+  done
   [ $missing -eq 0 ] || fail "files missing from the package"
   # Executables and plugins must not look for anything in the build tree.
   local binary
