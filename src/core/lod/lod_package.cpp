@@ -174,6 +174,7 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
         if (!runtime)
           return Error("level " + settings.name + ": " + runtime.message());
         level.runtimeClips.push_back(std::move(runtime).value());
+        level.runtimeClusters.push_back(level.build.motion.clusters[c]);
         level.metrics.push_back(measureLevel(prepared[c], out.skeleton, out.clips[c], 0, 0.0,
                                              std::vector<JointClustering>(out.skeleton.joints.size())));
       }
@@ -184,11 +185,12 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
       level.build = std::move(build).value();
       const LevelMotion& levelMotion = level.build.motion;
       for (std::size_t c = 0; c < out.clips.size(); ++c) {
-        const ClusterSet clusters = reducedClusters(levelMotion.bones, levelMotion.clusters[c]);
+        ClusterSet clusters = reducedClusters(levelMotion.bones, levelMotion.clusters[c]);
         Result<LodClip> runtime = buildLodClip(levelMotion.clips[c], &clusters);
         if (!runtime)
           return Error("level " + settings.name + ": " + runtime.message());
         level.runtimeClips.push_back(std::move(runtime).value());
+        level.runtimeClusters.push_back(std::move(clusters));
         level.metrics.push_back(measureLevel(prepared[c], out.skeleton, out.clips[c], index, settings.motionThreshold,
                                              prepared[c].cluster(index, settings.motionThreshold)));
       }
@@ -259,6 +261,72 @@ int defaultPackageAsset(const Project& project, std::span<const Asset* const> im
     if (const Asset* a = importedAt(i); a && skinnedMesh(*a))
       return i;
   return 0;
+}
+
+Result<Bundle> packageBundle(const LodPackage& package) {
+  Bundle out;
+  out.name = package.name.empty() ? std::string("character") : package.name;
+  out.source = package.sourcePath;
+  out.verticalFovDegrees = package.lods.projection.verticalFovDegrees;
+  out.viewportHeightPixels = package.lods.projection.viewportHeightPixels;
+  out.boundingRadiusCm = package.lods.boundingRadiusCm;
+  for (const Joint& joint : package.skeleton.joints) {
+    out.jointNames.push_back(joint.name);
+    out.jointParents.push_back(static_cast<std::int16_t>(joint.parent));
+  }
+  for (const LodPackageLevel& level : package.levels) {
+    BundleLevel b;
+    b.index = level.index;
+    b.name = level.settings.name;
+    b.motionThreshold = level.settings.motionThreshold;
+    b.meshRatio = level.settings.meshRatio;
+    b.switchDistanceCm = level.settings.switchDistanceCm;
+    b.pixelError = level.settings.pixelError;
+    b.screenSizePixels = level.settings.screenSizePixels;
+    b.motionErrorCm = level.settings.motionErrorCm;
+    b.meshErrorCm = level.settings.meshErrorCm;
+    const Skeleton& skeleton = level.skeleton();
+    b.parents = skeleton.parentIndices();
+    b.inverseBinds = level.inverseBinds;
+    for (int full : level.build.motion.bones.fullIndex)
+      b.fullJoints.push_back(full);
+    for (std::size_t c = 0; c < level.runtimeClips.size(); ++c) {
+      const Clip& clip = level.build.motion.clips[c];
+      const ClusterSet& clusters = level.runtimeClusters[c];
+      BundleClip bc;
+      bc.name = clip.name;
+      bc.fps = clip.fps;
+      bc.frameCount = clip.frameCount;
+      bc.jointCount = clip.jointCount;
+      bc.looping = clip.looping;
+      bc.rotations = clip.rotations;
+      bc.translations = clip.translations;
+      bc.scales = clip.scales;
+      // flattened as buildLodClip() flattens them (lod_clip_builder.cpp)
+      if (clusters.jointCount() > 0) {
+        for (const std::vector<Cluster>& joint : clusters.joints) {
+          bc.clusterBegin.push_back(static_cast<std::uint32_t>(bc.clusters.size()));
+          for (const Cluster& cluster : joint)
+            bc.clusters.push_back(LodCluster{cluster.first, cluster.last, cluster.key});
+        }
+        bc.clusterBegin.push_back(static_cast<std::uint32_t>(bc.clusters.size()));
+      }
+      b.clips.push_back(std::move(bc));
+    }
+    if (const SkinnedMesh* mesh = level.mesh(); mesh && mesh->skinned()) {
+      BundleMesh m;
+      m.positions = mesh->positions;
+      m.normals = mesh->normals;
+      m.indices = mesh->indices;
+      m.joints = mesh->joints;
+      m.weights = mesh->weights;
+      b.mesh = std::move(m);
+    }
+    out.levels.push_back(std::move(b));
+  }
+  if (std::string problem = validateBundle(out); !problem.empty())
+    return Error("bundle: " + problem);
+  return out;
 }
 
 std::optional<SkinnedMesh> levelMeshOnFullSkeleton(const LodPackageLevel& level) {

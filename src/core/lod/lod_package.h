@@ -21,6 +21,7 @@
 #include "core/project.h"
 #include "core/skeleton.h"
 #include "core/skinned_mesh.h"
+#include "runtime/bundle.h"
 #include "runtime/lod_clip.h"
 
 #include <glm/glm.hpp>
@@ -48,6 +49,8 @@ struct LodPackageLevel {
   // skeleton) with the clusters of build.motion.clusters[c] carried over to the joints
   // that remain. Evaluate with skeleton().parentIndices() and inverseBinds.
   std::vector<LodClip> runtimeClips;
+  // Per clip, the clusters runtimeClips[c] was built with (on the level's skeleton).
+  std::vector<ClusterSet> runtimeClusters;
   // paletteInverseBinds(skeleton()) (lod_clip_builder.h): one per joint of the level.
   std::vector<glm::mat4> inverseBinds;
   // Per clip, Table 1 of the paper and the joint-position fidelity at this level's threshold
@@ -113,5 +116,11 @@ int defaultPackageAsset(const Project& project, std::span<const Asset* const> im
 // removed joint's influence already moved to its active ancestor by bone reduction): what a
 // format with one skin for every level (glTF) needs. Null without a mesh.
 std::optional<SkinnedMesh> levelMeshOnFullSkeleton(const LodPackageLevel& level);
+
+// The runtime bundle of a package (runtime/bundle.h, docs/bundle-format.md): per level its
+// skeleton, its clips exactly as runtimeClips were built (a LodClip built from the bundle's
+// clip equals runtimeClips[c] bit for bit), and its mesh. Errors: a level that the bundle
+// format cannot hold (more than 65,535 levels, a clip of the wrong size).
+Result<Bundle> packageBundle(const LodPackage& package);
 
 } // namespace mlod

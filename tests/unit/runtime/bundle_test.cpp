@@ -1,0 +1,245 @@
+// The runtime bundle's reader and writer on a small synthetic bundle: round trip, and every
+// kind of damage refused with a clear message (truncation at and inside every section,
+// every single-byte flip, wrong magic and version, counts that lie under valid checksums).
+
+#include "runtime/bundle.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+
+namespace mlod {
+namespace {
+
+// Three joints in a chain, one clip of 12 frames with a cluster on joint 1, a two-triangle mesh.
+Bundle smallBundle() {
+  Bundle b;
+  b.name = "chain";
+  b.source = "synthetic";
+  b.boundingRadiusCm = 30.0;
+  b.jointNames = {"root", "mid", "tip"};
+  b.jointParents = {-1, 0, 1};
+  BundleLevel level;
+  level.index = 1;
+  level.name = "LOD1";
+  level.motionThreshold = 5.0;
+  level.switchDistanceCm = 500.0;
+  level.fullJoints = {0, 1, 2};
+  level.parents = {-1, 0, 1};
+  for (int j = 0; j < 3; ++j) {
+    glm::mat4 ib(1.0f);
+    ib[3] = glm::vec4(0.0f, -10.0f * float(j), 0.0f, 1.0f);
+    level.inverseBinds.push_back(ib);
+  }
+  BundleClip clip;
+  clip.name = "wave";
+  clip.fps = 30.0;
+  clip.frameCount = 12;
+  clip.jointCount = 3;
+  for (int j = 0; j < 3; ++j)
+    for (int f = 0; f < 12; ++f) {
+      const float angle = j == 0 ? 0.0f : 0.1f * float(f) * float(j);
+      glm::quat q = glm::angleAxis(angle, glm::vec3(0.0f, 0.0f, 1.0f));
+      if (j == 1 && f >= 3 && f <= 7)
+        q = glm::angleAxis(0.1f * 5.0f, glm::vec3(0.0f, 0.0f, 1.0f)); // the cluster holds frame 5's rotation
+      clip.rotations.push_back(q);
+      clip.translations.push_back(j == 0 ? glm::vec3(float(f), 0.0f, 0.0f) : glm::vec3(0.0f, 10.0f, 0.0f));
+      clip.scales.push_back(glm::vec3(1.0f));
+    }
+  clip.clusters = {LodCluster{3, 7, 5}};
+  clip.clusterBegin = {0, 0, 1, 1};
+  level.clips.push_back(clip);
+  BundleMesh mesh;
+  mesh.positions = {{-1, 0, 0}, {1, 0, 0}, {1, 20, 0}, {-1, 20, 0}};
+  mesh.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  mesh.indices = {0, 1, 2, 0, 2, 3};
+  mesh.joints = {{0, 0, 0, 0}, {0, 1, 0, 0}, {2, 1, 0, 0}, {2, 0, 0, 0}};
+  mesh.weights = {{1, 0, 0, 0}, {0.5f, 0.5f, 0, 0}, {0.75f, 0.25f, 0, 0}, {1, 0, 0, 0}};
+  level.mesh = mesh;
+  b.levels.push_back(level);
+  BundleLevel coarse = level;
+  coarse.index = 2;
+  coarse.name = "LOD2";
+  coarse.mesh.reset();
+  coarse.clips[0].clusters.clear();
+  coarse.clips[0].clusterBegin.clear();
+  b.levels.push_back(coarse);
+  return b;
+}
+
+std::vector<std::uint8_t> bytesOf(const Bundle& b) {
+  std::string error;
+  std::vector<std::uint8_t> bytes = writeBundle(b, &error);
+  EXPECT_FALSE(bytes.empty()) << error;
+  return bytes;
+}
+
+std::uint64_t le(const std::vector<std::uint8_t>& bytes, std::size_t at, int n) {
+  std::uint64_t v = 0;
+  for (int i = 0; i < n; ++i)
+    v |= std::uint64_t(bytes[at + std::size_t(i)]) << (8 * i);
+  return v;
+}
+void putLe(std::vector<std::uint8_t>& bytes, std::size_t at, std::uint64_t v, int n) {
+  for (int i = 0; i < n; ++i)
+    bytes[at + std::size_t(i)] = static_cast<std::uint8_t>(v >> (8 * i));
+}
+
+// Section boundaries: (offset, size) of each section, from the table.
+std::vector<std::pair<std::size_t, std::size_t>> sectionsOf(const std::vector<std::uint8_t>& bytes) {
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  const std::size_t count = le(bytes, 12, 4);
+  for (std::size_t i = 0; i < count; ++i)
+    out.emplace_back(le(bytes, 24 + 24 * i + 8, 8), le(bytes, 24 + 24 * i + 16, 8));
+  return out;
+}
+
+// Recomputes every checksum after an edit, so only the reader's other checks can refuse it.
+void reseal(std::vector<std::uint8_t>& bytes) {
+  const auto sections = sectionsOf(bytes);
+  for (std::size_t i = 0; i < sections.size(); ++i)
+    putLe(bytes, 24 + 24 * i + 4,
+          crc32(std::span<const std::uint8_t>(bytes).subspan(sections[i].first, sections[i].second)), 4);
+  const std::size_t tableEnd = 24 + 24 * sections.size();
+  putLe(bytes, tableEnd, crc32(std::span<const std::uint8_t>(bytes).first(tableEnd)), 4);
+}
+
+TEST(Bundle, Crc32IsZlibs) {
+  const std::string text = "123456789";
+  EXPECT_EQ(crc32(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size())),
+            0xCBF43926u);
+}
+
+TEST(Bundle, RoundTripIsExact) {
+  const Bundle b = smallBundle();
+  const std::vector<std::uint8_t> bytes = bytesOf(b);
+  std::string error;
+  std::optional<Bundle> read = readBundle(bytes, &error);
+  ASSERT_TRUE(read) << error;
+  EXPECT_EQ(read->name, "chain");
+  EXPECT_EQ(read->jointNames, b.jointNames);
+  ASSERT_EQ(read->levels.size(), 2u);
+  const BundleClip& clip = read->levels[0].clips[0];
+  const BundleClip& original = b.levels[0].clips[0];
+  ASSERT_EQ(clip.rotations.size(), original.rotations.size());
+  EXPECT_EQ(std::memcmp(clip.rotations.data(), original.rotations.data(), clip.rotations.size() * sizeof(glm::quat)), 0);
+  EXPECT_EQ(std::memcmp(clip.translations.data(), original.translations.data(),
+                        clip.translations.size() * sizeof(glm::vec3)), 0);
+  EXPECT_EQ(clip.clusterBegin, original.clusterBegin);
+  ASSERT_EQ(clip.clusters.size(), 1u);
+  EXPECT_EQ(clip.clusters[0].key, 5);
+  ASSERT_TRUE(read->levels[0].mesh);
+  EXPECT_EQ(read->levels[0].mesh->indices, b.levels[0].mesh->indices);
+  EXPECT_FALSE(read->levels[1].mesh);
+  EXPECT_EQ(bytesOf(*read), bytes); // written again: the same bytes
+  std::optional<BundleLevelRuntime> runtime = buildBundleLevel(read->levels[0], &error);
+  ASSERT_TRUE(runtime) << error;
+  EXPECT_EQ(runtime->clips[0].clusterCount(), 1);
+  ASSERT_TRUE(runtime->mesh);
+  EXPECT_EQ(runtime->mesh->vertexCount(), 4);
+}
+
+TEST(Bundle, TruncationAnywhereIsRefused) {
+  const std::vector<std::uint8_t> bytes = bytesOf(smallBundle());
+  std::vector<std::size_t> cuts = {0, 7, 8, 23, 24, 30};
+  for (const auto& [offset, size] : sectionsOf(bytes)) {
+    cuts.push_back(offset); // at every section boundary
+    cuts.push_back(offset + size / 2);
+    cuts.push_back(offset + size - 1);
+  }
+  for (std::size_t cut : cuts) {
+    ASSERT_LT(cut, bytes.size());
+    std::string error;
+    EXPECT_FALSE(readBundle(std::span<const std::uint8_t>(bytes).first(cut), &error)) << "cut at " << cut;
+    EXPECT_FALSE(error.empty());
+    if (cut >= 24) {
+      EXPECT_NE(error.find("truncated"), std::string::npos) << cut << ": " << error;
+    }
+  }
+  std::vector<std::uint8_t> padded = bytes;
+  padded.push_back(0);
+  std::string error;
+  EXPECT_FALSE(readBundle(padded, &error));
+  EXPECT_NE(error.find("padded"), std::string::npos) << error;
+}
+
+TEST(Bundle, EveryByteFlipIsRefused) {
+  const std::vector<std::uint8_t> bytes = bytesOf(smallBundle());
+  for (std::size_t at = 0; at < bytes.size(); ++at) {
+    std::vector<std::uint8_t> damaged = bytes;
+    damaged[at] ^= 0x5A;
+    std::string error;
+    EXPECT_FALSE(readBundle(damaged, &error)) << "byte " << at;
+    EXPECT_FALSE(error.empty());
+  }
+}
+
+TEST(Bundle, WrongMagicAndVersionSaySo) {
+  std::vector<std::uint8_t> bytes = bytesOf(smallBundle());
+  std::vector<std::uint8_t> magic = bytes;
+  magic[0] = 'X';
+  std::string error;
+  EXPECT_FALSE(readBundle(magic, &error));
+  EXPECT_NE(error.find("not a Motion LOD bundle"), std::string::npos) << error;
+  std::vector<std::uint8_t> newer = bytes;
+  putLe(newer, 8, kBundleVersion + 1, 4);
+  reseal(newer);
+  EXPECT_FALSE(readBundle(newer, &error));
+  EXPECT_NE(error.find("version 2"), std::string::npos) << error;
+  EXPECT_NE(error.find("newer"), std::string::npos) << error;
+  EXPECT_FALSE(readBundle(std::vector<std::uint8_t>{}, &error));
+}
+
+TEST(Bundle, LyingCountsUnderValidChecksumsAreRefused) {
+  const std::vector<std::uint8_t> bytes = bytesOf(smallBundle());
+  const auto sections = sectionsOf(bytes);
+  const std::size_t level = sections[1].first;
+  // the level section: i32 index, string name (4 + 4 bytes), 7 doubles, then u32 joints
+  const std::size_t joints = level + 4 + 4 + 4 + 7 * 8;
+  ASSERT_EQ(le(bytes, joints, 4), 3u);
+  for (std::uint64_t lie : {0ull, 4ull, 40000ull, 0xFFFFFFFFull}) {
+    std::vector<std::uint8_t> damaged = bytes;
+    putLe(damaged, joints, lie, 4);
+    reseal(damaged);
+    std::string error;
+    EXPECT_FALSE(readBundle(damaged, &error)) << lie;
+    EXPECT_FALSE(error.empty());
+  }
+  // a frame count of 2^30: refused before anything that large is allocated
+  const std::size_t clipStart = joints + 4 + 3 * 72 + 4; // joints, then the clip count
+  const std::size_t frames = clipStart + 4 + 4 + 8;      // clip name "wave", fps
+  ASSERT_EQ(le(bytes, frames, 4), 12u);
+  std::vector<std::uint8_t> huge = bytes;
+  putLe(huge, frames, 1u << 30, 4);
+  reseal(huge);
+  std::string error;
+  EXPECT_FALSE(readBundle(huge, &error));
+  EXPECT_FALSE(error.empty());
+  // a parent after its child
+  std::vector<std::uint8_t> cyclic = bytes;
+  putLe(cyclic, joints + 4 + 72 + 4, 2, 4); // joint 1's parent := 2
+  reseal(cyclic);
+  EXPECT_FALSE(readBundle(cyclic, &error));
+  EXPECT_NE(error.find("parent"), std::string::npos) << error;
+}
+
+TEST(Bundle, InconsistentBundlesAreNotWritten) {
+  Bundle b = smallBundle();
+  b.levels[0].mesh->indices.push_back(9);
+  std::string error;
+  EXPECT_TRUE(writeBundle(b, &error).empty());
+  EXPECT_NE(error.find("index"), std::string::npos) << error;
+  b = smallBundle();
+  b.levels.clear();
+  EXPECT_TRUE(writeBundle(b, &error).empty());
+}
+
+TEST(Bundle, MissingFileSaysSo) {
+  std::string error;
+  EXPECT_FALSE(readBundleFile("/nonexistent/x.mlodb", &error));
+  EXPECT_EQ(error, "cannot open the file");
+}
+
+} // namespace
+} // namespace mlod
