@@ -1,0 +1,587 @@
+#include "gltf_writer.h"
+
+#include "core/lod/error_budget.h"
+#include "core/lod_clip_builder.h"
+
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <sstream>
+
+namespace mlod::gltf {
+
+namespace {
+
+using tinygltf::Value;
+using nlohmann::json;
+
+// glTF enums (the specification's, as tinygltf names them).
+constexpr int kArrayBuffer = TINYGLTF_TARGET_ARRAY_BUFFER;
+constexpr int kElementArrayBuffer = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
+constexpr int kNoTarget = 0;
+
+Value number(double x) { return Value(x); }
+Value integer(int i) { return Value(i); }
+
+// A unit quaternion with w written last, as glTF stores it; q and -q are the same rotation.
+glm::quat unit(const glm::quat& q) {
+  const float length = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+  return length > 0.0f && std::isfinite(length) ? q * (1.0f / length) : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+}
+
+// S * m * S^-1 with S = scale(kMetresPerCm): the same transform on lengths in metres.
+glm::mat4 toMetres(const glm::mat4& m) {
+  glm::mat4 out = m;
+  const float s = static_cast<float>(kMetresPerCm);
+  for (int row = 0; row < 3; ++row) {
+    out[3][row] = m[3][row] * s;    // translation
+    out[row][3] = m[row][3] / s;    // projective row (0 for affine matrices)
+  }
+  return out;
+}
+
+// Builds the one buffer, its views and accessors.
+class Builder {
+public:
+  explicit Builder(tinygltf::Model& model) : m_model(model) { m_model.buffers.emplace_back(); }
+
+  int view(const void* data, std::size_t bytes, int target) {
+    std::vector<unsigned char>& buffer = m_model.buffers[0].data;
+    buffer.resize((buffer.size() + 3) / 4 * 4, 0); // every component type here is at most 4 bytes
+    tinygltf::BufferView v;
+    v.buffer = 0;
+    v.byteOffset = buffer.size();
+    v.byteLength = bytes;
+    v.target = target;
+    const auto* begin = static_cast<const unsigned char*>(data);
+    buffer.insert(buffer.end(), begin, begin + bytes);
+    m_model.bufferViews.push_back(std::move(v));
+    return static_cast<int>(m_model.bufferViews.size()) - 1;
+  }
+
+  // Float elements of `components` each (type: TINYGLTF_TYPE_*); bounds where asked.
+  int floats(const std::vector<float>& values, int components, int type, int target, bool bounds) {
+    tinygltf::Accessor a;
+    a.bufferView = view(values.data(), values.size() * sizeof(float), target);
+    a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    a.type = type;
+    a.count = values.size() / static_cast<std::size_t>(components);
+    if (bounds) {
+      a.minValues.assign(static_cast<std::size_t>(components), std::numeric_limits<double>::infinity());
+      a.maxValues.assign(static_cast<std::size_t>(components), -std::numeric_limits<double>::infinity());
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        const std::size_t c = i % static_cast<std::size_t>(components);
+        a.minValues[c] = std::min(a.minValues[c], static_cast<double>(values[i]));
+        a.maxValues[c] = std::max(a.maxValues[c], static_cast<double>(values[i]));
+      }
+    }
+    return push(std::move(a));
+  }
+
+  template <typename T>
+  int integers(const std::vector<T>& values, int componentType, int components, int type, int target) {
+    tinygltf::Accessor a;
+    a.bufferView = view(values.data(), values.size() * sizeof(T), target);
+    a.componentType = componentType;
+    a.type = type;
+    a.count = values.size() / static_cast<std::size_t>(components);
+    return push(std::move(a));
+  }
+
+  // Key times of `frames` at `fps`, shared between channels with the same frames.
+  int times(const std::vector<int>& frames, double fps) {
+    const auto found = m_times.find(frames);
+    if (found != m_times.end())
+      return found->second;
+    std::vector<float> seconds(frames.size());
+    for (std::size_t i = 0; i < frames.size(); ++i)
+      seconds[i] = static_cast<float>(frames[i] / fps);
+    const int accessor = floats(seconds, 1, TINYGLTF_TYPE_SCALAR, kNoTarget, true);
+    m_times.emplace(frames, accessor);
+    return accessor;
+  }
+  void newClip() { m_times.clear(); } // key times depend on the clip's rate
+
+private:
+  int push(tinygltf::Accessor a) {
+    m_model.accessors.push_back(std::move(a));
+    return static_cast<int>(m_model.accessors.size()) - 1;
+  }
+
+  tinygltf::Model& m_model;
+  std::map<std::vector<int>, int> m_times;
+};
+
+// One joint's rotation track at a level: the frames that get a key and their rotations.
+struct RotationTrack {
+  std::vector<int> frames;
+  std::vector<float> values; // x, y, z, w per key
+};
+
+RotationTrack rotationTrack(const Clip& clip, int joint, const std::vector<Cluster>* clusters, bool removed,
+                            const glm::quat& frozen) {
+  RotationTrack track;
+  const int n = clip.frameCount;
+  glm::quat previous(1.0f, 0.0f, 0.0f, 0.0f);
+  bool first = true;
+  const auto key = [&](int frame, glm::quat q) {
+    q = unit(q);
+    if (!first && glm::dot(previous, q) < 0.0f) // the shorter way between keys, as the runtime aligns them
+      q = -q;
+    first = false;
+    previous = q;
+    track.frames.push_back(frame);
+    track.values.insert(track.values.end(), {q.x, q.y, q.z, q.w});
+  };
+  if (removed) { // bone reduction: the joint holds one pose throughout
+    key(0, frozen);
+    if (n > 1)
+      key(n - 1, frozen);
+    return track;
+  }
+  std::size_t next = 0; // the next cluster of the joint
+  for (int f = 0; f < n; ++f) {
+    if (clusters && next < clusters->size() && (*clusters)[next].first == f) {
+      const Cluster& c = (*clusters)[next++];
+      const glm::quat& held = clip.rotation(joint, c.key);
+      key(c.first, held); // held keys: the key posture at the cluster's first and last frame
+      key(c.last, held);
+      f = c.last;
+      continue;
+    }
+    key(f, clip.rotation(joint, f));
+  }
+  return track;
+}
+
+std::vector<int> allFrames(int n) {
+  std::vector<int> frames(static_cast<std::size_t>(n));
+  for (int f = 0; f < n; ++f)
+    frames[static_cast<std::size_t>(f)] = f;
+  return frames;
+}
+
+void addChannel(tinygltf::Animation& animation, int node, const char* path, int input, int output) {
+  tinygltf::AnimationSampler sampler;
+  sampler.input = input;
+  sampler.output = output;
+  sampler.interpolation = "LINEAR";
+  animation.samplers.push_back(std::move(sampler));
+  tinygltf::AnimationChannel channel;
+  channel.sampler = static_cast<int>(animation.samplers.size()) - 1;
+  channel.target_node = node;
+  channel.target_path = path;
+  animation.channels.push_back(std::move(channel));
+}
+
+// The level's motion of one clip as an animation of the joint nodes 0 .. J-1.
+Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& package, const LodPackageLevel& level,
+                                           std::size_t clipIndex) {
+  const Clip& clip = package.clips[clipIndex];
+  const int joints = package.skeleton.jointCount();
+  if (clip.jointCount != joints)
+    return Error("clip '" + clip.name + "' does not animate the package's skeleton");
+  const BoneReduction& bones = level.build.motion.bones;
+  const bool reduced = static_cast<int>(bones.removed.size()) == joints;
+  const ClusterSet* clusters = clipIndex < level.build.motion.clusters.size() ? &level.build.motion.clusters[clipIndex]
+                                                                              : nullptr;
+  if (clusters && !clusters->joints.empty() && clusters->jointCount() != joints)
+    return Error("the clusters of clip '" + clip.name + "' at level " + std::to_string(level.index) +
+                 " are not of the package's skeleton");
+  if (clusters && clusters->joints.empty())
+    clusters = nullptr;
+
+  tinygltf::Animation animation;
+  animation.name = clip.name + "@" + level.settings.name;
+  builder.newClip();
+  const std::vector<int> frames = allFrames(clip.frameCount);
+  const float s = static_cast<float>(kMetresPerCm);
+  for (int j = 0; j < joints; ++j) {
+    const std::size_t jj = static_cast<std::size_t>(j);
+    if (clip.hasRotation[jj]) {
+      const bool removed = reduced && bones.removed[jj];
+      const RotationTrack track = rotationTrack(clip, j, clusters ? &clusters->joints[jj] : nullptr, removed,
+                                                reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+      const int output = builder.floats(track.values, 4, TINYGLTF_TYPE_VEC4, kNoTarget, false);
+      addChannel(animation, j, "rotation", builder.times(track.frames, clip.fps), output);
+    }
+    if (clip.hasTranslation[jj]) {
+      std::vector<float> values;
+      values.reserve(frames.size() * 3);
+      for (int f : frames) {
+        const glm::vec3& t = clip.translation(j, f);
+        values.insert(values.end(), {t.x * s, t.y * s, t.z * s});
+      }
+      const int output = builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kNoTarget, false);
+      addChannel(animation, j, "translation", builder.times(frames, clip.fps), output);
+    }
+    if (clip.hasScale[jj]) {
+      std::vector<float> values;
+      values.reserve(frames.size() * 3);
+      for (int f : frames) {
+        const glm::vec3& v = clip.scale(j, f);
+        values.insert(values.end(), {v.x, v.y, v.z});
+      }
+      const int output = builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kNoTarget, false);
+      addChannel(animation, j, "scale", builder.times(frames, clip.fps), output);
+    }
+  }
+  if (animation.channels.empty()) { // a clip without channels: the rest pose (an animation needs a channel)
+    const RotationTrack track = rotationTrack(clip, 0, nullptr, true, package.skeleton.joints[0].rest.rotation);
+    const int output = builder.floats(track.values, 4, TINYGLTF_TYPE_VEC4, kNoTarget, false);
+    addChannel(animation, 0, "rotation", builder.times(track.frames, clip.fps), output);
+  }
+  return animation;
+}
+
+// A level's mesh, bound to the one skin of the full skeleton.
+Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int jointCount, const std::string& name) {
+  if (mesh.positions.empty() || mesh.indices.empty())
+    return Error("the mesh of " + name + " is empty");
+  const std::size_t n = mesh.positions.size();
+  tinygltf::Primitive primitive;
+  primitive.mode = TINYGLTF_MODE_TRIANGLES;
+
+  std::vector<float> values;
+  values.reserve(n * 3);
+  const float s = static_cast<float>(kMetresPerCm);
+  for (const glm::vec3& p : mesh.positions)
+    values.insert(values.end(), {p.x * s, p.y * s, p.z * s});
+  primitive.attributes["POSITION"] = builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kArrayBuffer, true);
+
+  if (mesh.normals.size() == n) {
+    values.clear();
+    for (const glm::vec3& v : mesh.normals) {
+      // Unit length in float, as the specification asks; a degenerate normal gets +Z.
+      const double length = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
+      const glm::vec3 u = length > 1e-12 && std::isfinite(length) ? glm::vec3(glm::dvec3(v) / length)
+                                                                    : glm::vec3(0.0f, 0.0f, 1.0f);
+      values.insert(values.end(), {u.x, u.y, u.z});
+    }
+    primitive.attributes["NORMAL"] = builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kArrayBuffer, false);
+  }
+  if (mesh.uvs.size() == n) {
+    values.clear();
+    for (const glm::vec2& uv : mesh.uvs) // core keeps Assimp's origin (bottom left); glTF's is top left
+      values.insert(values.end(), {uv.x, 1.0f - uv.y});
+    primitive.attributes["TEXCOORD_0"] = builder.floats(values, 2, TINYGLTF_TYPE_VEC2, kArrayBuffer, false);
+  }
+  if (mesh.skinned()) {
+    if (mesh.joints.size() != n || mesh.weights.size() != n)
+      return Error("the mesh of " + name + " has influences for " + std::to_string(mesh.weights.size()) + " of " +
+                   std::to_string(n) + " vertices");
+    std::vector<std::uint16_t> joints;
+    joints.reserve(n * 4);
+    values.clear();
+    for (std::size_t v = 0; v < n; ++v) {
+      glm::vec4 w = mesh.weights[v];
+      glm::u16vec4 jv = mesh.joints[v];
+      // Exactly 1 in float (x + y + z + w): the residual of the rounding goes to the largest
+      // weight (TOOLCHAIN.md); core's meshes already are, so this changes nothing there.
+      int largest = 0;
+      for (int k = 1; k < 4; ++k)
+        if (w[k] > w[largest])
+          largest = k;
+      if (!(w[largest] > 0.0f))
+        return Error("vertex " + std::to_string(v) + " of " + name + " has no positive weight");
+      const float total = w.x + w.y + w.z + w.w;
+      if (total != 1.0f) {
+        for (int k = 0; k < 4; ++k)
+          w[k] /= total;
+        w[largest] += 1.0f - (w.x + w.y + w.z + w.w);
+      }
+      for (int k = 0; k < 4; ++k) {
+        if (w[k] == 0.0f)
+          jv[k] = 0; // the validator expects unused slots at joint 0
+        else if (jv[k] >= jointCount)
+          return Error("vertex " + std::to_string(v) + " of " + name + " names joint " + std::to_string(jv[k]) +
+                       " of " + std::to_string(jointCount));
+        joints.push_back(jv[k]);
+      }
+      values.insert(values.end(), {w.x, w.y, w.z, w.w});
+    }
+    if (jointCount <= 256) {
+      std::vector<std::uint8_t> bytes(joints.begin(), joints.end());
+      primitive.attributes["JOINTS_0"] = builder.integers(bytes, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, 4,
+                                                          TINYGLTF_TYPE_VEC4, kArrayBuffer);
+    } else {
+      primitive.attributes["JOINTS_0"] = builder.integers(joints, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 4,
+                                                          TINYGLTF_TYPE_VEC4, kArrayBuffer);
+    }
+    primitive.attributes["WEIGHTS_0"] = builder.floats(values, 4, TINYGLTF_TYPE_VEC4, kArrayBuffer, false);
+  }
+  for (std::uint32_t i : mesh.indices)
+    if (i >= n)
+      return Error("the mesh of " + name + " has an index out of range");
+  if (n <= 65536) {
+    std::vector<std::uint16_t> indices(mesh.indices.begin(), mesh.indices.end());
+    primitive.indices = builder.integers(indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 1, TINYGLTF_TYPE_SCALAR,
+                                         kElementArrayBuffer);
+  } else {
+    primitive.indices = builder.integers(mesh.indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 1, TINYGLTF_TYPE_SCALAR,
+                                         kElementArrayBuffer);
+  }
+  tinygltf::Mesh out;
+  out.name = name;
+  out.primitives.push_back(std::move(primitive));
+  return out;
+}
+
+// The fraction of the viewport height the bounding sphere spans at `distanceCm` (1 nearer
+// than where it fills the screen).
+double screenCoverage(const LodSet& lods, double distanceCm) {
+  if (!(distanceCm > 0.0) || !(lods.boundingRadiusCm > 0.0))
+    return 1.0;
+  const double pixels = screenSizePixels(lods.boundingRadiusCm, distanceCm, lods.projection);
+  const double coverage = pixels / lods.projection.viewportHeightPixels;
+  return std::isfinite(coverage) ? std::clamp(coverage, 0.0, 1.0) : 1.0;
+}
+
+// `bytes` (a .glb or a .gltf that tinygltf wrote) with `value` as the top-level extension `name`.
+Result<std::string> withExtension(const std::string& bytes, const WriteOptions& options, const char* name, json value) {
+  if (!options.binary) {
+    json document = json::parse(bytes, nullptr, false);
+    if (document.is_discarded())
+      return Error("the glTF serializer wrote invalid JSON");
+    document["extensions"][name] = std::move(value);
+    return document.dump(options.pretty ? 2 : -1) + "\n";
+  }
+  // GLB: a 12-byte header, the JSON chunk (length, "JSON", text padded with spaces), the BIN chunk.
+  const auto u32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4);
+    return v;
+  };
+  if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0 || u32(16) != 0x4E4F534Au || 20 + u32(12) > bytes.size())
+    return Error("the glTF serializer wrote an invalid GLB");
+  const std::size_t jsonLength = u32(12);
+  json document = json::parse(bytes.begin() + 20, bytes.begin() + 20 + std::ptrdiff_t(jsonLength), nullptr, false);
+  if (document.is_discarded())
+    return Error("the glTF serializer wrote invalid JSON");
+  document["extensions"][name] = std::move(value);
+  std::string text = document.dump();
+  text.resize((text.size() + 3) / 4 * 4, ' ');
+  const std::string bin = bytes.substr(20 + jsonLength);
+  std::string out;
+  const auto put = [&](std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+  out.reserve(20 + text.size() + bin.size());
+  out.append("glTF", 4);
+  put(2);
+  put(static_cast<std::uint32_t>(20 + text.size() + bin.size()));
+  put(static_cast<std::uint32_t>(text.size()));
+  put(0x4E4F534Au); // "JSON"
+  out += text;
+  out += bin;
+  return out;
+}
+
+bool step(const WriteProgress& progress, double fraction, std::string_view message) {
+  return !progress || progress(std::clamp(fraction, 0.0, 1.0), message);
+}
+
+} // namespace
+
+Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& options, const WriteProgress& progress) {
+  const Skeleton& skeleton = package.skeleton;
+  const int jointCount = skeleton.jointCount();
+  if (jointCount == 0 && !package.mesh)
+    return Error("the package has neither a skeleton nor a mesh");
+  if (package.levels.empty())
+    return Error("the package has no level");
+  if (!step(progress, 0.0, "skeleton"))
+    return Error(kWriteCancelled);
+
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = options.generator;
+  Builder builder(model);
+
+  // Joints: nodes 0 .. J-1, the rest pose in metres.
+  const float s = static_cast<float>(kMetresPerCm);
+  for (int j = 0; j < jointCount; ++j) {
+    const Joint& joint = skeleton.joints[static_cast<std::size_t>(j)];
+    tinygltf::Node node;
+    node.name = joint.name;
+    const glm::vec3 t = joint.rest.translation * s;
+    if (t != glm::vec3(0.0f))
+      node.translation = {t.x, t.y, t.z};
+    const glm::quat q = unit(joint.rest.rotation);
+    if (q != glm::quat(1.0f, 0.0f, 0.0f, 0.0f))
+      node.rotation = {q.x, q.y, q.z, q.w};
+    if (joint.rest.scale != glm::vec3(1.0f))
+      node.scale = {joint.rest.scale.x, joint.rest.scale.y, joint.rest.scale.z};
+    model.nodes.push_back(std::move(node));
+  }
+  for (int j = 1; j < jointCount; ++j) {
+    const int parent = skeleton.joints[static_cast<std::size_t>(j)].parent;
+    if (parent < 0 || parent >= j)
+      return Error("joint '" + skeleton.joints[static_cast<std::size_t>(j)].name + "' does not follow its parent");
+    model.nodes[static_cast<std::size_t>(parent)].children.push_back(j);
+  }
+
+  tinygltf::Scene scene;
+  scene.name = package.name;
+  if (jointCount > 0)
+    scene.nodes.push_back(0);
+
+  // Meshes: one per level that has one, bound to one skin over every joint.
+  int skin = -1;
+  std::vector<int> levelNodes(package.levels.size(), -1);
+  bool anyMesh = false;
+  for (const LodPackageLevel& level : package.levels)
+    anyMesh = anyMesh || level.mesh() != nullptr;
+  if (anyMesh && jointCount > 0) {
+    std::vector<float> matrices;
+    for (const glm::mat4& m : paletteInverseBinds(skeleton)) {
+      const glm::mat4 metres = toMetres(m);
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+          matrices.push_back(metres[c][r]); // column-major, as glTF stores matrices
+    }
+    tinygltf::Skin out;
+    out.name = package.name + "_skin";
+    out.skeleton = 0;
+    out.inverseBindMatrices = builder.floats(matrices, 16, TINYGLTF_TYPE_MAT4, kNoTarget, false);
+    for (int j = 0; j < jointCount; ++j)
+      out.joints.push_back(j);
+    model.skins.push_back(std::move(out));
+    skin = 0;
+  }
+  for (std::size_t i = 0; i < package.levels.size(); ++i) {
+    const LodPackageLevel& level = package.levels[i];
+    std::optional<SkinnedMesh> mesh = levelMeshOnFullSkeleton(level);
+    if (!mesh)
+      continue;
+    if (!step(progress, 0.05 + 0.25 * double(i) / double(package.levels.size()), "mesh of " + level.settings.name))
+      return Error(kWriteCancelled);
+    const std::string name = package.name + "_" + level.settings.name;
+    Result<tinygltf::Mesh> built = levelMesh(builder, *mesh, mesh->skinned() ? jointCount : 0, name);
+    if (!built)
+      return built.error();
+    model.meshes.push_back(std::move(built).value());
+    tinygltf::Node node;
+    node.name = name;
+    node.mesh = static_cast<int>(model.meshes.size()) - 1;
+    if (mesh->skinned()) {
+      if (skin < 0)
+        return Error("the mesh of " + name + " is skinned but the package has no skeleton");
+      node.skin = skin;
+    }
+    model.nodes.push_back(std::move(node));
+    levelNodes[i] = static_cast<int>(model.nodes.size()) - 1;
+  }
+  std::vector<std::size_t> meshLevels; // the levels with a mesh node, in order
+  for (std::size_t i = 0; i < levelNodes.size(); ++i)
+    if (levelNodes[i] >= 0)
+      meshLevels.push_back(i);
+  if (!meshLevels.empty()) {
+    tinygltf::Node& top = model.nodes[static_cast<std::size_t>(levelNodes[meshLevels[0]])];
+    scene.nodes.push_back(levelNodes[meshLevels[0]]);
+    if (meshLevels.size() > 1) {
+      Value::Array ids;
+      Value::Array coverage;
+      for (std::size_t k = 1; k < meshLevels.size(); ++k)
+        ids.push_back(integer(levelNodes[meshLevels[k]]));
+      for (std::size_t k = 0; k < meshLevels.size(); ++k) {
+        // Level k is shown down to the coverage where level k + 1 switches in; the last to 0.
+        const double c = k + 1 < meshLevels.size()
+                             ? screenCoverage(package.lods, package.levels[meshLevels[k + 1]].settings.switchDistanceCm)
+                             : 0.0;
+        coverage.push_back(number(c));
+      }
+      Value::Object lod;
+      lod["ids"] = Value(std::move(ids));
+      top.extensions["MSFT_lod"] = Value(std::move(lod));
+      Value::Object extras;
+      extras["MSFT_screencoverage"] = Value(std::move(coverage));
+      top.extras = Value(std::move(extras));
+      model.extensionsUsed.push_back("MSFT_lod");
+    }
+  }
+  model.scenes.push_back(std::move(scene));
+  model.defaultScene = 0;
+
+  // Animations: per level, per clip; and the cluster tables beside them.
+  json levelsJson = json::array();
+  const std::size_t clipCount = jointCount > 0 ? package.clips.size() : 0;
+  std::size_t done = 0;
+  for (std::size_t i = 0; i < package.levels.size(); ++i) {
+    const LodPackageLevel& level = package.levels[i];
+    const BoneReduction& bones = level.build.motion.bones;
+    json removed = json::array();
+    if (static_cast<int>(bones.removed.size()) == jointCount)
+      for (int j = 0; j < jointCount; ++j)
+        if (bones.removed[static_cast<std::size_t>(j)])
+          removed.push_back(j);
+    json animations = json::array();
+    for (std::size_t c = 0; c < clipCount; ++c, ++done) {
+      if (!step(progress, 0.3 + 0.6 * double(done) / double(clipCount * package.levels.size()),
+                "animation " + package.clips[c].name + " at " + level.settings.name))
+        return Error(kWriteCancelled);
+      Result<tinygltf::Animation> animation = levelAnimation(builder, package, level, c);
+      if (!animation)
+        return animation.error();
+      model.animations.push_back(std::move(animation).value());
+      const Clip& clip = package.clips[c];
+      json jointsJson = json::array();
+      if (c < level.build.motion.clusters.size()) {
+        const ClusterSet& set = level.build.motion.clusters[c];
+        for (int j = 0; j < set.jointCount(); ++j) {
+          const std::vector<Cluster>& list = set.joints[static_cast<std::size_t>(j)];
+          if (list.empty())
+            continue;
+          json clusters = json::array();
+          for (const Cluster& cluster : list)
+            clusters.push_back({cluster.first, cluster.last, cluster.key});
+          jointsJson.push_back({{"node", j}, {"clusters", std::move(clusters)}});
+        }
+      }
+      animations.push_back({{"animation", static_cast<int>(model.animations.size()) - 1},
+                            {"clip", clip.name},
+                            {"frameCount", clip.frameCount},
+                            {"fps", clip.fps},
+                            {"joints", std::move(jointsJson)}});
+    }
+    levelsJson.push_back({{"level", level.index},
+                          {"name", level.settings.name},
+                          {"threshold", level.settings.motionThreshold},
+                          {"switchDistance", level.settings.switchDistanceCm * kMetresPerCm},
+                          {"node", levelNodes[i]},
+                          {"removedJoints", std::move(removed)},
+                          {"animations", std::move(animations)}});
+  }
+  json extension;
+  if (jointCount > 0) {
+    extension = {{"version", kClusterExtensionVersion},
+                 {"mode", toString(package.jpc.mode)},
+                 {"alpha", package.jpc.alpha},
+                 {"levels", std::move(levelsJson)}};
+    model.extensionsUsed.push_back(kClusterExtension);
+  }
+
+  if (!step(progress, 0.9, "writing"))
+    return Error(kWriteCancelled);
+  tinygltf::TinyGLTF writer;
+  std::ostringstream stream;
+  if (!writer.WriteGltfSceneToStream(&model, stream, options.pretty && !options.binary, options.binary) || !stream)
+    return Error("the glTF serializer failed");
+  std::string bytes = stream.str();
+  if (!extension.is_null()) {
+    // tinygltf's extension values cannot hold an empty array: the vendor extension goes into
+    // the serialized JSON with nlohmann-json instead.
+    Result<std::string> out = withExtension(bytes, options, kClusterExtension, std::move(extension));
+    if (!out)
+      return out.error();
+    bytes = std::move(out).value();
+  }
+  step(progress, 1.0, "done");
+  return bytes;
+}
+
+} // namespace mlod::gltf

@@ -1,0 +1,52 @@
+#pragma once
+// A LodPackage as one glTF 2.0 asset (DESIGN.md section 8; docs/gltf-extension.md):
+// - units: metres (core is in cm: every length is scaled by 0.01), +Y up as imported;
+// - the original skeleton as nodes 0 .. J-1 (node j = joint j, its rest transform), one
+//   skin over all of them (inverse bind matrices: paletteInverseBinds()); every level's mesh
+//   is bound to that one skin (levelMeshOnFullSkeleton(): bone reduction moved the
+//   influences of a level's removed joints to their active ancestors and baked the frozen
+//   poses into the vertices), so one skeleton plays every level;
+// - per level and clip one animation "<clip>@<level name>": the level's motion M'(t) on the
+//   full skeleton. A clustered span [first, last] is written as two keys holding the
+//   cluster's key posture at frames first and last (the frames between have no key), joints
+//   removed by bone reduction hold their frozen rotation, everything else is keyed at every
+//   frame; LINEAR, so it plays like the runtime's LodClip (which nlerps where glTF slerps:
+//   the same at every frame, within a hair between frames);
+// - mesh levels: one node per level with a mesh; the first selected level's node is in the
+//   scene and carries MSFT_lod {"ids": [the other levels' nodes]} and
+//   extras.MSFT_screencoverage (per level, the fraction of the viewport height the
+//   character's bounding sphere spans where the next level takes over; 0 for the last);
+// - the cluster tables and bone reduction of every level in the vendor extension
+//   MLOD_joint_clusters at the asset's top level (docs/gltf-extension.md), never required.
+// A skeleton without a mesh (BVH) gives nodes, the skin-less skeleton and the animations.
+
+#include "core/error.h"
+#include "core/lod/lod_package.h"
+
+#include <functional>
+#include <string>
+#include <string_view>
+
+namespace mlod::gltf {
+
+inline constexpr const char* kClusterExtension = "MLOD_joint_clusters";
+inline constexpr int kClusterExtensionVersion = 1;
+inline constexpr double kMetresPerCm = 0.01;
+
+struct WriteOptions {
+  bool binary = true;  // .glb; false: .gltf JSON with the buffer embedded as a data URI
+  bool pretty = false; // indent the JSON of a .gltf
+  std::string generator = "Motion LOD Studio";
+};
+
+// Progress: fraction in [0, 1] and what is being done; returns false to cancel. May be empty.
+using WriteProgress = std::function<bool(double fraction, std::string_view message)>;
+inline constexpr const char* kWriteCancelled = "cancelled";
+
+// The bytes of the file. Errors: a package whose parts do not fit together (a clip or
+// cluster set of another skeleton, a mesh joint out of range), cancellation
+// (message kWriteCancelled), a failure of the serializer.
+Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& options = {},
+                              const WriteProgress& progress = {});
+
+} // namespace mlod::gltf

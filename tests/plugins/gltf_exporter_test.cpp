@@ -1,0 +1,428 @@
+// The glTF exporter plugin (plugins/gltf) on real data: CMU 01_01 (a skeleton alone) and
+// BCN_Epileptic (a skinned character). The Khronos glTF-Validator must report no error; the
+// file must read back (tinygltf, and Assimp through the project's importer) with the same
+// joints and frames; weights sum to 1 exactly; MSFT_lod links the level meshes; the
+// MLOD_joint_clusters extension holds the package's cluster tables; each level's animation
+// plays like the runtime's LodClip; unwritable output and cancel leave nothing behind.
+
+#include "exporter_test_support.h"
+
+#include "io/importer.h"
+
+#include <QDir>
+#include <QFile>
+#include <QFileInfo>
+#include <QTemporaryDir>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtx/quaternion.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include <cstring>
+#include <map>
+
+#include <unistd.h>
+
+namespace mlod {
+namespace {
+
+using nlohmann::json;
+
+Exporter& gltfExporter() {
+  static Exporter* exporter = test::loadExporter(QStringLiteral(MLOD_GLTF_PLUGIN));
+  if (!exporter)
+    throw std::runtime_error("no glTF exporter");
+  return *exporter;
+}
+
+QByteArray readAll(const QString& path) {
+  QFile file(path);
+  return file.open(QIODevice::ReadOnly) ? file.readAll() : QByteArray();
+}
+
+// The JSON of a .glb (its first chunk) or of a .gltf.
+json documentOf(const QByteArray& bytes) {
+  if (bytes.startsWith("glTF")) {
+    std::uint32_t length = 0;
+    std::memcpy(&length, bytes.constData() + 12, 4);
+    return json::parse(bytes.constData() + 20, bytes.constData() + 20 + length);
+  }
+  return json::parse(bytes.constData(), bytes.constData() + bytes.size());
+}
+
+tinygltf::Model parseModel(const QByteArray& bytes) {
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string error, warning;
+  const bool ok =
+      bytes.startsWith("glTF")
+          ? loader.LoadBinaryFromMemory(&model, &error, &warning, reinterpret_cast<const unsigned char*>(bytes.constData()),
+                                        static_cast<unsigned>(bytes.size()))
+          : loader.LoadASCIIFromString(&model, &error, &warning, bytes.constData(), static_cast<unsigned>(bytes.size()), "");
+  EXPECT_TRUE(ok) << error;
+  return model;
+}
+
+template <typename T>
+std::vector<T> elements(const tinygltf::Model& model, int accessorIndex, int components) {
+  const tinygltf::Accessor& accessor = model.accessors.at(std::size_t(accessorIndex));
+  const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(accessor.bufferView));
+  const unsigned char* data = model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset + accessor.byteOffset;
+  std::vector<T> out(accessor.count * std::size_t(components));
+  std::memcpy(out.data(), data, out.size() * sizeof(T));
+  return out;
+}
+
+struct Exported {
+  QString path;
+  QByteArray bytes;
+  ExportResult result;
+};
+
+Exported exportTo(const LodPackage& package, const QString& path, const QStringList& options = {}) {
+  Exported out;
+  out.path = path;
+  out.result = gltfExporter().exportPackage(package, path, test::exporterOptions(gltfExporter(), options), {});
+  out.bytes = readAll(path);
+  return out;
+}
+
+// Model-space matrices of the joint nodes 0 .. J-1 of `model` playing `animation` at
+// `seconds` (glTF's LINEAR: lerp, slerp for rotations).
+std::vector<glm::mat4> evaluate(const tinygltf::Model& model, const tinygltf::Animation& animation, int joints,
+                                double seconds) {
+  std::vector<glm::vec3> t(std::size_t(joints), glm::vec3(0.0f)), s(std::size_t(joints), glm::vec3(1.0f));
+  std::vector<glm::quat> r(std::size_t(joints), glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+  for (int j = 0; j < joints; ++j) {
+    const tinygltf::Node& node = model.nodes[std::size_t(j)];
+    if (node.translation.size() == 3)
+      t[std::size_t(j)] = glm::vec3(node.translation[0], node.translation[1], node.translation[2]);
+    if (node.rotation.size() == 4)
+      r[std::size_t(j)] = glm::quat(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]),
+                                    float(node.rotation[2]));
+    if (node.scale.size() == 3)
+      s[std::size_t(j)] = glm::vec3(node.scale[0], node.scale[1], node.scale[2]);
+  }
+  for (const tinygltf::AnimationChannel& channel : animation.channels) {
+    const tinygltf::AnimationSampler& sampler = animation.samplers[std::size_t(channel.sampler)];
+    const std::vector<float> times = elements<float>(model, sampler.input, 1);
+    const int n = channel.target_path == "rotation" ? 4 : 3;
+    const std::vector<float> values = elements<float>(model, sampler.output, n);
+    std::size_t k = 0;
+    while (k + 1 < times.size() && times[k + 1] <= seconds)
+      ++k;
+    const std::size_t k1 = std::min(k + 1, times.size() - 1);
+    const float a = k1 == k || seconds <= times[k] ? 0.0f : float((seconds - times[k]) / (times[k1] - times[k]));
+    const std::size_t j = std::size_t(channel.target_node);
+    if (n == 4) {
+      const glm::quat q0(values[4 * k + 3], values[4 * k], values[4 * k + 1], values[4 * k + 2]);
+      const glm::quat q1(values[4 * k1 + 3], values[4 * k1], values[4 * k1 + 1], values[4 * k1 + 2]);
+      r[j] = glm::slerp(q0, q1, a);
+    } else {
+      const glm::vec3 v0(values[3 * k], values[3 * k + 1], values[3 * k + 2]);
+      const glm::vec3 v1(values[3 * k1], values[3 * k1 + 1], values[3 * k1 + 2]);
+      (channel.target_path == "translation" ? t : s)[j] = glm::mix(v0, v1, a);
+    }
+  }
+  std::vector<int> parent(std::size_t(joints), -1);
+  for (int j = 0; j < joints; ++j)
+    for (int child : model.nodes[std::size_t(j)].children)
+      if (child < joints)
+        parent[std::size_t(child)] = j;
+  std::vector<glm::mat4> models(static_cast<std::size_t>(joints));
+  for (std::size_t j = 0; j < std::size_t(joints); ++j) {
+    const glm::mat4 local = glm::translate(glm::mat4(1.0f), t[j]) * glm::mat4_cast(r[j]) * glm::scale(glm::mat4(1.0f), s[j]);
+    models[j] = parent[j] < 0 ? local : models[std::size_t(parent[j])] * local;
+  }
+  return models;
+}
+
+// Model-space matrices (cm) of the level's skeleton playing runtime clip `clip` at frame position `frame`.
+std::vector<glm::mat4> evaluateRuntime(const LodPackageLevel& level, std::size_t clip, double frame) {
+  const Skeleton& skeleton = level.skeleton();
+  const LodClip& lod = level.runtimeClips[clip];
+  std::vector<glm::mat4> models(std::size_t(skeleton.jointCount()));
+  for (int j = 0; j < skeleton.jointCount(); ++j) {
+    const glm::mat4 local = glm::translate(glm::mat4(1.0f), lod.translationAt(j, frame)) *
+                            glm::mat4_cast(lod.rotationAt(j, frame)) * glm::scale(glm::mat4(1.0f), lod.scaleAt(j, frame));
+    const int parent = skeleton.joints[std::size_t(j)].parent;
+    models[std::size_t(j)] = parent < 0 ? local : models[std::size_t(parent)] * local;
+  }
+  return models;
+}
+
+// Every level's animation of every clip equals the runtime at every `stride`-th frame and
+// half frame: joint positions within `toleranceM` metres.
+void expectPlaysLikeTheRuntime(const LodPackage& package, const tinygltf::Model& model, int stride, double toleranceM) {
+  const int joints = package.skeleton.jointCount();
+  ASSERT_EQ(model.animations.size(), package.levels.size() * package.clips.size());
+  std::size_t animation = 0;
+  for (const LodPackageLevel& level : package.levels) {
+    for (std::size_t c = 0; c < package.clips.size(); ++c, ++animation) {
+      const Clip& clip = package.clips[c];
+      double worst = 0.0;
+      for (int f = 0; f < clip.frameCount; f += stride) {
+        for (double frame : {double(f), f + 0.5}) {
+          if (frame > clip.frameCount - 1)
+            continue;
+          const std::vector<glm::mat4> gltf = evaluate(model, model.animations[animation], joints, frame / clip.fps);
+          const std::vector<glm::mat4> runtime = evaluateRuntime(level, c, frame);
+          for (int r = 0; r < level.skeleton().jointCount(); ++r) {
+            const int full = level.build.motion.bones.fullIndex[std::size_t(r)];
+            const glm::vec3 expected = glm::vec3(runtime[std::size_t(r)][3]) * 0.01f;
+            worst = std::max(worst, double(glm::length(glm::vec3(gltf[std::size_t(full)][3]) - expected)));
+          }
+        }
+      }
+      EXPECT_LT(worst, toleranceM) << "level " << level.index << " clip " << clip.name;
+    }
+  }
+}
+
+void expectClusterTablesRoundTrip(const LodPackage& package, const json& document) {
+  ASSERT_TRUE(document.contains("extensionsUsed"));
+  const auto used = document["extensionsUsed"].get<std::vector<std::string>>();
+  EXPECT_NE(std::find(used.begin(), used.end(), "MLOD_joint_clusters"), used.end());
+  EXPECT_FALSE(document.contains("extensionsRequired")); // every other reader can read the file
+  const json& extension = document.at("extensions").at("MLOD_joint_clusters");
+  EXPECT_EQ(extension.at("version").get<int>(), 1);
+  const json& levels = extension.at("levels");
+  ASSERT_EQ(levels.size(), package.levels.size());
+  for (std::size_t i = 0; i < package.levels.size(); ++i) {
+    const LodPackageLevel& level = package.levels[i];
+    const json& l = levels[i];
+    EXPECT_EQ(l.at("level").get<int>(), level.index);
+    EXPECT_EQ(l.at("name").get<std::string>(), level.settings.name);
+    EXPECT_DOUBLE_EQ(l.at("threshold").get<double>(), level.settings.motionThreshold);
+    std::vector<int> removed;
+    for (std::size_t j = 0; j < level.build.motion.bones.removed.size(); ++j)
+      if (level.build.motion.bones.removed[j])
+        removed.push_back(int(j));
+    EXPECT_EQ(l.at("removedJoints").get<std::vector<int>>(), removed);
+    ASSERT_EQ(l.at("animations").size(), package.clips.size());
+    for (std::size_t c = 0; c < package.clips.size(); ++c) {
+      const json& a = l["animations"][c];
+      EXPECT_EQ(a.at("animation").get<std::size_t>(), i * package.clips.size() + c);
+      EXPECT_EQ(a.at("frameCount").get<int>(), package.clips[c].frameCount);
+      const ClusterSet& set = level.build.motion.clusters[c];
+      std::vector<std::vector<Cluster>> parsed(set.joints.size());
+      for (const json& joint : a.at("joints")) {
+        const std::size_t node = joint.at("node").get<std::size_t>();
+        ASSERT_LT(node, parsed.size());
+        for (const json& cluster : joint.at("clusters"))
+          parsed[node].push_back({cluster.at(0).get<int>(), cluster.at(1).get<int>(), cluster.at(2).get<int>()});
+        EXPECT_FALSE(parsed[node].empty()); // only joints with clusters are listed
+      }
+      EXPECT_EQ(parsed, set.joints) << "level " << level.index << " clip " << c;
+    }
+  }
+}
+
+TEST(GltfExporter, DescribesItselfAndItsOptions) {
+  Exporter& exporter = gltfExporter();
+  EXPECT_EQ(exporter.id(), "gltf");
+  EXPECT_EQ(exporter.suffixes(), QStringList({"glb", "gltf"}));
+  const QVariantMap defaults = test::exporterOptions(exporter);
+  EXPECT_EQ(defaults.value("format").toString(), "auto");
+  EXPECT_EQ(defaults.value("pretty").toBool(), false);
+  QVariantMap values;
+  QString error;
+  EXPECT_FALSE(parseExporterOptions(exporter.options(), {"format=fbx"}, &values, &error));
+}
+
+TEST(GltfExporter, SkinnedCharacterPassesTheValidatorAndReadsBack) {
+  const LodPackage& package = test::bcnPackage();
+  ASSERT_TRUE(package.mesh);
+  ASSERT_EQ(package.levels.size(), 4u);
+  QTemporaryDir dir;
+  for (const QString& name : {QStringLiteral("BCN_Epileptic.glb"), QStringLiteral("BCN_Epileptic.gltf")}) {
+    SCOPED_TRACE(name.toStdString());
+    const Exported out = exportTo(package, dir.filePath(name));
+    ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+    EXPECT_EQ(out.bytes.startsWith("glTF"), name.endsWith(".glb")); // the format follows the suffix
+
+    const test::ValidatorReport report = test::runValidator(out.path);
+    EXPECT_EQ(report.exitCode, 0) << report.output;
+    EXPECT_EQ(report.errors, 0) << report.output;
+    std::cout << "[ validator ] " << name.toStdString() << ": " << out.bytes.size() << " bytes, " << report.errors
+              << " errors, " << report.warnings << " warnings, " << report.infos << " infos\n";
+
+    const tinygltf::Model model = parseModel(out.bytes);
+    const int joints = package.skeleton.jointCount();
+    ASSERT_EQ(model.skins.size(), 1u);
+    EXPECT_EQ(int(model.skins[0].joints.size()), joints);
+    ASSERT_EQ(model.meshes.size(), package.levels.size()); // one mesh per level
+    // weights sum to exactly 1 in float (x + y + z + w), unused slots name joint 0
+    for (std::size_t m = 0; m < model.meshes.size(); ++m) {
+      const tinygltf::Primitive& primitive = model.meshes[m].primitives.at(0);
+      const std::vector<float> weights = elements<float>(model, primitive.attributes.at("WEIGHTS_0"), 4);
+      const std::vector<std::uint8_t> joint = elements<std::uint8_t>(model, primitive.attributes.at("JOINTS_0"), 4);
+      int bad = 0;
+      for (std::size_t v = 0; v < weights.size() / 4; ++v) {
+        const float* w = &weights[4 * v];
+        bad += (w[0] + w[1] + w[2] + w[3]) != 1.0f;
+        for (int k = 0; k < 4; ++k)
+          bad += w[k] == 0.0f && joint[4 * v + std::size_t(k)] != 0;
+      }
+      EXPECT_EQ(bad, 0) << "mesh " << m;
+      const std::size_t triangles = elements<std::uint16_t>(model, primitive.indices, 1).size() / 3;
+      const SkinnedMesh* levelMesh = package.levels[m].mesh();
+      ASSERT_TRUE(levelMesh != nullptr);
+      EXPECT_EQ(triangles, levelMesh->triangleCount());
+    }
+    // MSFT_lod on the first level's node names the other levels' nodes, coarser in order
+    const json document = documentOf(out.bytes);
+    const json& scene = document["scenes"][0]["nodes"];
+    ASSERT_EQ(scene.size(), 2u); // the skeleton's root and the finest level's mesh
+    const json& top = document["nodes"][scene[1].get<std::size_t>()];
+    EXPECT_EQ(top.at("mesh").get<int>(), 0);
+    const std::vector<int> ids = top.at("extensions").at("MSFT_lod").at("ids").get<std::vector<int>>();
+    ASSERT_EQ(ids.size(), package.levels.size() - 1);
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      const json& node = document["nodes"][std::size_t(ids[k])];
+      EXPECT_EQ(node.at("mesh").get<std::size_t>(), k + 1);
+      EXPECT_EQ(node.at("skin").get<int>(), 0);
+      EXPECT_EQ(node.at("name").get<std::string>(), "BCN_Epileptic_" + package.levels[k + 1].settings.name);
+    }
+    const std::vector<double> coverage = top.at("extras").at("MSFT_screencoverage").get<std::vector<double>>();
+    ASSERT_EQ(coverage.size(), package.levels.size());
+    for (std::size_t k = 0; k + 1 < coverage.size(); ++k) {
+      EXPECT_GT(coverage[k], 0.0);
+      EXPECT_LE(coverage[k + 1], coverage[k]); // farther levels take over at smaller sizes
+    }
+    EXPECT_EQ(coverage.back(), 0.0);
+    const auto used = document["extensionsUsed"].get<std::vector<std::string>>();
+    EXPECT_NE(std::find(used.begin(), used.end(), "MSFT_lod"), used.end());
+    expectClusterTablesRoundTrip(package, document);
+    expectPlaysLikeTheRuntime(package, model, 1, 1e-4);
+
+    // Assimp reads it back through the project's importer: the same joints and frames
+    ImportOptions options;
+    options.fps = package.clips.at(0).fps;
+    const Result<Asset> back = importAsset(out.path.toStdString(), options);
+    ASSERT_TRUE(back) << back.message();
+    EXPECT_EQ(back->skeleton.jointCount(), joints);
+    ASSERT_EQ(back->clips.size(), package.levels.size() * package.clips.size());
+    for (const Clip& clip : back->clips)
+      EXPECT_EQ(clip.frameCount, package.clips[0].frameCount) << clip.name;
+    ASSERT_FALSE(back->meshes.empty());
+    const SkinnedMesh* finest = package.levels[0].mesh();
+    ASSERT_TRUE(finest != nullptr);
+    EXPECT_EQ(back->meshes[0].triangleCount(), finest->triangleCount());
+  }
+}
+
+TEST(GltfExporter, SkeletonAlonePassesTheValidatorAndReadsBack) {
+  const LodPackage& package = test::cmuPackage();
+  ASSERT_FALSE(package.mesh);
+  ASSERT_EQ(package.levels.size(), 4u);
+  QTemporaryDir dir;
+  const Exported out = exportTo(package, dir.filePath("01_01.glb"));
+  ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+  const test::ValidatorReport report = test::runValidator(out.path);
+  EXPECT_EQ(report.exitCode, 0) << report.output;
+  EXPECT_EQ(report.errors, 0) << report.output;
+  std::cout << "[ validator ] 01_01.glb: " << out.bytes.size() << " bytes, " << report.errors << " errors, "
+            << report.warnings << " warnings, " << report.infos << " infos\n";
+
+  const tinygltf::Model model = parseModel(out.bytes);
+  EXPECT_TRUE(model.meshes.empty());
+  EXPECT_TRUE(model.skins.empty());
+  EXPECT_EQ(int(model.nodes.size()), package.skeleton.jointCount());
+  const json document = documentOf(out.bytes);
+  expectClusterTablesRoundTrip(package, document);
+  expectPlaysLikeTheRuntime(package, model, 7, 1e-4);
+
+  // clustered spans are held keys: a coarser level keeps fewer rotation keys
+  const auto rotationKeys = [&](std::size_t animation) {
+    std::size_t keys = 0;
+    for (const tinygltf::AnimationChannel& channel : model.animations[animation].channels)
+      if (channel.target_path == "rotation")
+        keys += model.accessors[std::size_t(model.animations[animation].samplers[std::size_t(channel.sampler)].input)].count;
+    return keys;
+  };
+  EXPECT_LT(rotationKeys(3), rotationKeys(1));
+  EXPECT_LT(rotationKeys(1), rotationKeys(0) + 1);
+
+  ImportOptions options;
+  options.fps = package.clips[0].fps;
+  const Result<Asset> back = importAsset(out.path.toStdString(), options);
+  ASSERT_TRUE(back) << back.message();
+  EXPECT_EQ(back->skeleton.jointCount(), package.skeleton.jointCount());
+  ASSERT_EQ(back->clips.size(), package.levels.size());
+  for (const Clip& clip : back->clips)
+    EXPECT_EQ(clip.frameCount, package.clips[0].frameCount) << clip.name;
+  // lengths come back in cm: metres in the file
+  const std::vector<glm::mat4> restIn = package.skeleton.restModelMatrices();
+  const std::vector<glm::mat4> restBack = back->skeleton.restModelMatrices();
+  for (int j = 0; j < package.skeleton.jointCount(); ++j) {
+    const int k = back->skeleton.find(package.skeleton.joints[std::size_t(j)].name);
+    ASSERT_GE(k, 0) << package.skeleton.joints[std::size_t(j)].name;
+    EXPECT_LT(glm::length(glm::vec3(restIn[std::size_t(j)][3]) - glm::vec3(restBack[std::size_t(k)][3])), 1e-3f);
+  }
+}
+
+TEST(GltfExporter, PrettyGltfIsIndentedJson) {
+  const LodPackage& package = test::cmuPackage();
+  QTemporaryDir dir;
+  const Exported out = exportTo(package, dir.filePath("pretty.gltf"), {"pretty=true"});
+  ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+  EXPECT_TRUE(out.bytes.startsWith("{\n"));
+  const Exported forced = exportTo(package, dir.filePath("forced.gltf"), {"format=glb"});
+  ASSERT_TRUE(forced.result.ok);
+  EXPECT_TRUE(forced.bytes.startsWith("glTF")); // the option wins over the suffix
+}
+
+TEST(GltfExporter, UnwritableOutputLeavesNothingAndSaysWhy) {
+  const LodPackage& package = test::cmuPackage();
+  QTemporaryDir dir;
+  const QString missing = dir.filePath("no/such/folder/out.glb");
+  const ExportResult result = gltfExporter().exportPackage(package, missing, test::exporterOptions(gltfExporter()), {});
+  EXPECT_FALSE(result.ok);
+  EXPECT_TRUE(result.message.contains("out.glb")) << result.message.toStdString();
+  EXPECT_FALSE(QFileInfo::exists(missing));
+
+  QDir(dir.path()).mkdir("readonly");
+  const QString readonlyDir = dir.filePath("readonly");
+  QFile::setPermissions(readonlyDir, QFileDevice::ReadOwner | QFileDevice::ExeOwner);
+  const ExportResult denied = gltfExporter().exportPackage(package, readonlyDir + "/out.glb",
+                                                           test::exporterOptions(gltfExporter()), {});
+  QFile::setPermissions(readonlyDir, QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ExeOwner);
+  if (::geteuid() != 0) { // root writes anywhere
+    EXPECT_FALSE(denied.ok);
+    EXPECT_TRUE(test::filesIn(readonlyDir).isEmpty());
+  }
+}
+
+TEST(GltfExporter, CancelLeavesNothingBehindAndKeepsAnOldFile) {
+  const LodPackage& package = test::bcnPackage();
+  QTemporaryDir dir;
+  for (int cancelAt : {1, 3, 1000}) {
+    int calls = 0;
+    double last = -1.0;
+    const ExportProgress progress([&](double fraction, const QString&) { EXPECT_GE(fraction, last); last = fraction; },
+                                  [&] { return ++calls >= cancelAt; });
+    const QString path = dir.filePath("cancelled.glb");
+    const ExportResult result = gltfExporter().exportPackage(package, path, test::exporterOptions(gltfExporter()), progress);
+    if (cancelAt == 1000) { // never cancelled: it went through
+      EXPECT_TRUE(result.ok) << result.message.toStdString();
+      continue;
+    }
+    EXPECT_FALSE(result.ok);
+    EXPECT_TRUE(result.message.contains("cancelled")) << result.message.toStdString();
+    EXPECT_TRUE(test::filesIn(dir.path()).isEmpty()) << test::filesIn(dir.path()).join(' ').toStdString();
+  }
+  // a cancelled export over an existing file keeps the old file as it was
+  const QString path = dir.filePath("cancelled.glb");
+  const QByteArray before = readAll(path);
+  ASSERT_FALSE(before.isEmpty());
+  const ExportProgress cancel({}, [] { return true; });
+  EXPECT_FALSE(gltfExporter().exportPackage(package, path, test::exporterOptions(gltfExporter()), cancel).ok);
+  EXPECT_EQ(readAll(path), before);
+  EXPECT_EQ(test::filesIn(dir.path()), QStringList{"cancelled.glb"});
+}
+
+} // namespace
+} // namespace mlod
