@@ -9,6 +9,9 @@
 #include "editor/models/asset_tree.h"
 #include "editor/models/joint_tree_model.h"
 #include "editor/models/levels_model.h"
+#include "editor/viewport/crowd_panel.h"
+#include "editor/viewport/playback.h"
+#include "editor/viewport/viewport_panel.h"
 #include "editor/views/clustering_table_view.h"
 #include "editor/views/mapping_dialog.h"
 #include "editor/views/trajectory_view.h"
@@ -443,14 +446,22 @@ void MainWindow::buildDocks() {
   QDockWidget* statistics = addDock("statisticsDock", tr("Statistics"), m_statisticsView, Qt::BottomDockWidgetArea);
   splitDockWidget(m_ui->logDock, statistics, Qt::Horizontal);
 
-  // The 3D viewport belongs to a later issue; its dock is here so layouts keep a place for it.
-  auto* viewport = new QLabel(tr("The 3D viewport (original and simplified side by side, crowd) is not built yet."));
-  viewport->setObjectName("viewportPlaceholder");
-  viewport->setAlignment(Qt::AlignCenter);
-  viewport->setWordWrap(true);
+  // The 3D views (viewport/): the character, original and simplified, and the crowd; one
+  // timeline drives both.
+  auto* viewport = new ViewportPanel(m_document);
+  viewport->setObjectName("viewportPanel");
   QDockWidget* viewportDock = addDock("viewportDock", tr("Viewport"), viewport, Qt::RightDockWidgetArea);
   tabifyDockWidget(trajectory, viewportDock);
+  auto* crowd = new CrowdPanel(m_document, viewport->playback());
+  crowd->setObjectName("crowdPanel");
+  tabifyDockWidget(viewportDock, addDock("crowdDock", tr("Crowd"), crowd, Qt::RightDockWidgetArea));
   trajectory->raise();
+  auto* currentFrame = new QLabel(viewport->timeline()->frameText());
+  currentFrame->setObjectName("currentFrameLabel");
+  currentFrame->setToolTip(tr("The current frame of the 3D views (Viewport dock's timeline)"));
+  connect(viewport->playback(), &Playback::timeChanged, currentFrame,
+          [currentFrame, viewport] { currentFrame->setText(viewport->timeline()->frameText()); });
+  statusBar()->addPermanentWidget(currentFrame);
 
   m_clipLabel = new QLabel;
   m_frameLabel = new QLabel;

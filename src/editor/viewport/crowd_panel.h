@@ -1,0 +1,112 @@
+#pragma once
+// The Crowd dock (DESIGN.md section 7): N agents of the character in view (1 to 10,000) on
+// a grid or scattered, each at its own time offset, each at the LOD level the runtime's
+// selection gives it from the project's LOD set (distance or screen size, hysteresis), drawn
+// instanced per level; a toggle tints agents by level; an overlay gives the agents per
+// level, joints evaluated against full detail, vertices skinned, the CPU time of pose
+// evaluation and the frame rate. The work is core's Crowd (core/crowd/crowd.h); the levels
+// are built off the UI thread (cancelled when the inputs change again).
+
+#include "core/crowd/crowd.h"
+#include "editor/viewport/scene_view.h"
+
+#include <QElapsedTimer>
+#include <QFutureWatcher>
+#include <QTimer>
+#include <QWidget>
+
+#include <atomic>
+#include <memory>
+
+class QCheckBox;
+class QComboBox;
+class QDoubleSpinBox;
+class QLabel;
+class QSpinBox;
+
+namespace mlod {
+
+class Document;
+class Playback;
+
+// Tint of LOD level `level` (distinct hues: green, yellow, orange, red, magenta, blue ...).
+glm::vec4 crowdLevelTint(int level);
+
+class CrowdPanel : public QWidget {
+  Q_OBJECT
+public:
+  CrowdPanel(Document* document, Playback* playback, QWidget* parent = nullptr);
+  ~CrowdPanel() override;
+
+  SceneView* sceneView() const { return m_view; } // null where the platform has no OpenGL
+  QSpinBox* agentsBox() const { return m_agents; }
+  QComboBox* layoutBox() const { return m_layout; }
+  QComboBox* selectionBox() const { return m_selectionMode; }
+  QCheckBox* tintBox() const { return m_tint; }
+  const Crowd& crowd() const { return m_crowd; }
+  bool isBuilding() const { return m_watcher.isRunning() || m_rebuildTimer.isActive(); }
+  bool hasLevels() const { return m_crowd.levelCount() > 0; }
+  QString lastError() const { return m_error; }
+  QStringList overlayLines() const { return m_overlay; }
+  double framesPerSecond() const { return m_fps; }
+
+  void setAgentCount(int agents);
+  // Builds the levels now if the dock's inputs changed (the dock builds when shown).
+  void requestLevels();
+  // Poses the crowd at the playback time from the current camera and redraws.
+  void refresh();
+  // Renders `frames` frames as fast as they come, 1/60 s of clip time apart, then emits
+  // measured() with the mean pose-evaluation CPU time (ms) and the frame rate.
+  void measure(int frames);
+
+signals:
+  void levelsReady(bool ok, const QString& message);
+  void measured(double poseCpuMs, double framesPerSecond);
+
+protected:
+  void showEvent(QShowEvent* event) override;
+
+private:
+  void markDirty();
+  void startBuild();
+  void onBuilt();
+  void placeAgents();
+  void frameCrowd();
+  void onFrameSwapped();
+
+  Document* m_document = nullptr;
+  Playback* m_playback = nullptr;
+  SceneView* m_view = nullptr;
+  QLabel* m_figures = nullptr;
+  QSpinBox* m_agents = nullptr;
+  QComboBox* m_layout = nullptr;
+  QDoubleSpinBox* m_spacing = nullptr;
+  QComboBox* m_selectionMode = nullptr;
+  QDoubleSpinBox* m_hysteresis = nullptr;
+  QCheckBox* m_tint = nullptr;
+
+  Crowd m_crowd;
+  std::vector<int> m_meshIds; // per level
+  using Built = std::shared_ptr<Result<std::vector<CrowdLevel>>>;
+  QFutureWatcher<Built> m_watcher;
+  std::shared_ptr<std::atomic<bool>> m_cancel;
+  bool m_dirty = true;
+  bool m_framed = false;
+  QTimer m_rebuildTimer;
+  QString m_error;
+  QString m_sourceText;
+  QStringList m_overlay;
+  std::vector<std::vector<SceneView::Instance>> m_instances; // per level
+
+  // frame rate: frames swapped while something changes
+  QElapsedTimer m_fpsClock;
+  int m_fpsFrames = 0;
+  double m_fps = 0.0;
+  // measure()
+  int m_measureLeft = 0;
+  int m_measureFrames = 0;
+  double m_measurePoseMs = 0.0;
+  QElapsedTimer m_measureClock;
+};
+
+} // namespace mlod
