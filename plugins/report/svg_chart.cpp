@@ -186,7 +186,7 @@ std::string barChart(const std::string& title, const std::string& valueLabel, co
   out += "</g>\n<text x=\"" + num(left + plotW / 2) + "\" y=\"" + num(height - 8.0) + "\" text-anchor=\"middle\">" +
          escapeXml(valueLabel) + "</text>\n<g text-anchor=\"end\">\n";
   for (std::size_t c = 0; c < groups; ++c)
-    out += "<text x=\"" + num(left - 5) + "\" y=\"" + num(top + groupH * double(c) + groupH / 2 + 1) + "\">" +
+    out += "<text x=\"" + num(left - 5) + "\" y=\"" + num(top + groupH * double(c) + groupH / 2 + 4) + "\">" +
            escapeXml(categories[c]) + "</text>\n";
   out += "</g>\n";
   for (std::size_t s = 0; s < values.size(); ++s) {
