@@ -270,13 +270,14 @@ void CrowdPanel::frameCrowd() {
     lo = glm::min(lo, agent.position);
     hi = glm::max(hi, agent.position + glm::vec3(0.0f, 180.0f, 0.0f));
   }
+  // Stand just in front of the crowd, at head height, looking in along +Z: the nearest
+  // agents are a few metres away and the farthest at the far edge, so that the distances
+  // span the LOD set.
   OrbitCamera& camera = m_view->camera();
-  camera.yawRadians = 0.0f;
-  camera.pitchRadians = -0.45f;
-  camera.frame(lo, hi);
-  // stand at the crowd's front edge looking in, so that distances span the LOD set
-  camera.target = glm::vec3(0.5f * (lo.x + hi.x), 0.0f, 0.5f * (lo.z + hi.z));
-  camera.distance = std::max(300.0f, 0.75f * glm::length(hi - lo));
+  camera.yawRadians = 3.14159265f;
+  camera.pitchRadians = -0.3f;
+  camera.distance = 900.0f;
+  camera.target = glm::vec3(0.5f * (lo.x + hi.x), 0.0f, lo.z + 600.0f);
   refresh();
 }
 

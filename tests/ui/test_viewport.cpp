@@ -1,0 +1,554 @@
+// Qt Test on the 3D views (editor/viewport/), rendered by Mesa under Xvfb and checked on
+// their pixels: the character where the camera says it is (original and simplified side by
+// side, the ghost), the frozen joints in red, joint picking, the timeline, a motion played
+// on the character it is mapped to (the table edited, the pose changed at once), the crowd's
+// level tints at the distances the LOD set gives, and bad data that must not crash: a clip
+// without mesh, a mesh without skeleton, 200 bones, an empty document.
+
+#include "core/crowd/crowd.h"
+#include "editor/document/document.h"
+#include "editor/main_window.h"
+#include "editor/viewport/crowd_panel.h"
+#include "editor/viewport/playback.h"
+#include "editor/viewport/viewport_panel.h"
+#include "io/importer.h"
+
+#include <QApplication>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QImage>
+#include <QLabel>
+#include <QSignalSpy>
+#include <QSlider>
+#include <QSurfaceFormat>
+#include <QTest>
+#include <QToolButton>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+using namespace mlod;
+
+namespace {
+
+std::shared_ptr<const Asset> load(const QString& path, double unitScale) {
+  ImportOptions options;
+  options.unitScale = unitScale;
+  Result<Asset> asset = importAsset(path.toStdString(), options);
+  if (!asset)
+    qWarning("%s: %s", qPrintable(path), asset.message().c_str());
+  return asset ? std::make_shared<const Asset>(std::move(asset).value()) : nullptr;
+}
+
+QString bcnPath() { return QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X"; }
+
+bool waitForFigures(Document& document) {
+  return QTest::qWaitFor([&] { return !document.isAnalysing() && document.analysis() != nullptr; }, 60000);
+}
+
+// Colourful pixels (the characters' tints, the joints), not the grey background, grid or text.
+bool saturated(const QColor& c) {
+  return std::max({c.red(), c.green(), c.blue()}) - std::min({c.red(), c.green(), c.blue()}) > 50;
+}
+
+// The screen rectangle of a world box under the view's camera.
+QRectF projectBox(const SceneView& view, const glm::vec3& lo, const glm::vec3& hi) {
+  QRectF rect;
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 p(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z);
+    glm::vec2 pixel;
+    if (!view.camera().project(p, float(view.width()), float(view.height()), pixel))
+      continue;
+    rect = rect.isNull() ? QRectF(pixel.x, pixel.y, 0.001, 0.001) : rect.united(QRectF(pixel.x, pixel.y, 0.001, 0.001));
+  }
+  return rect;
+}
+
+struct PixelCensus {
+  int saturated = 0;
+  int inside = 0;
+  QRect box; // of the saturated pixels
+  double blueX = 0.0, orangeX = 0.0;
+  int blue = 0, orange = 0;
+};
+
+PixelCensus census(const QImage& image, const QRectF& expected) {
+  PixelCensus out;
+  const QRectF grown = expected.adjusted(-3, -3, 3, 3);
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      const QColor c = image.pixelColor(x, y);
+      if (!saturated(c))
+        continue;
+      ++out.saturated;
+      out.inside += grown.contains(QPointF(x + 0.5, y + 0.5));
+      out.box = out.box.united(QRect(x, y, 1, 1));
+      if (c.blue() > c.red() + 30) {
+        out.blueX += x;
+        ++out.blue;
+      } else if (c.red() > c.blue() + 30 && c.green() > c.blue()) {
+        out.orangeX += x;
+        ++out.orange;
+      }
+    }
+  if (out.blue)
+    out.blueX /= out.blue;
+  if (out.orange)
+    out.orangeX /= out.orange;
+  return out;
+}
+
+// The crowd level whose tint is nearest in hue to `c` (cosine of the RGB directions), or -1
+// for a grey pixel.
+int tintLevel(const QColor& c, int levels) {
+  if (!saturated(c))
+    return -1;
+  const glm::vec3 v = glm::normalize(glm::vec3(c.redF(), c.greenF(), c.blueF()));
+  int best = -1;
+  float bestCos = 0.0f;
+  for (int l = 0; l < levels; ++l) {
+    const float cosine = glm::dot(v, glm::normalize(glm::vec3(crowdLevelTint(l))));
+    if (cosine > bestCos) {
+      bestCos = cosine;
+      best = l;
+    }
+  }
+  return best;
+}
+
+// A synthetic character: a chain of `joints` joints 5 cm apart swinging about z, its mesh
+// the bone capsules, `frames` frames.
+std::shared_ptr<const Asset> chainCharacter(int joints, int frames) {
+  Asset asset;
+  asset.sourcePath = "chain";
+  asset.format = "synthetic";
+  for (int i = 0; i < joints; ++i) {
+    Joint joint;
+    joint.name = "j" + std::to_string(i);
+    joint.parent = i - 1;
+    joint.rest.translation = i == 0 ? glm::vec3(0.0f) : glm::vec3(0.0f, 5.0f, 0.0f);
+    asset.skeleton.joints.push_back(joint);
+  }
+  Clip clip = Clip::restPose(asset.skeleton, frames, 30.0);
+  clip.name = "swing";
+  for (int j = 0; j < joints; ++j) {
+    clip.hasRotation[std::size_t(j)] = 1;
+    for (int f = 0; f < frames; ++f)
+      clip.rotations[clip.index(j, f)] = glm::angleAxis(0.002f * float(f) * float(j % 5), glm::vec3(0, 0, 1));
+  }
+  asset.clips.push_back(clip);
+  SkinnedMesh mesh = boneCapsuleMesh(asset.skeleton, 1.5f);
+  mesh.name = "chain skin";
+  const std::vector<glm::mat4> rest = asset.skeleton.restModelMatrices();
+  for (int j = 0; j < joints; ++j)
+    asset.skeleton.joints[std::size_t(j)].inverseBind = glm::inverse(rest[std::size_t(j)]);
+  asset.meshes.push_back(mesh);
+  if (Error error = asset.validate())
+    qWarning("chain: %s", error.message().c_str());
+  return std::make_shared<const Asset>(std::move(asset));
+}
+
+} // namespace
+
+class TestViewport : public QObject {
+  Q_OBJECT
+
+  // A shown viewport panel on `document`, rendered at least once.
+  std::unique_ptr<ViewportPanel> showPanel(Document& document) {
+    auto panel = std::make_unique<ViewportPanel>(&document);
+    panel->resize(960, 640);
+    panel->show();
+    if (!QTest::qWaitForWindowExposed(panel.get()) || !panel->sceneView())
+      return nullptr;
+    if (!QTest::qWaitFor([&] { return panel->sceneView()->paintCount() > 0; }, 10000))
+      return nullptr;
+    return panel;
+  }
+
+  QImage render(ViewportPanel& panel) { return keep(panel.sceneView()->grabFramebuffer(), "character"); }
+
+  // With MLOD_TEST_SHOTS set, every image checked is saved there too, to look at.
+  static QImage keep(const QImage& image, const char* what) {
+    static int count = 0;
+    const QString dir = qEnvironmentVariable("MLOD_TEST_SHOTS");
+    if (!dir.isEmpty())
+      image.save(QStringLiteral("%1/%2-%3.png").arg(dir).arg(++count, 2, 10, QLatin1Char('0')).arg(what));
+    return image;
+  }
+
+private slots:
+  void initTestCase() {
+    QCoreApplication::setOrganizationName("MotionLODViewportTest");
+    QVERIFY2(sceneViewSupported(), "these tests need OpenGL 3.3 (run under xvfb-run)");
+  }
+
+  // BCN_Epileptic side by side: the image is not blank, every coloured pixel lies in the
+  // projection of the posed characters' box, the original (blue) left of the simplified
+  // (orange); the ghost puts both in one place.
+  void characterSideBySideWhereTheCameraSays() {
+    Document document;
+    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    document.setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    auto panel = showPanel(document);
+    QVERIFY(panel);
+    QCOMPARE(panel->mode(), ViewportPanel::Mode::SideBySide);
+    QVERIFY(panel->source().valid());
+    QCOMPARE(panel->source().meshes.size(), std::size_t(1));
+    QVERIFY(panel->source().simplifiedReady);
+    QCOMPARE(panel->instanceCount(), 2);
+    glm::vec3 lo, hi;
+    QVERIFY(panel->posedBounds(lo, hi));
+    const QImage image = render(*panel);
+    QVERIFY(!image.isNull());
+    const QRectF expected = projectBox(*panel->sceneView(), lo, hi);
+    const PixelCensus side = census(image, expected);
+    QVERIFY2(side.saturated > 3000, qPrintable(QString::number(side.saturated)));
+    QVERIFY2(side.inside >= side.saturated * 99 / 100,
+             qPrintable(QStringLiteral("%1 of %2 coloured pixels inside").arg(side.inside).arg(side.saturated)));
+    QVERIFY(side.blue > 500 && side.orange > 500);
+    QVERIFY2(side.blueX < side.orangeX, "the original stands left of the simplified");
+    // the box is not the whole view: the character sits where projected
+    QVERIFY(expected.width() < image.width() && expected.height() < image.height());
+    QVERIFY(side.box.width() > 0.5 * expected.width());
+
+    panel->setMode(ViewportPanel::Mode::Ghost);
+    QCOMPARE(panel->instanceCount(), 2);
+    QVERIFY(panel->posedBounds(lo, hi));
+    const PixelCensus ghost = census(render(*panel), projectBox(*panel->sceneView(), lo, hi));
+    QVERIFY(ghost.saturated > 1000);
+    QVERIFY(ghost.inside >= ghost.saturated * 99 / 100);
+    QVERIFY2(ghost.box.width() < 0.8 * side.box.width(), "the ghost overlays the simplified");
+  }
+
+  // Joints frozen at the current frame are drawn red at their projected positions; the status
+  // counts them.
+  void frozenJointsAreHighlighted() {
+    Document document;
+    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    document.setCurrentAsset(0);
+    document.setCurrentLevel(2);
+    QVERIFY(waitForFigures(document));
+    auto panel = showPanel(document);
+    QVERIFY(panel);
+    panel->playback()->setFrame(40);
+    const std::vector<bool> frozen = panel->source().frozenAt(40);
+    const int count = int(std::count(frozen.begin(), frozen.end(), true));
+    QVERIFY(count > 0);
+    QVERIFY2(panel->statusText().contains(QStringLiteral("%1 of 54 joints frozen").arg(count)),
+             qPrintable(panel->statusText()));
+    const QImage image = render(*panel);
+    const std::vector<glm::vec3> joints = panel->jointPositions(1); // the simplified
+    int red = 0, checked = 0;
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      if (!frozen[j])
+        continue;
+      glm::vec2 pixel;
+      QVERIFY(panel->sceneView()->camera().project(joints[j], float(image.width()), float(image.height()), pixel));
+      ++checked;
+      bool found = false;
+      for (int dy = -2; dy <= 2 && !found; ++dy)
+        for (int dx = -2; dx <= 2 && !found; ++dx) {
+          const QColor c = image.pixelColor(std::clamp(int(pixel.x) + dx, 0, image.width() - 1),
+                                            std::clamp(int(pixel.y) + dy, 0, image.height() - 1));
+          found = c.red() > 200 && c.green() < 140 && c.blue() < 100;
+        }
+      red += found;
+    }
+    // points drawn later (an active child on top) may cover a few
+    QVERIFY2(red >= checked * 7 / 10, qPrintable(QStringLiteral("%1 of %2 frozen joints red").arg(red).arg(checked)));
+  }
+
+  // A click on a joint selects it in the document (the Skeleton dock follows the document).
+  void clickPicksAJoint() {
+    Document document;
+    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    document.setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    auto panel = showPanel(document);
+    QVERIFY(panel);
+    const int head = document.currentAssetPtr()->skeleton.find("B_Neck");
+    QVERIFY(head >= 0);
+    glm::vec2 pixel;
+    QVERIFY(panel->sceneView()->camera().project(panel->jointPositions(1)[std::size_t(head)],
+                                                 float(panel->sceneView()->width()),
+                                                 float(panel->sceneView()->height()), pixel));
+    const QPoint at(int(std::lround(pixel.x)), int(std::lround(pixel.y)));
+    const int expected = panel->pickJoint(at);
+    QVERIFY(expected >= 0);
+    QTest::mouseClick(panel->sceneView(), Qt::LeftButton, {}, at);
+    QCOMPARE(document.currentJoint(), expected);
+    // a click in empty sky selects nothing new
+    QTest::mouseClick(panel->sceneView(), Qt::LeftButton, {}, QPoint(5, panel->sceneView()->height() / 3));
+    QCOMPARE(document.currentJoint(), expected);
+  }
+
+  // One timeline: scrubbing moves the frame label, the status bar and the pose; play advances
+  // time; Space in the view pauses.
+  void timelineDrivesTheViews() {
+    Document document;
+    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    document.setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    auto panel = showPanel(document);
+    QVERIFY(panel);
+    Playback* playback = panel->playback();
+    QCOMPARE(playback->frameCount(), 100);
+    const std::vector<glm::vec3> before = panel->jointPositions(0);
+    panel->timeline()->slider()->setValue(50);
+    QCOMPARE(playback->frame(), 50);
+    QVERIFY(panel->timeline()->frameText().startsWith("frame 50 / 99"));
+    const std::vector<glm::vec3> after = panel->jointPositions(0);
+    float moved = 0.0f;
+    for (std::size_t j = 0; j < before.size(); ++j)
+      moved = std::max(moved, glm::length(after[j] - before[j]));
+    QVERIFY2(moved > 1.0f, "frame 50's pose differs from frame 0's");
+    playback->setSpeed(1.0);
+    QTest::mouseClick(panel->timeline()->playButton(), Qt::LeftButton);
+    QVERIFY(playback->isPlaying());
+    QVERIFY(QTest::qWaitFor([&] { return playback->frame() != 50; }, 5000));
+    panel->sceneView()->setFocus();
+    QTest::keyClick(panel->sceneView(), Qt::Key_Space);
+    QVERIFY(!playback->isPlaying());
+    // camera: a drag orbits, the wheel dollies, F frames
+    const float yaw = panel->sceneView()->camera().yawRadians;
+    QTest::mousePress(panel->sceneView(), Qt::LeftButton, {}, QPoint(300, 300));
+    QMouseEvent move(QEvent::MouseMove, QPointF(360, 300), panel->sceneView()->mapToGlobal(QPointF(360, 300)),
+                     Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(panel->sceneView(), &move);
+    QTest::mouseRelease(panel->sceneView(), Qt::LeftButton, {}, QPoint(360, 300));
+    QVERIFY(panel->sceneView()->camera().yawRadians != yaw);
+    const float distance = panel->sceneView()->camera().distance;
+    QTest::keyClick(panel->sceneView(), Qt::Key_W);
+    QCOMPARE(panel->sceneView()->camera().distance, distance); // flying moves the target
+    QTest::keyClick(panel->sceneView(), Qt::Key_F);
+    glm::vec3 lo, hi;
+    QVERIFY(panel->posedBounds(lo, hi));
+    QVERIFY(glm::length(panel->sceneView()->camera().target - 0.5f * (lo + hi)) < 1e-3f);
+  }
+
+  // A BVH clip has no mesh: bone capsules, where the camera says.
+  void skeletonOnlyClipShowsCapsules() {
+    Document document;
+    document.addAsset(load(MLOD_SAMPLE, 2.54 / 0.45), MLOD_SAMPLE, 2.54 / 0.45);
+    document.setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    auto panel = showPanel(document);
+    QVERIFY(panel);
+    QVERIFY(panel->source().meshes.empty());
+    glm::vec3 lo, hi;
+    QVERIFY(panel->posedBounds(lo, hi));
+    const PixelCensus pixels = census(render(*panel), projectBox(*panel->sceneView(), lo, hi));
+    QVERIFY2(pixels.saturated > 1000, qPrintable(QString::number(pixels.saturated)));
+    QVERIFY(pixels.inside >= pixels.saturated * 99 / 100);
+  }
+
+  // A motion assigned to a character plays on it; editing the mapping table changes the pose
+  // at once.
+  void motionPlaysOnTheMappedCharacter() {
+    Document document;
+    document.addAsset(load(MLOD_SAMPLE, 2.54 / 0.45), MLOD_SAMPLE, 2.54 / 0.45);
+    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    document.setCurrentAsset(0);
+    QString error;
+    QVERIFY2(document.assignMotion(0, 1, &error), qPrintable(error));
+    QVERIFY(waitForFigures(document));
+    auto panel = showPanel(document);
+    QVERIFY(panel);
+    QCOMPARE(panel->characterBox()->count(), 2);
+    panel->characterBox()->setCurrentIndex(1);
+    QCOMPARE(panel->source().mapping, 0);
+    QCOMPARE(panel->source().skeleton.jointCount(), 54);
+    QCOMPARE(panel->source().meshes.size(), std::size_t(1));
+    panel->playback()->setFrame(60);
+    // an arm joint the motion drives
+    const ProjectMapping& mapping = document.project().mappings[0];
+    const std::string* driver = mapping.mapping.motionFor("B_UpperArm_Left");
+    QVERIFY(driver);
+    const int hand = panel->source().skeleton.find("B_Hand_Left");
+    QVERIFY(hand >= 0);
+    const glm::vec3 before = panel->jointPositions(0)[std::size_t(hand)];
+    glm::vec3 lo, hi;
+    QVERIFY(panel->posedBounds(lo, hi));
+    const PixelCensus pixels = census(render(*panel), projectBox(*panel->sceneView(), lo, hi));
+    QVERIFY(pixels.saturated > 1000 && pixels.inside >= pixels.saturated * 99 / 100);
+    QVERIFY(document.setMappingPair(0, "B_UpperArm_Left", QString())); // the upper arm keeps its rest pose
+    QCOMPARE(panel->characterBox()->currentIndex(), 1);
+    const glm::vec3 after = panel->jointPositions(0)[std::size_t(hand)];
+    QVERIFY2(glm::length(after - before) > 1.0f, "the hand moved with the edited table");
+  }
+
+  // Bad data never crashes the view.
+  void badDataDoesNotCrash() {
+    { // an empty document
+      Document document;
+      auto panel = showPanel(document);
+      QVERIFY(panel);
+      QVERIFY(!panel->source().valid());
+      QCOMPARE(panel->instanceCount(), 0);
+      QVERIFY(!render(*panel).isNull());
+    }
+    { // a mesh without a skeleton
+      Asset asset;
+      asset.sourcePath = "quad";
+      SkinnedMesh quad;
+      quad.name = "quad";
+      quad.positions = {{-50, 0, 0}, {50, 0, 0}, {50, 100, 0}, {-50, 100, 0}};
+      quad.indices = {0, 1, 2, 0, 2, 3};
+      asset.meshes.push_back(quad);
+      QVERIFY(!asset.validate());
+      Document document;
+      document.addAsset(std::make_shared<const Asset>(asset), "quad.obj", 1.0);
+      document.setCurrentAsset(0);
+      auto panel = showPanel(document);
+      QVERIFY(panel);
+      QVERIFY2(panel->source().valid(), qPrintable(panel->source().error));
+      QCOMPARE(panel->source().meshes.size(), std::size_t(1));
+      QVERIFY(census(render(*panel), QRectF(0, 0, 1e4, 1e4)).saturated > 500);
+      CrowdPanel crowd(&document, panel->playback());
+      crowd.show();
+      QVERIFY(QTest::qWaitFor([&] { return !crowd.isBuilding(); }, 30000));
+    }
+    { // 200 bones, in the character view and in the crowd
+      Document document;
+      document.addAsset(chainCharacter(200, 20), "chain.x", 1.0);
+      document.setCurrentAsset(0);
+      QVERIFY(waitForFigures(document));
+      auto panel = showPanel(document);
+      QVERIFY(panel);
+      QCOMPARE(panel->source().skeleton.jointCount(), 200);
+      glm::vec3 lo, hi;
+      QVERIFY(panel->posedBounds(lo, hi));
+      const PixelCensus pixels = census(render(*panel), projectBox(*panel->sceneView(), lo, hi));
+      QVERIFY(pixels.saturated > 300 && pixels.inside >= pixels.saturated * 99 / 100);
+      CrowdPanel crowd(&document, panel->playback());
+      crowd.resize(800, 600);
+      QSignalSpy ready(&crowd, &CrowdPanel::levelsReady);
+      crowd.show();
+      QVERIFY(ready.wait(60000));
+      QVERIFY2(ready.first()[0].toBool(), qPrintable(ready.first()[1].toString()));
+      crowd.setAgentCount(50);
+      QCOMPARE(crowd.crowd().agentCount(), 50);
+      QVERIFY(!crowd.grab().isNull());
+    }
+  }
+
+  // The crowd: each agent's level is the one the LOD set's switch distances give its distance
+  // to the camera, and its pixels carry that level's tint; the figures add up.
+  void crowdTintsFollowTheLodSet() {
+    Document document;
+    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    document.setCurrentAsset(0);
+    const double distances[] = {1900, 2300, 2700, 3100};
+    for (int level = 1; level <= 4; ++level)
+      QVERIFY(document.setLevelSwitchDistance(level, distances[level - 1]));
+    Playback playback;
+    CrowdPanel panel(&document, &playback);
+    panel.resize(1000, 700);
+    QSignalSpy ready(&panel, &CrowdPanel::levelsReady);
+    panel.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&panel));
+    QVERIFY(ready.wait(120000));
+    QVERIFY2(ready.first()[0].toBool(), qPrintable(ready.first()[1].toString()));
+    QCOMPARE(panel.crowd().levelCount(), 5);
+    // from above, so that no agent hides another
+    OrbitCamera& camera = panel.sceneView()->camera();
+    camera.target = glm::vec3(0.0f);
+    camera.yawRadians = 0.0f;
+    camera.pitchRadians = -1.2f;
+    camera.distance = 2000.0f;
+    panel.setAgentCount(100);
+    panel.refresh();
+    const Crowd& crowd = panel.crowd();
+    QCOMPARE(crowd.agentCount(), 100);
+    const CrowdFrameStats& stats = crowd.stats();
+    int total = 0;
+    for (int n : stats.agentsPerLevel)
+      total += n;
+    QCOMPARE(total, 100);
+    QVERIFY(stats.jointsEvaluated > 0 && stats.jointsEvaluated <= stats.jointsFullDetail);
+    QVERIFY(panel.overlayLines().first().startsWith("100 agents"));
+
+    QVERIFY(QTest::qWaitFor([&] { return panel.sceneView()->paintCount() > 1; }, 10000));
+    const QImage image = keep(panel.sceneView()->grabFramebuffer(), "crowd");
+    const glm::vec3 eye = camera.eye();
+    std::map<int, int> seen, matched;
+    for (int a = 0; a < crowd.agentCount(); ++a) {
+      const float distance = glm::length(crowd.agentCentre(a) - eye);
+      int expected = 0;
+      bool nearBoundary = false;
+      for (int level = 1; level <= 4; ++level) {
+        if (distance >= distances[level - 1])
+          expected = level;
+        nearBoundary = nearBoundary || std::abs(distance - float(distances[level - 1])) < 0.1f * float(distances[level - 1]);
+      }
+      if (!nearBoundary) // hysteresis may keep an agent that started near a boundary on either side
+        QCOMPARE(crowd.agentLevel(a), expected);
+      glm::vec2 pixel;
+      if (!camera.project(crowd.agentCentre(a), float(image.width()), float(image.height()), pixel) || pixel.x < 3 ||
+          pixel.y < 3 || pixel.x > image.width() - 4 || pixel.y > image.height() - 4)
+        continue;
+      std::map<int, int> votes;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx)
+          ++votes[tintLevel(image.pixelColor(int(pixel.x) + dx, int(pixel.y) + dy), 5)];
+      votes.erase(-1);
+      if (votes.empty())
+        continue;
+      const int level = std::max_element(votes.begin(), votes.end(), [](auto& x, auto& y) { return x.second < y.second; })->first;
+      ++seen[crowd.agentLevel(a)];
+      matched[crowd.agentLevel(a)] += level == crowd.agentLevel(a);
+    }
+    QVERIFY2(seen.size() >= 3, "the view spans at least three levels");
+    for (const auto& [level, count] : seen)
+      QVERIFY2(matched[level] >= count * 8 / 10,
+               qPrintable(QStringLiteral("level %1: %2 of %3 agents in its tint").arg(level).arg(matched[level]).arg(count)));
+
+    // untinted: no agent shows a level colour
+    panel.tintBox()->setChecked(false);
+    QVERIFY(QTest::qWaitFor([&] { return panel.sceneView()->paintCount() > 2; }, 10000));
+    const QImage plain = keep(panel.sceneView()->grabFramebuffer(), "crowd-untinted");
+    int coloured = 0;
+    for (int y = 0; y < plain.height(); y += 2)
+      for (int x = 0; x < plain.width(); x += 2)
+        coloured += saturated(plain.pixelColor(x, y));
+    QCOMPARE(coloured, 0);
+  }
+
+  // The main window holds the Viewport and Crowd docks; the status bar shows the current frame.
+  void mainWindowHasTheDocks() {
+    MainWindow window;
+    window.resize(1400, 900);
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    auto* viewport = window.findChild<ViewportPanel*>("viewportPanel");
+    QVERIFY(viewport);
+    QVERIFY(window.findChild<CrowdPanel*>("crowdPanel"));
+    QVERIFY(viewport->sceneView());
+    auto* frame = window.findChild<QLabel*>("currentFrameLabel");
+    QVERIFY(frame);
+    QCOMPARE(frame->text(), QStringLiteral("no clip"));
+    QSignalSpy spy(&window, &MainWindow::importFinished);
+    window.importFileWithUnit(bcnPath(), 100.0);
+    QVERIFY(spy.wait(60000));
+    QVERIFY(waitForFigures(*window.document()));
+    viewport->playback()->setFrame(12);
+    QVERIFY2(frame->text().startsWith("frame 12 / 99"), qPrintable(frame->text()));
+  }
+};
+
+int main(int argc, char** argv) {
+  QSurfaceFormat format;
+  format.setVersion(3, 3);
+  format.setProfile(QSurfaceFormat::CoreProfile);
+  format.setDepthBufferSize(24);
+  QSurfaceFormat::setDefaultFormat(format);
+  QApplication app(argc, argv);
+  TestViewport test;
+  return QTest::qExec(&test, argc, argv);
+}
+
+#include "test_viewport.moc"
