@@ -16,7 +16,9 @@ namespace mlod::test {
 
 namespace {
 
-std::optional<LodPackage> build(const std::string& file, double unitScale) {
+} // namespace
+
+std::optional<LodPackage> packageOf(const std::string& file, double unitScale) {
   ImportOptions options;
   options.unitScale = unitScale;
   Result<Asset> asset = importAsset(modelPath(file), options);
@@ -32,6 +34,8 @@ std::optional<LodPackage> build(const std::string& file, double unitScale) {
   return std::move(package).value();
 }
 
+namespace {
+
 const LodPackage& orEmpty(const std::optional<LodPackage>& package) {
   static const LodPackage empty;
   return package ? *package : empty;
@@ -40,12 +44,12 @@ const LodPackage& orEmpty(const std::optional<LodPackage>& package) {
 } // namespace
 
 const LodPackage& cmuPackage() {
-  static const std::optional<LodPackage> package = build("BVH/01_01.bvh", 2.54 / 0.45);
+  static const std::optional<LodPackage> package = packageOf("BVH/01_01.bvh", 2.54 / 0.45);
   return orEmpty(package);
 }
 
 const LodPackage& bcnPackage() {
-  static const std::optional<LodPackage> package = build("X/BCN_Epileptic.X", 100.0);
+  static const std::optional<LodPackage> package = packageOf("X/BCN_Epileptic.X", 100.0);
   return orEmpty(package);
 }
 

@@ -6,6 +6,8 @@
 
 #include <QString>
 
+#include <optional>
+
 #include <string>
 
 namespace mlod::test {
@@ -15,6 +17,9 @@ namespace mlod::test {
 // or build fails the calling test.
 const LodPackage& cmuPackage();
 const LodPackage& bcnPackage();
+// The package of any file of Debian's assimp-testmodels (unitScale 0: the file's own), or
+// nothing with a test failure.
+std::optional<LodPackage> packageOf(const std::string& file, double unitScale = 0.0);
 
 // The exporter of the plugin file `path` (QPluginLoader; the plugin stays loaded), or null
 // with a test failure saying why.

@@ -364,6 +364,29 @@ TEST(GltfExporter, SkeletonAlonePassesTheValidatorAndReadsBack) {
   }
 }
 
+TEST(GltfExporter, StaticMeshAlonePassesTheValidator) {
+  // a mesh without a skeleton (OBJ): mesh levels linked by MSFT_lod, no skin, no animation
+  const std::optional<LodPackage> package = test::packageOf("OBJ/spider.obj");
+  ASSERT_TRUE(package);
+  ASSERT_TRUE(package->skeleton.empty());
+  QTemporaryDir dir;
+  const Exported out = exportTo(*package, dir.filePath("spider.glb"));
+  ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+  const test::ValidatorReport report = test::runValidator(out.path);
+  EXPECT_EQ(report.exitCode, 0) << report.output;
+  EXPECT_EQ(report.errors, 0) << report.output;
+  const tinygltf::Model model = parseModel(out.bytes);
+  EXPECT_TRUE(model.skins.empty());
+  EXPECT_TRUE(model.animations.empty());
+  EXPECT_EQ(model.meshes.size(), package->levels.size());
+  const json document = documentOf(out.bytes);
+  EXPECT_FALSE(document.contains("extensions")); // no joints, no cluster tables
+  const json& scene = document["scenes"][0]["nodes"];
+  ASSERT_EQ(scene.size(), 1u);
+  EXPECT_EQ(document["nodes"][scene[0].get<std::size_t>()]["extensions"]["MSFT_lod"]["ids"].size(),
+            package->levels.size() - 1);
+}
+
 TEST(GltfExporter, PrettyGltfIsIndentedJson) {
   const LodPackage& package = test::cmuPackage();
   QTemporaryDir dir;

@@ -221,6 +221,25 @@ TEST_P(ReportOnRealData, HtmlIsSelfContainedWithARowPerLevelAndCharts) {
 
 INSTANTIATE_TEST_SUITE_P(Assets, ReportOnRealData, ::testing::Values("01_01", "BCN_Epileptic"));
 
+TEST(ReportExporter, MeshWithoutClipsHasItsLevelsAndNoTable1) {
+  const std::optional<LodPackage> p = test::packageOf("OBJ/spider.obj");
+  ASSERT_TRUE(p);
+  ASSERT_TRUE(p->clips.empty());
+  QTemporaryDir dir;
+  const auto rows = parseCsv(exportText(*p, dir.filePath("spider.csv")));
+  ASSERT_EQ(rows.size(), 1 + p->levels.size()); // one row per level, the Table 1 columns empty
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), 17u);
+    EXPECT_EQ(rows[i][4], "");
+    const SkinnedMesh* mesh = p->levels[i - 1].mesh();
+    ASSERT_TRUE(mesh != nullptr);
+    EXPECT_EQ(std::stoul(rows[i][10]), mesh->triangleCount());
+  }
+  const std::string html = exportText(*p, dir.filePath("spider.html"));
+  EXPECT_EQ(countOf(html, "<tr class=\"level\">"), int(p->levels.size()));
+  EXPECT_EQ(countOf(html, "<svg "), 1);
+}
+
 TEST(ReportExporter, FormatFollowsTheSuffixUnlessAsked) {
   const LodPackage& p = test::cmuPackage();
   QTemporaryDir dir;
