@@ -1,8 +1,12 @@
 // motionlod: the batch command line (DESIGN.md section 6).
 
+#include "cli/batch_command.h"
 #include "cli/bench_crowd_command.h"
+#include "cli/bundle_info.h"
+#include "cli/export_command.h"
 #include "cli/info_command.h"
 #include "cli/meshlod_command.h"
+#include "cli/plugins_command.h"
 #include "cli/simplify_command.h"
 #include "core/version.h"
 
@@ -35,6 +39,12 @@ int main(int argc, char** argv) {
   meshLod.attach(app);
   mlod::cli::BenchCrowdCommand benchCrowd;
   benchCrowd.attach(app);
+  mlod::cli::ExportCommand exportCommand;
+  exportCommand.attach(app);
+  mlod::cli::PluginsCommand plugins;
+  plugins.attach(app);
+  mlod::cli::BatchCommand batch;
+  batch.attach(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -47,13 +57,19 @@ int main(int argc, char** argv) {
   }
   try {
     if (app.got_subcommand("info"))
-      return info.run();
+      return mlod::cli::isBundleFile(info.file) ? mlod::cli::describeBundle(info.file, info.json) : info.run();
     if (app.got_subcommand("simplify"))
       return simplify.run();
     if (app.got_subcommand("meshlod"))
       return meshLod.run();
     if (app.got_subcommand("bench-crowd"))
       return benchCrowd.run();
+    if (app.got_subcommand("export"))
+      return exportCommand.run();
+    if (app.got_subcommand("plugins"))
+      return plugins.run();
+    if (app.got_subcommand("batch"))
+      return batch.run();
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << std::endl;
     return mlod::cli::kExitFailure;

@@ -91,6 +91,8 @@ public:
   virtual ExporterOptions options() const = 0;
   // Writes `package` to `path`. `options` holds every option of options(), of its type
   // (checkExporterOptions() gives them so). Called off the UI thread; never shows a widget.
+  // `motionlod batch --jobs K` calls it from several threads at once: keep no state between
+  // calls.
   // On failure or cancel, leaves nothing at `path` (nor beside it) and says why.
   virtual ExportResult exportPackage(const LodPackage& package, const QString& path, const QVariantMap& options,
                                      const ExportProgress& progress) = 0;

@@ -1,0 +1,32 @@
+#pragma once
+
+#include "cli/cli_common.h"
+
+#include <string>
+
+namespace CLI { class App; }
+
+namespace mlod::cli {
+
+// `motionlod batch MANIFEST.json [--shard I/N] [--jobs K] [--json]` (DESIGN.md section 6):
+// exports many assets. The manifest is
+//     {"jobs":[{"input","plugin","output","options":{},   ("levels":[0,2], "unit_scale":S optional)}]}
+// with paths relative to the manifest's folder. --shard I/N takes the jobs whose index is
+// I mod N, so a farm scheduler splits a library over N machines by running shard 0 .. N-1;
+// --jobs K runs K jobs at once on this machine. Each job's output depends on its input
+// alone (never on the shard or K). Prints what each job did, in job order; JSON:
+// {"manifest","shard":{"index","count"},"jobs":[{"index","input","plugin","output","ok",
+//  "exit","message","bytes","seconds"}],"succeeded","failed","seconds"}.
+// Exit: 2 for a bad manifest or arguments (nothing runs); else 0 when every job of the
+// shard succeeded, or the exit status of the first job that failed (2 bad input, 1 other).
+struct BatchCommand {
+  std::string manifest;
+  std::string shard = "0/1";
+  int jobs = 1;
+  bool json = false;
+
+  void attach(CLI::App& app);
+  int run() const;
+};
+
+} // namespace mlod::cli

@@ -1,0 +1,83 @@
+#include "cli/export_command.h"
+
+#include "cli/export_job.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+namespace mlod::cli {
+
+void ExportCommand::attach(CLI::App& app) {
+  CLI::App* command = app.add_subcommand("export", "Export a file's or a project's LOD set through an exporter plugin");
+  command->add_option("FILE", input, "character or motion file (any format Assimp reads), or a .mlod project")
+      ->required();
+  command->add_option("--plugin", plugin, "exporter id (motionlod plugins lists them)")->required();
+  command->add_option("-o,--output", output, "output file")->required();
+  command->add_option("--levels", levels, "levels to export by index, e.g. 0,2,3 (default: all)");
+  command->add_option("--option", options, "exporter option key=value (repeatable; motionlod plugins lists them)");
+  command->add_option("--unit-scale", unitScale,
+                      "cm per file unit, or a preset: cm, m, mm, inch, cmu (5.6444, CMU mocap); "
+                      "default: the file's own unit (a project: each asset's)");
+  command->add_option("--asset", asset, "a project's asset to export, by index (default: its character)");
+  command->add_option("--import-timeout", importTimeoutSeconds, "seconds before a stuck import is stopped")
+      ->check(CLI::Range(1.0, 86400.0));
+  command->add_flag("--json", json, "print one JSON document on stdout");
+}
+
+int ExportCommand::run() const {
+  ExportJob job;
+  job.input = input;
+  job.plugin = plugin;
+  job.output = output;
+  job.unitScale = unitScale;
+  job.asset = asset;
+  job.importTimeoutSeconds = importTimeoutSeconds;
+  std::string reason;
+  if (!levels.empty() && !parseLevelList(levels, job.levels, reason)) {
+    printError(input, reason);
+    return kExitBadInput;
+  }
+  PluginHost host;
+  host.loadDefault();
+  // --option strings are parsed against the plugin's options (typed, ranges, choices)
+  if (Exporter* exporter = host.exporter(QString::fromStdString(plugin))) {
+    QStringList keyValues;
+    for (const std::string& option : options)
+      keyValues << QString::fromStdString(option);
+    QString error;
+    if (!parseExporterOptions(exporter->options(), keyValues, &job.options, &error)) {
+      printError(input, "plugin " + plugin + ": " + error.toStdString());
+      return kExitBadInput;
+    }
+  }
+  const ExportOutcome outcome = runExportJob(host, job, installInterruptHandler());
+  if (!outcome.ok())
+    printError(outcome.errorFile, outcome.message);
+  if (json) {
+    nlohmann::json options_json = nlohmann::json::object();
+    for (auto it = job.options.begin(); it != job.options.end(); ++it)
+      options_json[it.key().toStdString()] = it.value().toString().toStdString();
+    nlohmann::json doc = {{"input", input},
+                          {"plugin", plugin},
+                          {"output", output},
+                          {"ok", outcome.ok()},
+                          {"message", outcome.message},
+                          {"bytes", outcome.bytes},
+                          {"levels", outcome.levels},
+                          {"options", options_json},
+                          {"seconds",
+                           {{"import", outcome.importSeconds},
+                            {"package", outcome.packageSeconds},
+                            {"export", outcome.exportSeconds}}}};
+    std::cout << doc.dump(2) << std::endl;
+  } else if (outcome.ok()) {
+    std::printf("%s\n%d levels; import %.3f s, LOD package %.3f s, export %.3f s\n", outcome.message.c_str(),
+                outcome.levels, outcome.importSeconds, outcome.packageSeconds, outcome.exportSeconds);
+  }
+  return outcome.exitCode;
+}
+
+} // namespace mlod::cli

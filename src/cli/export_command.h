@@ -1,0 +1,36 @@
+#pragma once
+
+#include "cli/cli_common.h"
+
+#include <string>
+#include <vector>
+
+namespace CLI { class App; }
+
+namespace mlod::cli {
+
+// `motionlod export FILE|PROJECT.mlod --plugin ID -o OUT [--levels 0,2,3] [--option k=v …]
+//  [--unit-scale S] [--asset N] [--json]` (DESIGN.md sections 6 and 8): a file gets the
+// default LOD set (LodSet::fromPixelBudget(asset, 1 pixel, 4 levels)); a project its own
+// levels, joint settings and the motions assigned to its character. The exporter writes
+// through a temporary file: an error or Ctrl+C leaves nothing at OUT.
+// JSON: {"input","plugin","output","ok","message","bytes","levels","options",
+//        "seconds":{"import","package","export"}}.
+// Exit 2: bad input (file, project, plugin id, option, level); 1: the export failed
+// (unwritable output, cancelled).
+struct ExportCommand {
+  std::string input;
+  std::string plugin;
+  std::string output;
+  std::string levels;
+  std::vector<std::string> options;
+  std::string unitScale;
+  int asset = -1;
+  bool json = false;
+  double importTimeoutSeconds = 120.0;
+
+  void attach(CLI::App& app);
+  int run() const;
+};
+
+} // namespace mlod::cli

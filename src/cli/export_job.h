@@ -1,0 +1,54 @@
+#pragma once
+// One export as `motionlod export` and each job of `motionlod batch` run it (DESIGN.md
+// sections 6 and 8): import the file (or a project's character and the motions assigned to
+// it), build the LodPackage of the selected levels, and hand it to an exporter plugin.
+// Nothing is printed here: the outcome says what happened, so the batch can run jobs on
+// several threads and report them in order.
+
+#include "cli/cli_common.h"
+#include "sdk/plugin_host.h"
+
+#include <QStringList>
+#include <QVariantMap>
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+namespace mlod::cli {
+
+struct ExportJob {
+  std::string input;  // a file any importer reads, or a .mlod project
+  std::string plugin; // exporter id
+  std::string output;
+  std::vector<int> levels;   // empty = every level
+  QVariantMap options;       // checked against the plugin's options (checkExporterOptions())
+  std::string unitScale;     // "" = the file's own (a project: each asset's own)
+  int asset = -1;            // a project's asset to export; -1 = the character it has in view (or the first character)
+  double importTimeoutSeconds = 120.0;
+};
+
+struct ExportOutcome {
+  int exitCode = kExitOk;
+  std::string message; // what was written, or why nothing was (without "error: FILE: ")
+  std::string errorFile; // the file the error is about (the input, the output, the plugin id)
+  std::int64_t bytes = 0; // the output file's size (0 when nothing was written)
+  double importSeconds = 0.0;
+  double packageSeconds = 0.0;
+  double exportSeconds = 0.0;
+  int levels = 0;
+  bool ok() const { return exitCode == kExitOk; }
+};
+
+// "0,2,3" -> {0, 2, 3}; false (and a reason) on anything else.
+bool parseLevelList(const std::string& text, std::vector<int>& out_levels, std::string& out_reason);
+
+// Runs one job with the exporters of `host`. `cancel` (may be null) stops it between steps
+// and inside the package build and the exporter; a cancelled job writes nothing.
+ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const std::atomic<bool>* cancel = nullptr);
+
+// Makes SIGINT and SIGTERM (Ctrl+C, a farm scheduler stopping the job) set the returned
+// flag instead of killing the process, so that a running export stops and leaves nothing.
+const std::atomic<bool>* installInterruptHandler();
+
+} // namespace mlod::cli

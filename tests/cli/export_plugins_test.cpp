@@ -1,0 +1,252 @@
+// The command-line contract of `motionlod plugins [--json]`, `motionlod export` and
+// `motionlod info FILE.mlodb`: every available exporter writes a file from a file and from a
+// project, bad plugin ids, options and levels are exit 2 with `error: FILE: reason`, an
+// unwritable output is exit 1 and leaves nothing behind, a corrupt bundle is refused.
+
+#include "cli_runner.h"
+#include "test_files.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+namespace mlod {
+namespace {
+
+namespace fs = std::filesystem;
+using test::keysOf;
+using test::runMotionlod;
+
+// An empty folder of its own for one test.
+fs::path freshFolder(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("mlod_cli_export_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::vector<std::string> filesIn(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+nlohmann::json pluginList() {
+  const test::CliRun run = runMotionlod({"plugins", "--json"});
+  EXPECT_EQ(run.status, 0) << run.err;
+  return nlohmann::json::parse(run.out);
+}
+
+const std::string kSample = MLOD_SAMPLE;
+
+TEST(CliPlugins, JsonListsTheBuiltExporters) {
+  const nlohmann::json doc = pluginList();
+  EXPECT_EQ(keysOf(doc), (std::vector<std::string>{"failed", "plugins", "search_path"}));
+  std::vector<std::string> ids;
+  for (const nlohmann::json& plugin : doc["plugins"]) {
+    EXPECT_EQ(keysOf(plugin), (std::vector<std::string>{"file", "id", "name", "options", "suffixes", "version"}));
+    EXPECT_FALSE(plugin["suffixes"].empty());
+    for (const nlohmann::json& option : plugin["options"])
+      EXPECT_EQ(keysOf(option),
+                (std::vector<std::string>{"choices", "default", "help", "key", "maximum", "minimum", "type"}));
+    ids.push_back(plugin["id"]);
+  }
+  EXPECT_NE(std::find(ids.begin(), ids.end(), "bundle"), ids.end());
+  EXPECT_TRUE(doc["failed"].empty()) << doc["failed"].dump();
+
+  const test::CliRun text = runMotionlod({"plugins"});
+  EXPECT_EQ(text.status, 0);
+  EXPECT_NE(text.out.find("bundle"), std::string::npos) << text.out;
+}
+
+TEST(CliPlugins, BrokenPluginsAreReportedNotFatal) {
+  ::setenv("MOTIONLOD_PLUGIN_PATH", MLOD_TEST_PLUGIN_DIR, 1);
+  const test::CliRun run = runMotionlod({"plugins", "--json"});
+  ::unsetenv("MOTIONLOD_PLUGIN_PATH");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json doc = nlohmann::json::parse(run.out);
+  std::vector<std::string> failedFiles;
+  for (const nlohmann::json& failure : doc["failed"]) {
+    EXPECT_EQ(keysOf(failure), (std::vector<std::string>{"file", "reason"}));
+    failedFiles.push_back(fs::path(failure["file"].get<std::string>()).filename().string());
+  }
+  std::sort(failedFiles.begin(), failedFiles.end());
+  EXPECT_EQ(failedFiles, (std::vector<std::string>{"libmotionlod_testbroken.so", "libmotionlod_testoldversion.so",
+                                                   "libmotionlod_testwrongiid.so"}));
+  bool good = false, bundle = false;
+  for (const nlohmann::json& plugin : doc["plugins"]) {
+    good = good || plugin["id"] == "testgood";
+    bundle = bundle || plugin["id"] == "bundle";
+  }
+  EXPECT_TRUE(good && bundle); // the environment's folder first, then the executable's
+}
+
+// Every exporter the build made writes a non-empty file from a BVH and from a skinned
+// character, and nothing else lands beside it but what the exporter documents.
+TEST(CliExport, EveryPluginExportsFilesAndCharacters) {
+  const nlohmann::json plugins = pluginList()["plugins"];
+  ASSERT_FALSE(plugins.empty());
+  const struct {
+    std::string file, unit;
+  } inputs[] = {{kSample, "cmu"}, {test::modelPath("X/BCN_Epileptic.X"), "m"}};
+  for (const nlohmann::json& plugin : plugins) {
+    const std::string id = plugin["id"];
+    const std::string suffix = plugin["suffixes"][0];
+    for (const auto& input : inputs) {
+      SCOPED_TRACE(id + " " + input.file);
+      const fs::path dir = freshFolder("each_" + id);
+      const std::string out = (dir / ("out." + suffix)).string();
+      const test::CliRun run = runMotionlod(
+          {"export", input.file, "--unit-scale", input.unit, "--plugin", id, "-o", out, "--json"});
+      ASSERT_EQ(run.status, 0) << run.err;
+      const nlohmann::json doc = nlohmann::json::parse(run.out);
+      EXPECT_EQ(keysOf(doc), (std::vector<std::string>{"bytes", "input", "levels", "message", "ok", "options",
+                                                       "output", "plugin", "seconds"}));
+      EXPECT_TRUE(doc["ok"].get<bool>());
+      EXPECT_EQ(doc["levels"], 4); // the default LOD set of a file
+      EXPECT_GT(doc["bytes"].get<std::int64_t>(), 0);
+      EXPECT_EQ(doc["bytes"].get<std::int64_t>(), std::int64_t(fs::file_size(out)));
+      for (const std::string& name : filesIn(dir))
+        EXPECT_NE(name[0], '.') << "a temporary file was left: " << name;
+    }
+  }
+}
+
+TEST(CliExport, BundleLevelsAndInfo) {
+  const fs::path dir = freshFolder("levels");
+  const std::string out = (dir / "sample.mlodb").string();
+  const test::CliRun run = runMotionlod(
+      {"export", kSample, "--unit-scale", "cmu", "--plugin", "bundle", "-o", out, "--levels", "0,2", "--option", "manifest=no"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(filesIn(dir), std::vector<std::string>{"sample.mlodb"});
+  const test::CliRun info = runMotionlod({"info", out, "--json"});
+  ASSERT_EQ(info.status, 0) << info.err;
+  const nlohmann::json doc = nlohmann::json::parse(info.out);
+  EXPECT_EQ(doc["format"], "motionlod-bundle");
+  EXPECT_EQ(doc["version"], 1);
+  ASSERT_EQ(doc["levels"].size(), 2u);
+  EXPECT_EQ(doc["levels"][0]["index"], 0);
+  EXPECT_EQ(doc["levels"][1]["index"], 2);
+  EXPECT_EQ(doc["levels"][0]["clips"][0]["clusters"], 0);
+  EXPECT_GT(doc["levels"][1]["clips"][0]["clusters"].get<int>(), 0);
+  EXPECT_EQ(doc["bytes"].get<std::int64_t>(), std::int64_t(fs::file_size(out)));
+  const test::CliRun text = runMotionlod({"info", out});
+  EXPECT_EQ(text.status, 0);
+  EXPECT_NE(text.out.find("Motion LOD runtime bundle, version 1"), std::string::npos) << text.out;
+}
+
+TEST(CliExport, CorruptBundleIsRefused) {
+  const fs::path dir = freshFolder("corrupt");
+  const std::string out = (dir / "c.mlodb").string();
+  ASSERT_EQ(runMotionlod({"export", kSample, "--unit-scale", "cmu", "--plugin", "bundle", "-o", out}).status, 0);
+  const std::uintmax_t size = fs::file_size(out);
+  fs::resize_file(out, size - 100);
+  const test::CliRun truncated = runMotionlod({"info", out});
+  EXPECT_EQ(truncated.status, 2);
+  EXPECT_EQ(truncated.err.rfind("error: " + out + ": truncated", 0), 0u) << truncated.err;
+  { // a flipped byte in the middle
+    std::fstream file(out, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(std::streamoff(size / 2));
+    file.put('\x7f');
+  }
+  fs::resize_file(out, size);
+  const test::CliRun flipped = runMotionlod({"info", out, "--json"});
+  EXPECT_EQ(flipped.status, 2);
+  EXPECT_NE(flipped.err.find("error: " + out + ": "), std::string::npos) << flipped.err;
+  EXPECT_TRUE(flipped.out.empty());
+}
+
+TEST(CliExport, BadArgumentsAreExit2) {
+  const fs::path dir = freshFolder("bad");
+  const std::string out = (dir / "x.mlodb").string();
+  const struct {
+    std::vector<std::string> arguments;
+    std::string reason;
+  } cases[] = {
+      {{"--plugin", "nosuch"}, "no exporter plugin 'nosuch' (available: "},
+      {{"--plugin", "bundle", "--option", "nosuch=1"}, "plugin bundle: unknown option 'nosuch'"},
+      {{"--plugin", "bundle", "--option", "meshes=maybe"}, "option 'meshes': 'maybe' is not a bool"},
+      {{"--plugin", "bundle", "--option", "meshes"}, "is not key=value"},
+      {{"--plugin", "bundle", "--levels", "0,x"}, "--levels '0,x': 'x' is not a level index"},
+      {{"--plugin", "bundle", "--levels", "0,7"}, "level 7 does not exist (the LOD set has 4 levels"},
+      {{"--plugin", "bundle", "--levels", "1,1"}, "level 1 is named twice"},
+      {{"--plugin", "bundle", "--unit-scale", "parsec"}, "--unit-scale 'parsec'"},
+  };
+  for (const auto& c : cases) {
+    std::vector<std::string> arguments = {"export", kSample, "-o", out};
+    arguments.insert(arguments.end(), c.arguments.begin(), c.arguments.end());
+    if (std::find(c.arguments.begin(), c.arguments.end(), "--unit-scale") == c.arguments.end()) {
+      arguments.push_back("--unit-scale");
+      arguments.push_back("cmu");
+    }
+    const test::CliRun run = runMotionlod(arguments);
+    SCOPED_TRACE(c.reason);
+    EXPECT_EQ(run.status, 2) << run.err;
+    EXPECT_EQ(run.err.rfind("error: " + kSample + ": ", 0), 0u) << run.err;
+    EXPECT_NE(run.err.find(c.reason), std::string::npos) << run.err;
+  }
+  const test::CliRun missing = runMotionlod({"export", "/no/such/file.bvh", "--plugin", "bundle", "-o", out});
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_EQ(missing.err.rfind("error: /no/such/file.bvh: ", 0), 0u) << missing.err;
+  EXPECT_TRUE(filesIn(dir).empty());
+}
+
+TEST(CliExport, UnwritableOutputLeavesNothingAndSaysWhy) {
+  const fs::path dir = freshFolder("unwritable");
+  const std::string inMissingFolder = (dir / "no" / "such" / "x.mlodb").string();
+  const test::CliRun run =
+      runMotionlod({"export", kSample, "--unit-scale", "cmu", "--plugin", "bundle", "-o", inMissingFolder});
+  EXPECT_EQ(run.status, 1);
+  EXPECT_EQ(run.err.rfind("error: " + inMissingFolder + ": cannot write: the folder ", 0), 0u) << run.err;
+  const fs::path folderAsOutput = dir / "taken.mlodb";
+  fs::create_directory(folderAsOutput);
+  const test::CliRun folder =
+      runMotionlod({"export", kSample, "--unit-scale", "cmu", "--plugin", "bundle", "-o", folderAsOutput.string()});
+  EXPECT_EQ(folder.status, 1);
+  EXPECT_NE(folder.err.find("cannot write: it is a folder"), std::string::npos) << folder.err;
+  EXPECT_EQ(filesIn(dir), std::vector<std::string>{"taken.mlodb"});
+  EXPECT_TRUE(fs::is_empty(folderAsOutput));
+}
+
+// A project exports its own levels (not the default set) for the asset it has in view.
+TEST(CliExport, ProjectGivesItsLevels) {
+  const fs::path dir = freshFolder("project");
+  nlohmann::json levels = nlohmann::json::array();
+  const double thresholds[] = {0.0, 5.0, 50.0};
+  for (int i = 0; i < 3; ++i)
+    levels.push_back({{"name", "L" + std::to_string(i)}, {"threshold", thresholds[i]}, {"mesh_ratio", 1.0},
+                      {"switch_distance_cm", 100.0 * i}, {"pixel_error", 0.0}, {"screen_size_pixels", 0.0},
+                      {"motion_error_cm", 0.0}, {"mesh_error_cm", 0.0}, {"triangles", 0}, {"active_joints", 0}});
+  const nlohmann::json project = {
+      {"format", "motionlod-project"},
+      {"version", 2},
+      {"alpha", 5.0},
+      {"mode", "greedy"},
+      {"lods",
+       {{"projection", {{"vertical_fov_degrees", 60.0}, {"viewport_height_pixels", 1080.0}}},
+        {"bounding_radius_cm", 0.0},
+        {"levels", levels}}},
+      {"assets", {{{"path", kSample}, {"unit_scale", 2.54 / 0.45}, {"joints", nlohmann::json::object()}}}},
+      {"mappings", nlohmann::json::array()},
+      {"current", {{"asset", 0}, {"clip", 0}, {"level", 1}, {"joint", ""}}}};
+  const fs::path file = dir / "p.mlod";
+  std::ofstream(file) << project.dump(2);
+  const std::string out = (dir / "p.mlodb").string();
+  const test::CliRun run = runMotionlod({"export", file.string(), "--plugin", "bundle", "-o", out, "--json"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(nlohmann::json::parse(run.out)["levels"], 3);
+  const nlohmann::json info = nlohmann::json::parse(runMotionlod({"info", out, "--json"}).out);
+  ASSERT_EQ(info["levels"].size(), 3u);
+  EXPECT_EQ(info["levels"][1]["name"], "L1");
+  EXPECT_EQ(info["levels"][2]["threshold"], 50.0);
+  EXPECT_EQ(info["levels"][2]["switch_distance_cm"], 200.0);
+}
+
+} // namespace
+} // namespace mlod
