@@ -422,8 +422,10 @@ private slots:
       QCOMPARE(panel->source().skeleton.jointCount(), 200);
       glm::vec3 lo, hi;
       QVERIFY(panel->posedBounds(lo, hi));
-      const PixelCensus pixels = census(render(*panel), projectBox(*panel->sceneView(), lo, hi));
+      const QRectF box = projectBox(*panel->sceneView(), lo, hi);
+      const PixelCensus pixels = census(render(*panel), box);
       QVERIFY(pixels.saturated > 300 && pixels.inside >= pixels.saturated * 99 / 100);
+      QVERIFY2(QRectF(panel->sceneView()->rect()).contains(box), "framed: the whole chain in view");
       CrowdPanel crowd(&document, panel->playback());
       crowd.resize(800, 600);
       QSignalSpy ready(&crowd, &CrowdPanel::levelsReady);

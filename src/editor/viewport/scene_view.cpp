@@ -336,12 +336,15 @@ void SceneView::paintGL() {
     drawLines(viewProjection, true); // the grid, then the characters, then the overlay lines
     if (!m_batches.empty()) {
       drawBatches(viewProjection, false);
-      glEnable(GL_BLEND);
-      glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-      glDepthMask(GL_FALSE);
-      drawBatches(viewProjection, true);
-      glDepthMask(GL_TRUE);
-      glDisable(GL_BLEND);
+      // A ghost lies over everything drawn so far (it would hide behind the character it
+      // overlays), hiding only its own far side: a depth buffer of its own.
+      if (std::any_of(m_batches.begin(), m_batches.end(), [](const BatchInfo& b) { return b.alpha < 1.0f; })) {
+        glClear(GL_DEPTH_BUFFER_BIT);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        drawBatches(viewProjection, true);
+        glDisable(GL_BLEND);
+      }
     }
     if (!m_lines.empty() || !m_points.empty())
       drawLines(viewProjection, false);
