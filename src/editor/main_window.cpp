@@ -13,8 +13,10 @@
 #include "editor/viewport/playback.h"
 #include "editor/viewport/viewport_panel.h"
 #include "editor/views/clustering_table_view.h"
+#include "editor/views/export_dialog.h"
 #include "editor/views/mapping_dialog.h"
 #include "editor/views/trajectory_view.h"
+#include "sdk/plugin_host.h"
 #include "ui_main_window.h"
 
 #include <QActionGroup>
@@ -664,6 +666,15 @@ void MainWindow::buildActions() {
       saveProject(m_document->fileName());
   });
   fileAction("actionSaveAs", tr("Save Project &As…"), QKeySequence::SaveAs, tr("Save the project under a new name"), saveAs);
+  fileAction("actionExport", tr("&Export…"), QKeySequence("Ctrl+E"),
+             tr("Export the character's LOD set through an exporter plugin (glTF, runtime bundle, report)"), [this] {
+               static PluginHost plugins; // loaded once; plugins stay loaded until the program ends
+               static const bool loaded = (plugins.loadDefault(), true);
+               (void)loaded;
+               auto* dialog = new ExportDialog(m_document, &plugins, this);
+               dialog->setAttribute(Qt::WA_DeleteOnClose);
+               dialog->open();
+             });
   file->insertSeparator(first);
   refreshRecentMenu();
 }

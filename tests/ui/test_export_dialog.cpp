@@ -1,0 +1,184 @@
+// Qt Test driving File > Export… (the Export dialog): the sample exported with the bundle
+// plugin (plugin combo, options built from the plugin's options with their help as
+// tooltips, levels ticked, output path), the file read back by the runtime; cancel leaves
+// nothing; a missing output path or an unwritable folder is said in the dialog; the
+// main window's File > Export… action (Ctrl+E) opens it.
+
+#include "editor/document/document.h"
+#include "editor/main_window.h"
+#include "editor/views/export_dialog.h"
+#include "io/importer.h"
+#include "runtime/bundle.h"
+#include "sdk/plugin_host.h"
+
+#include <QAction>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDir>
+#include <QFileInfo>
+#include <QLabel>
+#include <QLineEdit>
+#include <QListWidget>
+#include <QProgressDialog>
+#include <QPushButton>
+#include <QSignalSpy>
+#include <QTemporaryDir>
+#include <QTest>
+
+#include <chrono>
+#include <memory>
+#include <thread>
+
+using namespace mlod;
+
+class TestExportDialog : public QObject {
+  Q_OBJECT
+
+private:
+  PluginHost m_host;
+
+  // A document holding the bundled sample at the CMU unit.
+  static std::unique_ptr<Document> sampleDocument() {
+    auto document = std::make_unique<Document>();
+    ImportOptions options;
+    options.unitScale = 2.54 / 0.45;
+    Result<Asset> asset = importAsset(MLOD_SAMPLE, options);
+    if (!asset)
+      return nullptr;
+    document->addAsset(std::make_shared<const Asset>(std::move(asset).value()), MLOD_SAMPLE, options.unitScale);
+    document->setCurrentAsset(0);
+    return document;
+  }
+
+  static void chooseBundle(ExportDialog& dialog) {
+    const int index = dialog.pluginCombo()->findData("bundle");
+    QVERIFY(index >= 0);
+    dialog.pluginCombo()->setCurrentIndex(index);
+  }
+
+  static QStringList filesIn(const QString& dir) {
+    return QDir(dir).entryList(QDir::Files | QDir::Hidden | QDir::NoDotAndDotDot);
+  }
+
+private slots:
+  void initTestCase() {
+    QCoreApplication::setOrganizationName("MotionLODTest");
+    m_host.load({MLOD_PLUGIN_DIR});
+    QVERIFY(m_host.exporter("bundle"));
+  }
+
+  void exportsTheSampleWithTheBundlePlugin() {
+    std::unique_ptr<Document> document = sampleDocument();
+    QVERIFY(document);
+    ExportDialog dialog(document.get(), &m_host);
+    dialog.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dialog));
+    QCOMPARE(dialog.exportedAsset(), 0);
+    chooseBundle(dialog);
+    // the form is the plugin's options as data, with their help as tooltips
+    auto* manifest = qobject_cast<QCheckBox*>(dialog.optionWidget("manifest"));
+    QVERIFY(manifest);
+    QVERIFY(manifest->isChecked());
+    QVERIFY(manifest->toolTip().contains("manifest") || manifest->toolTip().contains(".json"));
+    QVERIFY(dialog.optionWidget("meshes"));
+    QVERIFY(dialog.outputEdit()->text().endsWith(".mlodb"));
+    // the project's levels (a new project: the original and four thresholds), all ticked; untick level 1
+    QCOMPARE(dialog.levelsList()->count(), document->project().levelCount());
+    dialog.levelsList()->item(1)->setCheckState(Qt::Unchecked);
+
+    QTemporaryDir dir;
+    const QString path = dir.filePath("sample.mlodb");
+    dialog.outputEdit()->setText(path);
+    QSignalSpy finished(&dialog, &ExportDialog::exportFinished);
+    QTest::mouseClick(dialog.findChild<QPushButton*>("exportButton"), Qt::LeftButton);
+    QVERIFY(dialog.isRunning());
+    QVERIFY(finished.wait(60000));
+    QCOMPARE(finished.first().at(0).toBool(), true);
+    QVERIFY(!dialog.isRunning());
+    QVERIFY(dialog.resultLabel()->text().contains(QDir(dir.path()).absolutePath()));
+    QCOMPARE(filesIn(dir.path()), QStringList({"sample.mlodb", "sample.mlodb.json"}));
+
+    std::string error;
+    std::optional<Bundle> bundle = readBundleFile(path.toStdString(), &error);
+    QVERIFY2(bundle, error.c_str());
+    QCOMPARE(int(bundle->levels.size()), document->project().levelCount() - 1);
+    QCOMPARE(bundle->levels[0].index, 0);
+    QCOMPARE(bundle->levels[1].index, 2);
+    QCOMPARE(bundle->name, std::string("cmu_01_01_excerpt"));
+    for (const BundleLevel& level : bundle->levels)
+      QVERIFY(buildBundleLevel(level, &error));
+  }
+
+  void cancelLeavesNothing() {
+    std::unique_ptr<Document> document = sampleDocument();
+    QVERIFY(document);
+    ExportDialog dialog(document.get(), &m_host);
+    dialog.show();
+    chooseBundle(dialog);
+    QTemporaryDir dir;
+    dialog.outputEdit()->setText(dir.filePath("cancelled.mlodb"));
+    // the worker waits until the user has pressed Cancel, so the test does not race it
+    dialog.setWorkerHook([](const std::atomic<bool>& cancel) {
+      for (int i = 0; i < 5000 && !cancel.load(); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    });
+    QSignalSpy finished(&dialog, &ExportDialog::exportFinished);
+    dialog.startExport();
+    QProgressDialog* progress = dialog.progressDialog();
+    QVERIFY(progress);
+    QTRY_VERIFY(progress->isVisible());
+    QPushButton* cancel = progress->findChild<QPushButton*>();
+    QVERIFY(cancel);
+    QTest::mouseClick(cancel, Qt::LeftButton);
+    QVERIFY(finished.wait(60000));
+    QCOMPARE(finished.first().at(0).toBool(), false);
+    QVERIFY(finished.first().at(1).toString().startsWith("cancelled"));
+    QVERIFY(dialog.resultLabel()->text().contains("Nothing was written"));
+    QVERIFY(filesIn(dir.path()).isEmpty());
+  }
+
+  void badOutputIsSaidInTheDialog() {
+    std::unique_ptr<Document> document = sampleDocument();
+    QVERIFY(document);
+    ExportDialog dialog(document.get(), &m_host);
+    chooseBundle(dialog);
+    dialog.outputEdit()->clear();
+    dialog.startExport();
+    QVERIFY(!dialog.isRunning());
+    QVERIFY(dialog.resultLabel()->text().contains("Choose the output file"));
+
+    QTemporaryDir dir;
+    dialog.outputEdit()->setText(dir.filePath("no/such/folder/x.mlodb"));
+    QSignalSpy finished(&dialog, &ExportDialog::exportFinished);
+    dialog.startExport();
+    QVERIFY(finished.wait(60000));
+    QCOMPARE(finished.first().at(0).toBool(), false);
+    QVERIFY(dialog.resultLabel()->text().contains("Nothing was written"));
+    QVERIFY(dialog.resultLabel()->text().contains("cannot write"));
+    QVERIFY(filesIn(dir.path()).isEmpty());
+
+    for (int i = 0; i < dialog.levelsList()->count(); ++i)
+      dialog.levelsList()->item(i)->setCheckState(Qt::Unchecked);
+    dialog.startExport();
+    QVERIFY(dialog.resultLabel()->text().contains("Tick at least one level"));
+  }
+
+  // File > Export… is there with Ctrl+E and opens the dialog.
+  void mainWindowActionOpensTheDialog() {
+    MainWindow window;
+    auto* action = window.findChild<QAction*>("actionExport");
+    QVERIFY(action);
+    QCOMPARE(action->shortcut(), QKeySequence("Ctrl+E"));
+    QVERIFY(!action->toolTip().isEmpty());
+    action->trigger();
+    auto* dialog = window.findChild<ExportDialog*>("exportDialog");
+    QVERIFY(dialog);
+    QVERIFY(dialog->isVisible());
+    QCOMPARE(dialog->exportedAsset(), -1); // nothing imported: said, and Export disabled
+    QVERIFY(!dialog->findChild<QPushButton*>("exportButton")->isEnabled());
+    dialog->close();
+  }
+};
+
+QTEST_MAIN(TestExportDialog)
+#include "test_export_dialog.moc"
