@@ -349,12 +349,21 @@ void CrowdPanel::refresh() {
 }
 
 void CrowdPanel::onFrameSwapped() {
-  if (!m_fpsClock.isValid() || m_fpsClock.elapsed() > 2000) { // idle for a while: start again
+  // Frames per second over runs of 10 frames; a pause of more than 2 s between two frames
+  // (nothing changed meanwhile) starts a new run.
+  const qint64 now = m_fpsClock.isValid() ? m_fpsClock.nsecsElapsed() : 0;
+  if (!m_fpsClock.isValid() || now - m_lastSwap > 2'000'000'000) {
     m_fpsClock.start();
+    m_lastSwap = 0;
     m_fpsFrames = 0;
-  } else if (++m_fpsFrames >= 10) {
-    m_fps = 1000.0 * m_fpsFrames / std::max<qint64>(1, m_fpsClock.restart());
-    m_fpsFrames = 0;
+  } else {
+    m_lastSwap = now;
+    if (++m_fpsFrames >= 10) {
+      m_fps = 1e9 * m_fpsFrames / std::max<qint64>(1, now);
+      m_fpsClock.start();
+      m_lastSwap = 0;
+      m_fpsFrames = 0;
+    }
   }
   if (m_measureLeft > 0) {
     m_measurePoseMs += m_crowd.stats().poseCpuMs;
@@ -363,6 +372,7 @@ void CrowdPanel::onFrameSwapped() {
       const double seconds = m_measureClock.nsecsElapsed() / 1e9;
       const double fps = seconds > 0.0 ? m_measureFrames / seconds : 0.0;
       m_fps = fps;
+      refresh(); // the overlay with the measured rate
       emit measured(m_measurePoseMs / std::max(1, m_measureFrames), fps);
       return;
     }

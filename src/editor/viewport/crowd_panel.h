@@ -100,6 +100,7 @@ private:
 
   // frame rate: frames swapped while something changes
   QElapsedTimer m_fpsClock;
+  qint64 m_lastSwap = 0; // ns since m_fpsClock started
   int m_fpsFrames = 0;
   double m_fps = 0.0;
   // measure()
