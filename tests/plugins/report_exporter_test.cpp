@@ -219,7 +219,8 @@ TEST_P(ReportOnRealData, HtmlIsSelfContainedWithARowPerLevelAndCharts) {
   EXPECT_EQ(countOf(html, "http"), countOf(html, "xmlns=\"http://www.w3.org/2000/svg\""));
 }
 
-INSTANTIATE_TEST_SUITE_P(Assets, ReportOnRealData, ::testing::Values("01_01", "BCN_Epileptic"));
+INSTANTIATE_TEST_SUITE_P(Assets, ReportOnRealData, ::testing::Values("CMU_01_01", "BCN_Epileptic"),
+                         [](const ::testing::TestParamInfo<const char*>& asset) { return std::string(asset.param); });
 
 TEST(ReportExporter, MeshWithoutClipsHasItsLevelsAndNoTable1) {
   const std::optional<LodPackage> p = test::packageOf("OBJ/spider.obj");
