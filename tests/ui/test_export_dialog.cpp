@@ -90,6 +90,9 @@ private slots:
     const QString path = dir.filePath("sample.mlodb");
     dialog.outputEdit()->setText(path);
     QSignalSpy finished(&dialog, &ExportDialog::exportFinished);
+    const QString shots = qEnvironmentVariable("MLOD_SCREENSHOT_DIR"); // for people: what the dialog looks like
+    if (!shots.isEmpty())
+      QVERIFY(dialog.grab().save(QDir(shots).filePath("export_dialog.png")));
     QTest::mouseClick(dialog.findChild<QPushButton*>("exportButton"), Qt::LeftButton);
     QVERIFY(dialog.isRunning());
     QVERIFY(finished.wait(60000));
@@ -97,6 +100,10 @@ private slots:
     QVERIFY(!dialog.isRunning());
     QVERIFY(dialog.resultLabel()->text().contains(QDir(dir.path()).absolutePath()));
     QCOMPARE(filesIn(dir.path()), QStringList({"sample.mlodb", "sample.mlodb.json"}));
+    if (!shots.isEmpty()) {
+      QTest::qWait(200); // let the layout take the result's lines
+      QVERIFY(dialog.grab().save(QDir(shots).filePath("export_dialog_done.png")));
+    }
 
     std::string error;
     std::optional<Bundle> bundle = readBundleFile(path.toStdString(), &error);

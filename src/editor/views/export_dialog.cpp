@@ -46,6 +46,7 @@ int characterFor(const Project& project, int view) {
 ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* parent)
     : QDialog(parent), m_document(document), m_host(host) {
   setWindowTitle(tr("Export LOD Set"));
+  setMinimumWidth(520);
   setObjectName("exportDialog");
   auto* layout = new QVBoxLayout(this);
 
@@ -81,7 +82,9 @@ ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* 
   browseButton->setToolTip(tr("Choose the output file"));
   outputRow->addWidget(m_output);
   outputRow->addWidget(browseButton);
-  form->addRow(tr("&Output:"), outputRow);
+  auto* outputLabel = new QLabel(tr("&Output:"), this);
+  outputLabel->setBuddy(m_output);
+  form->addRow(outputLabel, outputRow);
   layout->addLayout(form);
 
   auto* optionsGroup = new QGroupBox(tr("Options"), this);
@@ -98,11 +101,12 @@ ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* 
     const LodLevel& level = project.lods.levels[i];
     auto* item = new QListWidgetItem(
         i == 0 ? tr("%1 — original").arg(QString::fromStdString(level.name))
-               : tr("%1 — E %2, mesh %3%, from %4 m")
+               : tr("%1 — E %2, mesh %3%, %4")
                      .arg(QString::fromStdString(level.name))
                      .arg(level.motionThreshold)
                      .arg(100.0 * level.meshRatio, 0, 'f', 0)
-                     .arg(level.switchDistanceCm / 100.0, 0, 'f', 2),
+                     .arg(level.switchDistanceCm > 0.0 ? tr("from %1 m").arg(level.switchDistanceCm / 100.0, 0, 'f', 2)
+                                                       : tr("switch distance not set")),
         m_levels);
     item->setFlags(item->flags() | Qt::ItemIsUserCheckable);
     item->setCheckState(Qt::Checked);
