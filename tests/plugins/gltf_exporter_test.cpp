@@ -15,6 +15,7 @@
 #include <QTemporaryDir>
 
 #include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <glm/gtx/quaternion.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -181,6 +182,50 @@ void expectPlaysLikeTheRuntime(const LodPackage& package, const tinygltf::Model&
   }
 }
 
+// Every level's mesh skinned by the glTF (its skin, weights and the level's animation) lands
+// where the runtime skins the level's mesh (the level's skeleton, runtime clip and palette),
+// at a few frames: positions within `toleranceM` metres.
+void expectSkinsLikeTheRuntime(const LodPackage& package, const tinygltf::Model& model, double toleranceM) {
+  const int joints = package.skeleton.jointCount();
+  ASSERT_EQ(model.skins.size(), 1u);
+  const std::vector<float> ibm = elements<float>(model, model.skins[0].inverseBindMatrices, 16);
+  ASSERT_EQ(ibm.size(), std::size_t(joints) * 16);
+  for (std::size_t i = 0; i < package.levels.size(); ++i) {
+    const LodPackageLevel& level = package.levels[i];
+    const SkinnedMesh* mesh = level.mesh();
+    ASSERT_TRUE(mesh != nullptr);
+    const tinygltf::Primitive& primitive = model.meshes.at(i).primitives.at(0);
+    const std::vector<float> positions = elements<float>(model, primitive.attributes.at("POSITION"), 3);
+    const std::vector<float> weights = elements<float>(model, primitive.attributes.at("WEIGHTS_0"), 4);
+    const std::vector<std::uint8_t> influences = elements<std::uint8_t>(model, primitive.attributes.at("JOINTS_0"), 4);
+    ASSERT_EQ(positions.size(), mesh->vertexCount() * 3);
+    for (std::size_t c = 0; c < package.clips.size(); ++c) {
+      const Clip& clip = package.clips[c];
+      double worst = 0.0;
+      for (int frame : {0, clip.frameCount / 2, clip.frameCount - 1}) {
+        const std::vector<glm::mat4> world =
+            evaluate(model, model.animations[i * package.clips.size() + c], joints, frame / clip.fps);
+        std::vector<glm::mat4> palette(world.size());
+        for (std::size_t j = 0; j < world.size(); ++j)
+          palette[j] = world[j] * glm::make_mat4(&ibm[16 * j]);
+        const std::vector<glm::mat4> models = evaluateRuntime(level, c, frame);
+        for (std::size_t v = 0; v < mesh->vertexCount(); ++v) {
+          const glm::vec4 p(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0f);
+          glm::vec3 gltf(0.0f), runtime(0.0f);
+          for (int k = 0; k < 4; ++k) {
+            gltf += weights[4 * v + std::size_t(k)] * glm::vec3(palette[influences[4 * v + std::size_t(k)]] * p);
+            const std::size_t r = mesh->joints[v][k];
+            runtime += mesh->weights[v][k] *
+                       glm::vec3(models[r] * level.inverseBinds[r] * glm::vec4(mesh->positions[v], 1.0f));
+          }
+          worst = std::max(worst, double(glm::length(gltf - runtime * 0.01f)));
+        }
+      }
+      EXPECT_LT(worst, toleranceM) << "level " << level.index << " clip " << clip.name;
+    }
+  }
+}
+
 void expectClusterTablesRoundTrip(const LodPackage& package, const json& document) {
   ASSERT_TRUE(document.contains("extensionsUsed"));
   const auto used = document["extensionsUsed"].get<std::vector<std::string>>();
@@ -296,7 +341,8 @@ TEST(GltfExporter, SkinnedCharacterPassesTheValidatorAndReadsBack) {
     const auto used = document["extensionsUsed"].get<std::vector<std::string>>();
     EXPECT_NE(std::find(used.begin(), used.end(), "MSFT_lod"), used.end());
     expectClusterTablesRoundTrip(package, document);
-    expectPlaysLikeTheRuntime(package, model, 1, 1e-4);
+    expectPlaysLikeTheRuntime(package, model, 1, 1e-5);
+    expectSkinsLikeTheRuntime(package, model, 1e-5); // 10 um: float rounding is ~1.5 um
 
     // Assimp reads it back through the project's importer: the same joints and frames
     ImportOptions options;
@@ -333,7 +379,7 @@ TEST(GltfExporter, SkeletonAlonePassesTheValidatorAndReadsBack) {
   EXPECT_EQ(int(model.nodes.size()), package.skeleton.jointCount());
   const json document = documentOf(out.bytes);
   expectClusterTablesRoundTrip(package, document);
-  expectPlaysLikeTheRuntime(package, model, 7, 1e-4);
+  expectPlaysLikeTheRuntime(package, model, 7, 1e-5);
 
   // clustered spans are held keys: a coarser level keeps fewer rotation keys
   const auto rotationKeys = [&](std::size_t animation) {
