@@ -546,6 +546,7 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
                             {"clip", clip.name},
                             {"frameCount", clip.frameCount},
                             {"fps", clip.fps},
+                            {"looping", clip.looping},
                             {"joints", std::move(jointsJson)}});
     }
     levelsJson.push_back({{"level", level.index},

@@ -251,6 +251,9 @@ void expectClusterTablesRoundTrip(const LodPackage& package, const json& documen
       const json& a = l["animations"][c];
       EXPECT_EQ(a.at("animation").get<std::size_t>(), i * package.clips.size() + c);
       EXPECT_EQ(a.at("frameCount").get<int>(), package.clips[c].frameCount);
+      EXPECT_EQ(a.at("fps").get<double>(), package.clips[c].fps);
+      EXPECT_EQ(a.at("looping").get<bool>(), package.clips[c].looping);
+      EXPECT_EQ(a.at("clip").get<std::string>(), package.clips[c].name);
       const ClusterSet& set = level.build.motion.clusters[c];
       std::vector<std::vector<Cluster>> parsed(set.joints.size());
       for (const json& joint : a.at("joints")) {
