@@ -92,6 +92,26 @@ check_cli() { # root
   version=$("$cli" --version) || fail "$cli --version failed"
   say "$version"
   [ "$version" = "$("$build/bin/motionlod" --version)" ] || fail "version differs from the build tree's"
+  # Every exporter the build tree has, loaded from the package's own plugin folder; none failed.
+  "$cli" plugins --json > "$1.plugins.json" || fail "$cli plugins --json failed"
+  [ "$(jq '.failed | length' "$1.plugins.json")" = 0 ] || fail "plugins failed to load: $(jq -c '.failed' "$1.plugins.json")"
+  local ids expected_ids outside
+  ids=$(jq -r '[.plugins[].id] | sort | join(" ")' "$1.plugins.json")
+  expected_ids=$("$build/bin/motionlod" plugins --json | jq -r '[.plugins[].id] | sort | join(" ")')
+  [ -n "$ids" ] && [ "$ids" = "$expected_ids" ] || fail "plugins from the package: '$ids'; the build tree has '$expected_ids'"
+  outside=$(jq -r --arg root "$1/" '.plugins[] | select(.file | startswith($root) | not) | .file' "$1.plugins.json")
+  [ -z "$outside" ] || fail "plugins loaded from outside the package: $outside"
+  say "plugins: $ids"
+  # Each exporter runs from the package and writes what the build tree's writes.
+  local id suffix
+  mkdir -p "$1.exports"
+  for id in $ids; do
+    suffix=$(jq -r --arg id "$id" '.plugins[] | select(.id == $id) | .suffixes[0]' "$1.plugins.json")
+    "$cli" export "$1/$sample_rel" --unit-scale cmu --plugin "$id" -o "$1.exports/package.$suffix" > /dev/null ||
+      fail "$cli export --plugin $id failed"
+    "$build/bin/motionlod" export "$1/$sample_rel" --unit-scale cmu --plugin "$id" -o "$1.exports/build.$suffix" > /dev/null
+    cmp "$1.exports/package.$suffix" "$1.exports/build.$suffix" || fail "export --plugin $id differs from the build tree's"
+  done
   "$cli" simplify "$1/$sample_rel" --unit-scale cmu --threshold 5,50,100,300 --json > "$1.simplify.json" ||
     fail "$cli simplify on the installed sample failed"
   "$build/bin/motionlod" simplify "$1/$sample_rel" --unit-scale cmu --threshold 5,50,100,300 --json > "$1.expected.json"
