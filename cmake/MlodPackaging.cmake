@@ -3,7 +3,7 @@
 #
 # Components (cmake --install BUILD --component NAME):
 #   app      motionlod-studio, its desktop entry, icons, AppStream metadata, the sample
-#   cli      motionlod and its man page
+#   cli      motionlod, its man page and the farm specs (Kubernetes, HTCondor)
 #   plugins  the exporter plugins (add_exporter_plugin() installs them)
 #   sdk      mlod_runtime (static) + headers under include/motionlod/runtime and a CMake
 #            package: find_package(MotionLODRuntime) gives mlod::runtime
@@ -75,6 +75,10 @@ if(MLOD_BUILD_QT)
     COMMENT "Compressing the motionlod man page")
   add_custom_target(mlod_man_page ALL DEPENDS ${MLOD_MAN_GZ})
   install(FILES ${MLOD_MAN_GZ} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT cli)
+  # --- cli: the farm specs (docs/farm.md), ready to copy and edit ------------------------
+  install(FILES ${PROJECT_SOURCE_DIR}/installer/farm/kubernetes-indexed-job.yaml
+                ${PROJECT_SOURCE_DIR}/installer/farm/motionlod.sub
+          DESTINATION ${CMAKE_INSTALL_DATADIR}/motionlod/farm COMPONENT cli)
 endif()
 
 # --- sdk: find_package(MotionLODRuntime) -----------------------------------------------

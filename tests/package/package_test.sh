@@ -51,6 +51,8 @@ share/icons/hicolor/256x256/apps/motionlod-studio.png
 share/icons/hicolor/scalable/apps/motionlod-studio.svg
 share/metainfo/org.motionlod.Studio.metainfo.xml
 share/man/man1/motionlod.1.gz
+share/motionlod/farm/kubernetes-indexed-job.yaml
+share/motionlod/farm/motionlod.sub
 share/doc/motionlod/LICENSE
 share/doc/motionlod/THIRD-PARTY-NOTICES.md
 share/doc/motionlod/CHANGELOG.md
