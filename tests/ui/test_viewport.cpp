@@ -8,6 +8,7 @@
 #include "core/crowd/crowd.h"
 #include "editor/document/document.h"
 #include "editor/main_window.h"
+#include "editor/models/joint_tree_model.h"
 #include "editor/viewport/crowd_panel.h"
 #include "editor/viewport/playback.h"
 #include "editor/viewport/viewport_panel.h"
@@ -16,6 +17,8 @@
 #include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
+#include <QDockWidget>
+#include <QTreeView>
 #include <QImage>
 #include <QLabel>
 #include <QSignalSpy>
@@ -539,6 +542,21 @@ private slots:
     QVERIFY(waitForFigures(*window.document()));
     viewport->playback()->setFrame(12);
     QVERIFY2(frame->text().startsWith("frame 12 / 99"), qPrintable(frame->text()));
+    // a joint picked in the viewport is the one selected in the Skeleton dock
+    window.findChild<QDockWidget*>("viewportDock")->raise();
+    QVERIFY(QTest::qWaitFor([&] { return viewport->sceneView()->isVisible() && viewport->sceneView()->paintCount() > 0; },
+                            10000));
+    const int knee = window.document()->currentAssetPtr()->skeleton.find("B_Knee_Left");
+    glm::vec2 pixel;
+    QVERIFY(viewport->sceneView()->camera().project(viewport->jointPositions(0)[std::size_t(knee)],
+                                                    float(viewport->sceneView()->width()),
+                                                    float(viewport->sceneView()->height()), pixel));
+    const QPoint at(int(std::lround(pixel.x)), int(std::lround(pixel.y)));
+    const int picked = viewport->pickJoint(at);
+    QVERIFY(picked >= 0);
+    QTest::mouseClick(viewport->sceneView(), Qt::LeftButton, {}, at);
+    QCOMPARE(window.document()->currentJoint(), picked);
+    QCOMPARE(window.jointModel()->jointAt(window.skeletonView()->currentIndex()), picked);
   }
 };
 
