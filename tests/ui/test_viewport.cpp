@@ -15,6 +15,7 @@
 #include "io/importer.h"
 
 #include <QApplication>
+#include <QGuiApplication>
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDockWidget>
@@ -183,9 +184,37 @@ class TestViewport : public QObject {
   }
 
 private slots:
-  void initTestCase() {
-    QCoreApplication::setOrganizationName("MotionLODViewportTest");
-    QVERIFY2(sceneViewSupported(), "these tests need OpenGL 3.3 (run under xvfb-run)");
+  void initTestCase() { QCoreApplication::setOrganizationName("MotionLODViewportTest"); }
+  void init() {
+    const bool offscreen = QGuiApplication::platformName() == QLatin1String("offscreen");
+    if (offscreen != (QString(QTest::currentTestFunction()) == QLatin1String("offscreenShowsWhy")))
+      QSKIP(offscreen ? "needs OpenGL: ctest ui.viewport runs it under Xvfb"
+                      : "runs on the offscreen platform: ctest ui.viewport_offscreen");
+    if (!offscreen)
+      QVERIFY2(sceneViewSupported(), "these tests need OpenGL 3.3 (run under xvfb-run)");
+  }
+
+  // Where a QOpenGLWidget cannot be shown (the offscreen platform), the docks say why and the
+  // rest of the window works: the panels still follow the document and the timeline.
+  void offscreenShowsWhy() {
+    QString reason;
+    QVERIFY(!sceneViewSupported(&reason));
+    QVERIFY(reason.contains("offscreen"));
+    MainWindow window;
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    auto* viewport = window.findChild<ViewportPanel*>("viewportPanel");
+    QVERIFY(viewport);
+    QVERIFY(!viewport->sceneView());
+    QVERIFY(window.findChild<QLabel*>("viewportUnavailable"));
+    QVERIFY(window.findChild<QLabel*>("crowdUnavailable"));
+    QSignalSpy spy(&window, &MainWindow::importFinished);
+    window.importFileWithUnit(bcnPath(), 100.0);
+    QVERIFY(spy.wait(60000));
+    QVERIFY(waitForFigures(*window.document()));
+    QVERIFY(viewport->source().valid());
+    viewport->playback()->setFrame(30);
+    QVERIFY2(viewport->statusText().contains("frame 30"), qPrintable(viewport->statusText()));
   }
 
   // BCN_Epileptic side by side: the image is not blank, every coloured pixel lies in the
