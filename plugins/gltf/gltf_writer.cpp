@@ -11,7 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <map>
+#include <string>
+#include <unordered_map>
 #include <sstream>
 
 namespace mlod::gltf {
@@ -94,19 +95,26 @@ public:
     return push(std::move(a));
   }
 
-  // Key times of `frames` at `fps`, shared between channels with the same frames.
-  int times(const std::vector<int>& frames, double fps) {
-    const auto found = m_times.find(frames);
-    if (found != m_times.end())
+  // Animation data: an accessor holding exactly these values already is shared (the same
+  // key times between channels; tracks a coarser level leaves as they were).
+  int shared(const std::vector<float>& values, int components, int type, bool bounds) {
+    std::string key(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
+    key += static_cast<char>(type);
+    const auto found = m_shared.find(key);
+    if (found != m_shared.end())
       return found->second;
+    const int accessor = floats(values, components, type, kNoTarget, bounds);
+    m_shared.emplace(std::move(key), accessor);
+    return accessor;
+  }
+
+  // Key times (seconds, with bounds) of `frames` at `fps`.
+  int times(const std::vector<int>& frames, double fps) {
     std::vector<float> seconds(frames.size());
     for (std::size_t i = 0; i < frames.size(); ++i)
       seconds[i] = static_cast<float>(frames[i] / fps);
-    const int accessor = floats(seconds, 1, TINYGLTF_TYPE_SCALAR, kNoTarget, true);
-    m_times.emplace(frames, accessor);
-    return accessor;
+    return shared(seconds, 1, TINYGLTF_TYPE_SCALAR, true);
   }
-  void newClip() { m_times.clear(); } // key times depend on the clip's rate
 
 private:
   int push(tinygltf::Accessor a) {
@@ -115,7 +123,7 @@ private:
   }
 
   tinygltf::Model& m_model;
-  std::map<std::vector<int>, int> m_times;
+  std::unordered_map<std::string, int> m_shared;
 };
 
 // One joint's rotation track at a level: the frames that get a key and their rotations.
@@ -199,7 +207,6 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
 
   tinygltf::Animation animation;
   animation.name = clip.name + "@" + level.settings.name;
-  builder.newClip();
   const std::vector<int> frames = allFrames(clip.frameCount);
   const float s = static_cast<float>(kMetresPerCm);
   for (int j = 0; j < joints; ++j) {
@@ -208,7 +215,7 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
       const bool removed = reduced && bones.removed[jj];
       const RotationTrack track = rotationTrack(clip, j, clusters ? &clusters->joints[jj] : nullptr, removed,
                                                 reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
-      const int output = builder.floats(track.values, 4, TINYGLTF_TYPE_VEC4, kNoTarget, false);
+      const int output = builder.shared(track.values, 4, TINYGLTF_TYPE_VEC4, false);
       addChannel(animation, j, "rotation", builder.times(track.frames, clip.fps), output);
     }
     if (clip.hasTranslation[jj]) {
@@ -218,7 +225,7 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
         const glm::vec3& t = clip.translation(j, f);
         values.insert(values.end(), {t.x * s, t.y * s, t.z * s});
       }
-      const int output = builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kNoTarget, false);
+      const int output = builder.shared(values, 3, TINYGLTF_TYPE_VEC3, false);
       addChannel(animation, j, "translation", builder.times(frames, clip.fps), output);
     }
     if (clip.hasScale[jj]) {
@@ -228,13 +235,13 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
         const glm::vec3& v = clip.scale(j, f);
         values.insert(values.end(), {v.x, v.y, v.z});
       }
-      const int output = builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kNoTarget, false);
+      const int output = builder.shared(values, 3, TINYGLTF_TYPE_VEC3, false);
       addChannel(animation, j, "scale", builder.times(frames, clip.fps), output);
     }
   }
   if (animation.channels.empty()) { // a clip without channels: the rest pose (an animation needs a channel)
     const RotationTrack track = rotationTrack(clip, 0, nullptr, true, package.skeleton.joints[0].rest.rotation);
-    const int output = builder.floats(track.values, 4, TINYGLTF_TYPE_VEC4, kNoTarget, false);
+    const int output = builder.shared(track.values, 4, TINYGLTF_TYPE_VEC4, false);
     addChannel(animation, 0, "rotation", builder.times(track.frames, clip.fps), output);
   }
   return animation;

@@ -12,6 +12,8 @@
 //   removed by bone reduction hold their frozen rotation, everything else is keyed at every
 //   frame; LINEAR, so it plays like the runtime's LodClip (which nlerps where glTF slerps:
 //   the same at every frame, within a hair between frames);
+//   animation data that repeats (key times; a track a coarser level leaves as it was) is
+//   stored once and its accessor shared;
 // - mesh levels: one node per level with a mesh; the first selected level's node is in the
 //   scene and carries MSFT_lod {"ids": [the other levels' nodes]} and
 //   extras.MSFT_screencoverage (per level, the fraction of the viewport height the
