@@ -148,7 +148,15 @@ void CrowdPanel::showEvent(QShowEvent* event) {
 }
 
 void CrowdPanel::markDirty() {
-  // Level and joint changes do not change what the crowd plays; everything else may.
+  // Only what the levels are built from counts (the level or joint in view does not).
+  const Document& d = *m_document;
+  const int asset = d.currentAsset();
+  Inputs inputs{asset >= 0 && asset < d.assetCount() ? d.asset(asset) : nullptr, d.currentClip(),
+                d.project().lods, d.project().alpha, d.project().mode,
+                asset >= 0 && asset < d.assetCount() ? d.jointSettings(asset) : std::map<std::string, JointSettings>()};
+  if (hasLevels() && !m_dirty && inputs == m_inputs)
+    return;
+  m_inputs = std::move(inputs);
   m_dirty = true;
   if (isVisible())
     m_rebuildTimer.start();

@@ -7,7 +7,9 @@
 // evaluation and the frame rate. The work is core's Crowd (core/crowd/crowd.h); the levels
 // are built off the UI thread (cancelled when the inputs change again).
 
+#include "core/asset.h"
 #include "core/crowd/crowd.h"
+#include "core/project.h"
 #include "editor/viewport/scene_view.h"
 
 #include <QElapsedTimer>
@@ -16,6 +18,7 @@
 #include <QWidget>
 
 #include <atomic>
+#include <map>
 #include <memory>
 
 class QCheckBox;
@@ -85,6 +88,16 @@ private:
   QDoubleSpinBox* m_hysteresis = nullptr;
   QCheckBox* m_tint = nullptr;
 
+  struct Inputs {
+    std::shared_ptr<const Asset> asset;
+    int clip = -1;
+    LodSet lods;
+    double alpha = 0.0;
+    JpcMode mode = JpcMode::Greedy;
+    std::map<std::string, JointSettings> joints;
+    bool operator==(const Inputs&) const = default;
+  };
+  Inputs m_inputs; // of the levels built or being built
   Crowd m_crowd;
   std::vector<int> m_meshIds; // per level
   using Built = std::shared_ptr<Result<std::vector<CrowdLevel>>>;

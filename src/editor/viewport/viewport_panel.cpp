@@ -119,6 +119,20 @@ void ViewportPanel::rebuild() {
     m_characterBox->setCurrentIndex(std::max(0, m_characterBox->findData(chosen)));
     m_characterBox->setEnabled(m_characterBox->count() > 1);
   }
+  // Selecting a joint changes nothing drawn but its highlight: pose again, keep the rest.
+  const SourceKey key{m_document->currentAsset() >= 0 && m_document->currentAsset() < m_document->assetCount()
+                          ? m_document->asset(m_document->currentAsset())
+                          : nullptr,
+                      m_document->currentClip(),
+                      m_document->currentLevel(),
+                      m_characterBox->currentData().toInt(),
+                      m_document->analysis(),
+                      m_document->project().mappings};
+  if (m_valid && key == m_key) {
+    pose();
+    return;
+  }
+  m_key = key;
   m_source = makeViewSource(*m_document, m_characterBox->currentData().toInt());
   m_valid = false;
   m_instances.clear();

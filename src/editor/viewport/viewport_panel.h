@@ -6,6 +6,8 @@
 // character it is mapped to, and the timeline every 3D view follows. Poses come from the
 // runtime's PoseEvaluatorJob; SceneView skins them on the GPU.
 
+#include "core/project.h"
+#include "editor/document/analysis.h"
 #include "editor/viewport/scene_view.h"
 #include "editor/viewport/view_source.h"
 #include "runtime/lod_clip.h"
@@ -70,6 +72,17 @@ private:
   QComboBox* m_characterBox = nullptr;
   QCheckBox* m_skeletonBox = nullptr;
 
+  // What the source was made from: the same key gives the same source.
+  struct SourceKey {
+    std::shared_ptr<const Asset> asset;
+    int clip = -1;
+    int level = -1;
+    int mapping = -1;
+    std::shared_ptr<const Analysis> analysis;
+    std::vector<ProjectMapping> mappings;
+    bool operator==(const SourceKey&) const = default;
+  };
+  SourceKey m_key;
   ViewSource m_source;
   LodClip m_originalClip, m_simplifiedClip;
   std::vector<std::int16_t> m_parents;
