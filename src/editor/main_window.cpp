@@ -456,6 +456,7 @@ void MainWindow::buildDocks() {
   tabifyDockWidget(trajectory, viewportDock);
   auto* crowd = new CrowdPanel(m_document, viewport->playback());
   crowd->setObjectName("crowdPanel");
+  connect(viewport, &ViewportPanel::mappingChosen, crowd, &CrowdPanel::setMapping);
   tabifyDockWidget(viewportDock, addDock("crowdDock", tr("Crowd"), crowd, Qt::RightDockWidgetArea));
   trajectory->raise();
   auto* currentFrame = new QLabel(viewport->timeline()->frameText());

@@ -411,6 +411,20 @@ private slots:
     QCOMPARE(panel->characterBox()->currentIndex(), 1);
     const glm::vec3 after = panel->jointPositions(0)[std::size_t(hand)];
     QVERIFY2(glm::length(after - before) > 1.0f, "the hand moved with the edited table");
+
+    // the crowd plays what the viewport shows: the motion on the character's mesh
+    CrowdPanel crowd(&document, panel->playback());
+    connect(panel.get(), &ViewportPanel::mappingChosen, &crowd, &CrowdPanel::setMapping);
+    QSignalSpy ready(&crowd, &CrowdPanel::levelsReady);
+    panel->characterBox()->setCurrentIndex(0);
+    panel->characterBox()->setCurrentIndex(1);
+    QCOMPARE(crowd.mapping(), 0);
+    crowd.show();
+    QVERIFY(ready.wait(120000));
+    QVERIFY2(ready.last()[0].toBool(), qPrintable(ready.last()[1].toString()));
+    QCOMPARE(crowd.crowd().level(0).skeleton.jointCount(), 54);
+    QVERIFY(!crowd.crowd().level(0).capsules);
+    QCOMPARE(crowd.crowd().level(0).clip.frameCount(), document.asset(0)->clips[0].frameCount);
   }
 
   // Bad data never crashes the view.

@@ -141,6 +141,11 @@ CrowdPanel::~CrowdPanel() {
 
 void CrowdPanel::setAgentCount(int agents) { m_agents->setValue(agents); }
 
+void CrowdPanel::setMapping(int mapping) {
+  m_mapping = mapping;
+  markDirty();
+}
+
 void CrowdPanel::showEvent(QShowEvent* event) {
   QWidget::showEvent(event);
   if (m_dirty)
@@ -151,9 +156,14 @@ void CrowdPanel::markDirty() {
   // Only what the levels are built from counts (the level or joint in view does not).
   const Document& d = *m_document;
   const int asset = d.currentAsset();
-  Inputs inputs{asset >= 0 && asset < d.assetCount() ? d.asset(asset) : nullptr, d.currentClip(),
-                d.project().lods, d.project().alpha, d.project().mode,
-                asset >= 0 && asset < d.assetCount() ? d.jointSettings(asset) : std::map<std::string, JointSettings>()};
+  Inputs inputs{asset >= 0 && asset < d.assetCount() ? d.asset(asset) : nullptr,
+                d.currentClip(),
+                d.project().lods,
+                d.project().alpha,
+                d.project().mode,
+                asset >= 0 && asset < d.assetCount() ? d.jointSettings(asset) : std::map<std::string, JointSettings>(),
+                m_mapping,
+                d.project().mappings};
   if (hasLevels() && !m_dirty && inputs == m_inputs)
     return;
   m_inputs = std::move(inputs);
@@ -175,7 +185,7 @@ void CrowdPanel::startBuild() {
     return;
   }
   m_dirty = false;
-  const ViewSource source = makeViewSource(*m_document, -1);
+  const ViewSource source = makeViewSource(*m_document, m_mapping);
   if (!source.valid() || source.original.frameCount < 1) {
     m_error = source.valid() ? tr("The asset in view has no clip.") : source.error;
     m_figures->setText(m_error);

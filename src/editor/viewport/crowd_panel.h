@@ -54,6 +54,10 @@ public:
   double framesPerSecond() const { return m_fps; }
 
   void setAgentCount(int agents);
+  // Plays the asset in view on the character of project().mappings[mapping] (-1: its own
+  // skeleton), as the Viewport dock shows it.
+  void setMapping(int mapping);
+  int mapping() const { return m_mapping; }
   // Builds the levels now if the dock's inputs changed (the dock builds when shown).
   void requestLevels();
   // Poses the crowd at the playback time from the current camera and redraws.
@@ -95,9 +99,12 @@ private:
     double alpha = 0.0;
     JpcMode mode = JpcMode::Greedy;
     std::map<std::string, JointSettings> joints;
+    int mapping = -1;
+    std::vector<ProjectMapping> mappings;
     bool operator==(const Inputs&) const = default;
   };
   Inputs m_inputs; // of the levels built or being built
+  int m_mapping = -1;
   Crowd m_crowd;
   std::vector<int> m_meshIds; // per level
   using Built = std::shared_ptr<Result<std::vector<CrowdLevel>>>;

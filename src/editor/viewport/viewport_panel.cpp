@@ -119,6 +119,8 @@ void ViewportPanel::rebuild() {
     m_characterBox->setCurrentIndex(std::max(0, m_characterBox->findData(chosen)));
     m_characterBox->setEnabled(m_characterBox->count() > 1);
   }
+  if (m_characterBox->currentData().toInt() != m_key.mapping)
+    emit mappingChosen(m_characterBox->currentData().toInt());
   // Selecting a joint changes nothing drawn but its highlight: pose again, keep the rest.
   const SourceKey key{m_document->currentAsset() >= 0 && m_document->currentAsset() < m_document->assetCount()
                           ? m_document->asset(m_document->currentAsset())

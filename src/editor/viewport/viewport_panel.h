@@ -58,6 +58,10 @@ public:
   int pickJoint(const QPoint& position) const;
   void frameCharacters();
 
+signals:
+  // The character the asset in view plays on: an index of project().mappings, or -1.
+  void mappingChosen(int mapping);
+
 public slots:
   void rebuild(); // the document changed: new source, clips and meshes
   void pose();    // the time changed: evaluate and hand the palettes to the view
