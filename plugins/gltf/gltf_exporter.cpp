@@ -6,17 +6,34 @@
 
 namespace mlod {
 
-QString GltfExporter::id() const { return QStringLiteral(MLOD_PLUGIN_ID); }
-QString GltfExporter::name() const { return QStringLiteral(MLOD_PLUGIN_NAME); }
-QString GltfExporter::version() const { return QStringLiteral(MLOD_PLUGIN_VERSION); }
-QStringList GltfExporter::suffixes() const { return QString(MLOD_PLUGIN_SUFFIXES).split(','); }
+QString GltfExporter::id() const {
+  return QStringLiteral(MLOD_PLUGIN_ID);
+}
+QString GltfExporter::name() const {
+  return QStringLiteral(MLOD_PLUGIN_NAME);
+}
+QString GltfExporter::version() const {
+  return QStringLiteral(MLOD_PLUGIN_VERSION);
+}
+QStringList GltfExporter::suffixes() const {
+  return QString(MLOD_PLUGIN_SUFFIXES).split(',');
+}
 
 ExporterOptions GltfExporter::options() const {
   ExporterOptions out;
-  out.append({QStringLiteral("format"), ExporterOption::Choice, QStringLiteral("auto"), {}, {},
+  out.append({QStringLiteral("format"),
+              ExporterOption::Choice,
+              QStringLiteral("auto"),
+              {},
+              {},
               {QStringLiteral("auto"), QStringLiteral("glb"), QStringLiteral("gltf")},
               QStringLiteral("glb: binary glTF; gltf: JSON with the buffer embedded; auto: from the output's suffix")});
-  out.append({QStringLiteral("pretty"), ExporterOption::Bool, false, {}, {}, {},
+  out.append({QStringLiteral("pretty"),
+              ExporterOption::Bool,
+              false,
+              {},
+              {},
+              {},
               QStringLiteral("Indent the JSON of a .gltf for people to read (larger file)")});
   return out;
 }
@@ -26,7 +43,7 @@ ExportResult GltfExporter::exportPackage(const LodPackage& package, const QStrin
   QString format = options.value(QStringLiteral("format"), QStringLiteral("auto")).toString();
   if (format == QLatin1String("auto"))
     format = QFileInfo(path).suffix().compare(QLatin1String("gltf"), Qt::CaseInsensitive) == 0 ? QStringLiteral("gltf")
-                                                                                              : QStringLiteral("glb");
+                                                                                               : QStringLiteral("glb");
   if (format != QLatin1String("glb") && format != QLatin1String("gltf"))
     return ExportResult::failure(QStringLiteral("option 'format': '%1' is not one of auto, glb, gltf").arg(format));
 

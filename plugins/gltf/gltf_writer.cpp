@@ -3,32 +3,34 @@
 #include "core/lod/error_budget.h"
 #include "core/lod_clip_builder.h"
 
-#include <nlohmann/json.hpp>
-#include <tiny_gltf.h>
-
-#include <glm/gtc/quaternion.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <string>
-#include <unordered_map>
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <tiny_gltf.h>
+#include <unordered_map>
 
 namespace mlod::gltf {
 
 namespace {
 
-using tinygltf::Value;
 using nlohmann::json;
+using tinygltf::Value;
 
 // glTF enums (the specification's, as tinygltf names them).
 constexpr int kArrayBuffer = TINYGLTF_TARGET_ARRAY_BUFFER;
 constexpr int kElementArrayBuffer = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
 constexpr int kNoTarget = 0;
 
-Value number(double x) { return Value(x); }
-Value integer(int i) { return Value(i); }
+Value number(double x) {
+  return Value(x);
+}
+Value integer(int i) {
+  return Value(i);
+}
 
 // A unit quaternion with w written last, as glTF stores it; q and -q are the same rotation.
 glm::quat unit(const glm::quat& q) {
@@ -41,8 +43,8 @@ glm::mat4 toMetres(const glm::mat4& m) {
   glm::mat4 out = m;
   const float s = static_cast<float>(kMetresPerCm);
   for (int row = 0; row < 3; ++row) {
-    out[3][row] = m[3][row] * s;    // translation
-    out[row][3] = m[row][3] / s;    // projective row (0 for affine matrices)
+    out[3][row] = m[3][row] * s; // translation
+    out[row][3] = m[row][3] / s; // projective row (0 for affine matrices)
   }
   return out;
 }
@@ -197,8 +199,8 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
     return Error("clip '" + clip.name + "' does not animate the package's skeleton");
   const BoneReduction& bones = level.build.motion.bones;
   const bool reduced = static_cast<int>(bones.removed.size()) == joints;
-  const ClusterSet* clusters = clipIndex < level.build.motion.clusters.size() ? &level.build.motion.clusters[clipIndex]
-                                                                              : nullptr;
+  const ClusterSet* clusters =
+      clipIndex < level.build.motion.clusters.size() ? &level.build.motion.clusters[clipIndex] : nullptr;
   if (clusters && !clusters->joints.empty() && clusters->jointCount() != joints)
     return Error("the clusters of clip '" + clip.name + "' at level " + std::to_string(level.index) +
                  " are not of the package's skeleton");
@@ -267,8 +269,8 @@ Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int 
     for (const glm::vec3& v : mesh.normals) {
       // Unit length in float, as the specification asks; a degenerate normal gets +Z.
       const double length = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
-      const glm::vec3 u = length > 1e-12 && std::isfinite(length) ? glm::vec3(glm::dvec3(v) / length)
-                                                                    : glm::vec3(0.0f, 0.0f, 1.0f);
+      const glm::vec3 u =
+          length > 1e-12 && std::isfinite(length) ? glm::vec3(glm::dvec3(v) / length) : glm::vec3(0.0f, 0.0f, 1.0f);
       values.insert(values.end(), {u.x, u.y, u.z});
     }
     primitive.attributes["NORMAL"] = builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kArrayBuffer, false);
@@ -315,11 +317,11 @@ Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int 
     }
     if (jointCount <= 256) {
       std::vector<std::uint8_t> bytes(joints.begin(), joints.end());
-      primitive.attributes["JOINTS_0"] = builder.integers(bytes, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, 4,
-                                                          TINYGLTF_TYPE_VEC4, kArrayBuffer);
+      primitive.attributes["JOINTS_0"] =
+          builder.integers(bytes, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, 4, TINYGLTF_TYPE_VEC4, kArrayBuffer);
     } else {
-      primitive.attributes["JOINTS_0"] = builder.integers(joints, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 4,
-                                                          TINYGLTF_TYPE_VEC4, kArrayBuffer);
+      primitive.attributes["JOINTS_0"] =
+          builder.integers(joints, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 4, TINYGLTF_TYPE_VEC4, kArrayBuffer);
     }
     primitive.attributes["WEIGHTS_0"] = builder.floats(values, 4, TINYGLTF_TYPE_VEC4, kArrayBuffer, false);
   }
@@ -328,8 +330,8 @@ Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int 
       return Error("the mesh of " + name + " has an index out of range");
   if (n <= 65536) {
     std::vector<std::uint16_t> indices(mesh.indices.begin(), mesh.indices.end());
-    primitive.indices = builder.integers(indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 1, TINYGLTF_TYPE_SCALAR,
-                                         kElementArrayBuffer);
+    primitive.indices =
+        builder.integers(indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 1, TINYGLTF_TYPE_SCALAR, kElementArrayBuffer);
   } else {
     primitive.indices = builder.integers(mesh.indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 1, TINYGLTF_TYPE_SCALAR,
                                          kElementArrayBuffer);

@@ -31,7 +31,9 @@ json jointsJson(const LodPackage& package, const LodPackageLevel& level, const J
 }
 
 // A number as the CSV writes it: the shortest text that reads back to the same double.
-std::string csvNumber(const json& value) { return value.is_null() ? std::string() : value.dump(); }
+std::string csvNumber(const json& value) {
+  return value.is_null() ? std::string() : value.dump();
+}
 
 std::string csvField(const std::string& text) {
   if (text.find_first_of(",\"\r\n") == std::string::npos)
@@ -82,8 +84,9 @@ json reportJson(const LodPackage& package) {
   doc["mode"] = toString(package.jpc.mode);
   doc["alpha"] = package.jpc.alpha;
   doc["joints"] = package.skeleton.jointCount();
-  doc["mesh"] = package.mesh ? json{{"vertices", package.mesh->vertexCount()}, {"triangles", package.mesh->triangleCount()}}
-                             : json(nullptr);
+  doc["mesh"] = package.mesh
+                    ? json{{"vertices", package.mesh->vertexCount()}, {"triangles", package.mesh->triangleCount()}}
+                    : json(nullptr);
   doc["bounding_radius_cm"] = package.lods.boundingRadiusCm;
   doc["projection"] = {{"vertical_fov_degrees", package.lods.projection.verticalFovDegrees},
                        {"viewport_height_pixels", package.lods.projection.viewportHeightPixels}};
@@ -146,15 +149,15 @@ std::string reportCsv(const json& report, CsvTable table) {
         const json none = json::object();
         const json& m = c < level.at("clips").size() ? level["clips"][c] : none;
         const auto figure = [&](const char* key) { return m.contains(key) ? csvNumber(m[key]) : std::string(); };
-        out += csvRow({csvField(c < clips.size() ? clips[c].at("name").get<std::string>() : std::string()),
-                       csvNumber(level.at("level")), csvField(level.at("name").get<std::string>()),
-                       csvNumber(level.at("threshold")), figure("simplified_joint_percent"), figure("clusters"),
-                       figure("max_error"), figure("max_joint_position_error_cm"),
-                       figure("mean_joint_position_error_cm"), csvNumber(level.at("mesh_ratio")),
-                       csvNumber(level.at("triangles")), csvNumber(level.at("active_joints")),
-                       csvNumber(level.at("motion_error_cm")), csvNumber(level.at("mesh_error_cm")),
-                       csvNumber(level.at("deviation_cm")), csvNumber(level.at("switch_distance_cm")),
-                       csvNumber(level.at("screen_size_pixels"))});
+        out +=
+            csvRow({csvField(c < clips.size() ? clips[c].at("name").get<std::string>() : std::string()),
+                    csvNumber(level.at("level")), csvField(level.at("name").get<std::string>()),
+                    csvNumber(level.at("threshold")), figure("simplified_joint_percent"), figure("clusters"),
+                    figure("max_error"), figure("max_joint_position_error_cm"), figure("mean_joint_position_error_cm"),
+                    csvNumber(level.at("mesh_ratio")), csvNumber(level.at("triangles")),
+                    csvNumber(level.at("active_joints")), csvNumber(level.at("motion_error_cm")),
+                    csvNumber(level.at("mesh_error_cm")), csvNumber(level.at("deviation_cm")),
+                    csvNumber(level.at("switch_distance_cm")), csvNumber(level.at("screen_size_pixels"))});
       }
     }
     return out;
@@ -183,8 +186,9 @@ std::string reportHtml(const json& report) {
   const std::string name = report.at("name").get<std::string>();
   const json& levels = report.at("levels");
   const json& clips = report.at("clips");
-  std::string out = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>Motion LOD report: " +
-                    escapeXml(name) + "</title>\n<style>\n" + kStyle + "\n</style>\n</head>\n<body>\n";
+  std::string out =
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>Motion LOD report: " +
+      escapeXml(name) + "</title>\n<style>\n" + kStyle + "\n</style>\n</head>\n<body>\n";
   out += "<h1>Motion LOD report: " + escapeXml(name) + "</h1>\n<dl>\n";
   out += "<dt>Source</dt><dd>" + escapeXml(report.at("source").get<std::string>()) + "</dd>\n";
   out += "<dt>Joints</dt><dd>" + report.at("joints").dump() + "</dd>\n";
@@ -195,19 +199,22 @@ std::string reportHtml(const json& report) {
   for (std::size_t c = 0; c < clips.size(); ++c)
     out += (c ? ", " : "") + escapeXml(clips[c].at("name").get<std::string>()) + " (" + clips[c].at("frames").dump() +
            " frames at " + fixed(clips[c].at("fps"), 2) + " fps)";
-  out += "</dd>\n<dt>Clustering</dt><dd>" + escapeXml(report.at("mode").get<std::string>()) + ", &alpha; = " +
-         fixed(report.at("alpha"), 2) + " cm</dd>\n";
-  out += "<dt>Bounding radius</dt><dd>" + fixed(report.at("bounding_radius_cm"), 1) + " cm (projection: " +
-         fixed(report["projection"].at("vertical_fov_degrees"), 0) + "&deg; vertical field of view, " +
-         fixed(report["projection"].at("viewport_height_pixels"), 0) + " pixels high)</dd>\n</dl>\n";
+  out += "</dd>\n<dt>Clustering</dt><dd>" + escapeXml(report.at("mode").get<std::string>()) +
+         ", &alpha; = " + fixed(report.at("alpha"), 2) + " cm</dd>\n";
+  out += "<dt>Bounding radius</dt><dd>" + fixed(report.at("bounding_radius_cm"), 1) +
+         " cm (projection: " + fixed(report["projection"].at("vertical_fov_degrees"), 0) +
+         "&deg; vertical field of view, " + fixed(report["projection"].at("viewport_height_pixels"), 0) +
+         " pixels high)</dd>\n</dl>\n";
 
   // The levels: what each costs and how far it strays.
-  out += "<h2>LOD levels</h2>\n<table class=\"levels\">\n<tr><th>Level</th><th>Name</th><th>Threshold E (cm&middot;&deg;)</th>"
+  out += "<h2>LOD levels</h2>\n<table class=\"levels\">\n<tr><th>Level</th><th>Name</th><th>Threshold E "
+         "(cm&middot;&deg;)</th>"
          "<th>Mesh ratio</th><th>Triangles</th><th>Active joints</th><th>Motion error (cm)</th><th>Mesh error (cm)</th>"
          "<th>Deviation (cm)</th><th>Switch distance (m)</th><th>Screen size (px)</th></tr>\n";
   for (const json& level : levels)
-    out += "<tr class=\"level\">" + td(level.at("level").dump()) + td(escapeXml(level.at("name").get<std::string>()), "") +
-           td(fixed(level.at("threshold"), 1)) + td(fixed(level.at("mesh_ratio"), 3)) + td(level.at("triangles").dump()) +
+    out += "<tr class=\"level\">" + td(level.at("level").dump()) +
+           td(escapeXml(level.at("name").get<std::string>()), "") + td(fixed(level.at("threshold"), 1)) +
+           td(fixed(level.at("mesh_ratio"), 3)) + td(level.at("triangles").dump()) +
            td(level.at("active_joints").dump()) + td(fixed(level.at("motion_error_cm"), 3)) +
            td(fixed(level.at("mesh_error_cm"), 3)) + td(fixed(level.at("deviation_cm"), 3)) +
            td(fixed(json(level.at("switch_distance_cm").get<double>() / 100.0), 2)) +
@@ -224,13 +231,15 @@ std::string reportHtml(const json& report) {
       mesh.points.emplace_back(d, level.at("mesh_error_cm").get<double>());
     }
     out += "<div class=\"charts\">\n" +
-           lineChart("Deviation by switch distance", "switch distance (m)", "cm", {deviation, motion, mesh}) + "</div>\n";
+           lineChart("Deviation by switch distance", "switch distance (m)", "cm", {deviation, motion, mesh}) +
+           "</div>\n";
   }
 
   for (std::size_t c = 0; c < clips.size(); ++c) {
     const std::string clipName = clips[c].at("name").get<std::string>();
     out += "<h2>Clip " + escapeXml(clipName) + "</h2>\n<h3>Table 1: joint posture clustering</h3>\n";
-    out += "<table class=\"table1\">\n<tr><th>Level</th><th>Threshold E (cm&middot;&deg;)</th><th>Simplified joints (%)</th>"
+    out += "<table class=\"table1\">\n<tr><th>Level</th><th>Threshold E (cm&middot;&deg;)</th><th>Simplified joints "
+           "(%)</th>"
            "<th>Clusters</th><th>Max error E (cm&middot;&deg;)</th><th>Joint position error, max (cm)</th>"
            "<th>Joint position error, mean (cm)</th></tr>\n";
     LineSeries simplified{"simplified joints (%)", {}}, maxPos{"max (cm)", {}}, meanPos{"mean (cm)", {}};

@@ -11,7 +11,6 @@
 #include "core/lod/lod_package.h"
 
 #include <nlohmann/json.hpp>
-
 #include <string>
 
 namespace mlod::report {

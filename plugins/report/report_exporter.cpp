@@ -3,26 +3,47 @@
 #include "report_document.h"
 
 #include <QFileInfo>
-
 #include <string>
 
 namespace mlod {
 
-QString ReportExporter::id() const { return QStringLiteral(MLOD_PLUGIN_ID); }
-QString ReportExporter::name() const { return QStringLiteral(MLOD_PLUGIN_NAME); }
-QString ReportExporter::version() const { return QStringLiteral(MLOD_PLUGIN_VERSION); }
-QStringList ReportExporter::suffixes() const { return QString(MLOD_PLUGIN_SUFFIXES).split(','); }
+QString ReportExporter::id() const {
+  return QStringLiteral(MLOD_PLUGIN_ID);
+}
+QString ReportExporter::name() const {
+  return QStringLiteral(MLOD_PLUGIN_NAME);
+}
+QString ReportExporter::version() const {
+  return QStringLiteral(MLOD_PLUGIN_VERSION);
+}
+QStringList ReportExporter::suffixes() const {
+  return QString(MLOD_PLUGIN_SUFFIXES).split(',');
+}
 
 ExporterOptions ReportExporter::options() const {
   ExporterOptions out;
-  out.append({QStringLiteral("format"), ExporterOption::Choice, QStringLiteral("auto"), {}, {},
+  out.append({QStringLiteral("format"),
+              ExporterOption::Choice,
+              QStringLiteral("auto"),
+              {},
+              {},
               {QStringLiteral("auto"), QStringLiteral("html"), QStringLiteral("csv"), QStringLiteral("json")},
               QStringLiteral("html: a page with tables and charts; csv: one table; json: every figure; auto: from the "
                              "output's suffix")});
-  out.append({QStringLiteral("csv_table"), ExporterOption::Choice, QStringLiteral("levels"), {}, {},
-              {QStringLiteral("levels"), QStringLiteral("joints")},
-              QStringLiteral("The table a CSV holds: one row per clip and level (Table 1), or per clip, level and joint")});
-  out.append({QStringLiteral("indent"), ExporterOption::Int, 2, 0, 8, {},
+  out.append(
+      {QStringLiteral("csv_table"),
+       ExporterOption::Choice,
+       QStringLiteral("levels"),
+       {},
+       {},
+       {QStringLiteral("levels"), QStringLiteral("joints")},
+       QStringLiteral("The table a CSV holds: one row per clip and level (Table 1), or per clip, level and joint")});
+  out.append({QStringLiteral("indent"),
+              ExporterOption::Int,
+              2,
+              0,
+              8,
+              {},
               QStringLiteral("Spaces of indentation in JSON (0: one line)")});
   return out;
 }
@@ -49,7 +70,8 @@ ExportResult ReportExporter::exportPackage(const LodPackage& package, const QStr
   } else if (format == QLatin1String("html")) {
     text = report::reportHtml(document);
   } else {
-    return ExportResult::failure(QStringLiteral("option 'format': '%1' is not one of auto, html, csv, json").arg(format));
+    return ExportResult::failure(
+        QStringLiteral("option 'format': '%1' is not one of auto, html, csv, json").arg(format));
   }
   if (!progress.step(0.9, QStringLiteral("saving")))
     return cancelledResult();

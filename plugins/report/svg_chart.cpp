@@ -9,10 +9,13 @@ namespace mlod::report {
 
 namespace {
 
-constexpr const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#17becf", "#7f7f7f"};
+constexpr const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
+                                    "#9467bd", "#8c564b", "#17becf", "#7f7f7f"};
 constexpr int kColourCount = static_cast<int>(sizeof(kColours) / sizeof(kColours[0]));
 
-const char* colour(std::size_t series) { return kColours[series % kColourCount]; }
+const char* colour(std::size_t series) {
+  return kColours[series % kColourCount];
+}
 
 std::string num(double x) {
   char buffer[32];
@@ -68,9 +71,10 @@ Axis axisFor(double lo, double hi) {
 std::string svgOpen(int width, int height, const std::string& title) {
   return "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"chart\" width=\"" + std::to_string(width) + "\" height=\"" +
          std::to_string(height) + "\" viewBox=\"0 0 " + std::to_string(width) + " " + std::to_string(height) +
-         "\" role=\"img\" aria-label=\"" + escapeXml(title) + "\" font-family=\"sans-serif\" font-size=\"11\">\n<title>" +
-         escapeXml(title) + "</title>\n<text x=\"" + std::to_string(width / 2) +
-         "\" y=\"16\" text-anchor=\"middle\" font-size=\"13\" font-weight=\"bold\">" + escapeXml(title) + "</text>\n";
+         "\" role=\"img\" aria-label=\"" + escapeXml(title) +
+         "\" font-family=\"sans-serif\" font-size=\"11\">\n<title>" + escapeXml(title) + "</title>\n<text x=\"" +
+         std::to_string(width / 2) + "\" y=\"16\" text-anchor=\"middle\" font-size=\"13\" font-weight=\"bold\">" +
+         escapeXml(title) + "</text>\n";
 }
 
 std::string legend(const std::vector<std::string>& names, double x, double y) {
@@ -90,12 +94,23 @@ std::string escapeXml(const std::string& text) {
   out.reserve(text.size());
   for (char c : text) {
     switch (c) {
-    case '&': out += "&amp;"; break;
-    case '<': out += "&lt;"; break;
-    case '>': out += "&gt;"; break;
-    case '"': out += "&quot;"; break;
-    case '\'': out += "&#39;"; break;
-    default: out += c;
+    case '&':
+      out += "&amp;";
+      break;
+    case '<':
+      out += "&lt;";
+      break;
+    case '>':
+      out += "&gt;";
+      break;
+    case '"':
+      out += "&quot;";
+      break;
+    case '\'':
+      out += "&#39;";
+      break;
+    default:
+      out += c;
     }
   }
   return out;
@@ -122,16 +137,16 @@ std::string lineChart(const std::string& title, const std::string& xLabel, const
   std::string out = svgOpen(width, height, title);
   out += "<g stroke=\"#ddd\">\n";
   for (double y = ay.min; y <= ay.max + ay.step * 1e-9; y += ay.step)
-    out += "<line x1=\"" + num(left) + "\" y1=\"" + num(py(y)) + "\" x2=\"" + num(left + plotW) + "\" y2=\"" + num(py(y)) +
-           "\"/>\n";
+    out += "<line x1=\"" + num(left) + "\" y1=\"" + num(py(y)) + "\" x2=\"" + num(left + plotW) + "\" y2=\"" +
+           num(py(y)) + "\"/>\n";
   out += "</g>\n<g text-anchor=\"end\">\n";
   for (double y = ay.min; y <= ay.max + ay.step * 1e-9; y += ay.step)
     out += "<text x=\"" + num(left - 5) + "\" y=\"" + num(py(y) + 4) + "\">" + label(y) + "</text>\n";
   out += "</g>\n<g text-anchor=\"middle\">\n";
   for (double x = ax.min; x <= ax.max + ax.step * 1e-9; x += ax.step)
     out += "<text x=\"" + num(px(x)) + "\" y=\"" + num(top + plotH + 15) + "\">" + label(x) + "</text>\n";
-  out += "</g>\n<rect x=\"" + num(left) + "\" y=\"" + num(top) + "\" width=\"" + num(plotW) + "\" height=\"" + num(plotH) +
-         "\" fill=\"none\" stroke=\"#333\"/>\n";
+  out += "</g>\n<rect x=\"" + num(left) + "\" y=\"" + num(top) + "\" width=\"" + num(plotW) + "\" height=\"" +
+         num(plotH) + "\" fill=\"none\" stroke=\"#333\"/>\n";
   out += "<text x=\"" + num(left + plotW / 2) + "\" y=\"" + num(height - 8.0) + "\" text-anchor=\"middle\">" +
          escapeXml(xLabel) + "</text>\n";
   out += "<text transform=\"translate(14 " + num(top + plotH / 2) + ") rotate(-90)\" text-anchor=\"middle\">" +
@@ -145,8 +160,8 @@ std::string lineChart(const std::string& title, const std::string& xLabel, const
       if (!std::isfinite(x) || !std::isfinite(y))
         continue;
       points += num(px(x)) + "," + num(py(y)) + " ";
-      marks += "<circle cx=\"" + num(px(x)) + "\" cy=\"" + num(py(y)) + "\" r=\"3\"><title>" + escapeXml(series[s].name) +
-               ": " + label(x) + ", " + label(y) + "</title></circle>";
+      marks += "<circle cx=\"" + num(px(x)) + "\" cy=\"" + num(py(y)) + "\" r=\"3\"><title>" +
+               escapeXml(series[s].name) + ": " + label(x) + ", " + label(y) + "</title></circle>";
     }
     out += "<g class=\"series\" fill=\"" + std::string(colour(s)) + "\"><polyline fill=\"none\" stroke=\"" + colour(s) +
            "\" stroke-width=\"2\" points=\"" + points + "\"/>" + marks + "</g>\n";
@@ -156,8 +171,9 @@ std::string lineChart(const std::string& title, const std::string& xLabel, const
   return out;
 }
 
-std::string barChart(const std::string& title, const std::string& valueLabel, const std::vector<std::string>& categories,
-                     const std::vector<std::string>& seriesNames, const std::vector<std::vector<double>>& values) {
+std::string barChart(const std::string& title, const std::string& valueLabel,
+                     const std::vector<std::string>& categories, const std::vector<std::string>& seriesNames,
+                     const std::vector<std::vector<double>>& values) {
   const std::size_t groups = categories.size();
   const std::size_t bars = std::max<std::size_t>(1, seriesNames.size());
   const double barH = 5.0, gap = 6.0;
@@ -178,8 +194,8 @@ std::string barChart(const std::string& title, const std::string& valueLabel, co
   std::string out = svgOpen(width, height, title);
   out += "<g stroke=\"#ddd\">\n";
   for (double x = ax.min; x <= ax.max + ax.step * 1e-9; x += ax.step)
-    out += "<line x1=\"" + num(px(x)) + "\" y1=\"" + num(top) + "\" x2=\"" + num(px(x)) + "\" y2=\"" + num(top + plotH) +
-           "\"/>\n";
+    out += "<line x1=\"" + num(px(x)) + "\" y1=\"" + num(top) + "\" x2=\"" + num(px(x)) + "\" y2=\"" +
+           num(top + plotH) + "\"/>\n";
   out += "</g>\n<g text-anchor=\"middle\">\n";
   for (double x = ax.min; x <= ax.max + ax.step * 1e-9; x += ax.step)
     out += "<text x=\"" + num(px(x)) + "\" y=\"" + num(top + plotH + 15) + "\">" + label(x) + "</text>\n";

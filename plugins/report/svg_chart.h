@@ -20,8 +20,9 @@ std::string lineChart(const std::string& title, const std::string& xLabel, const
 
 // Horizontal grouped bars: one row per category, one bar per series in it.
 // values[s][c] is series s at category c.
-std::string barChart(const std::string& title, const std::string& valueLabel, const std::vector<std::string>& categories,
-                     const std::vector<std::string>& seriesNames, const std::vector<std::vector<double>>& values);
+std::string barChart(const std::string& title, const std::string& valueLabel,
+                     const std::vector<std::string>& categories, const std::vector<std::string>& seriesNames,
+                     const std::vector<std::vector<double>>& values);
 
 // `text` with &, <, >, " and ' escaped for HTML and SVG.
 std::string escapeXml(const std::string& text);

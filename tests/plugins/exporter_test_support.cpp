@@ -6,17 +6,13 @@
 #include <QDir>
 #include <QPluginLoader>
 #include <QProcess>
-
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-
 #include <optional>
 
 namespace mlod::test {
 
-namespace {
-
-} // namespace
+namespace {} // namespace
 
 std::optional<LodPackage> packageOf(const std::string& file, double unitScale) {
   ImportOptions options;

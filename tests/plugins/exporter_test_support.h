@@ -5,9 +5,7 @@
 #include "sdk/exporter.h"
 
 #include <QString>
-
 #include <optional>
-
 #include <string>
 
 namespace mlod::test {

@@ -6,25 +6,21 @@
 // plays like the runtime's LodClip; unwritable output and cancel leave nothing behind.
 
 #include "exporter_test_support.h"
-
 #include "io/importer.h"
 
 #include <QDir>
 #include <QFile>
 #include <QFileInfo>
 #include <QTemporaryDir>
-
+#include <cstring>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/gtx/quaternion.hpp>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-#include <tiny_gltf.h>
-
-#include <cstring>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
-
+#include <tiny_gltf.h>
 #include <unistd.h>
 
 namespace mlod {
@@ -58,20 +54,21 @@ tinygltf::Model parseModel(const QByteArray& bytes) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string error, warning;
-  const bool ok =
-      bytes.startsWith("glTF")
-          ? loader.LoadBinaryFromMemory(&model, &error, &warning, reinterpret_cast<const unsigned char*>(bytes.constData()),
-                                        static_cast<unsigned>(bytes.size()))
-          : loader.LoadASCIIFromString(&model, &error, &warning, bytes.constData(), static_cast<unsigned>(bytes.size()), "");
+  const bool ok = bytes.startsWith("glTF")
+                      ? loader.LoadBinaryFromMemory(&model, &error, &warning,
+                                                    reinterpret_cast<const unsigned char*>(bytes.constData()),
+                                                    static_cast<unsigned>(bytes.size()))
+                      : loader.LoadASCIIFromString(&model, &error, &warning, bytes.constData(),
+                                                   static_cast<unsigned>(bytes.size()), "");
   EXPECT_TRUE(ok) << error;
   return model;
 }
 
-template <typename T>
-std::vector<T> elements(const tinygltf::Model& model, int accessorIndex, int components) {
+template <typename T> std::vector<T> elements(const tinygltf::Model& model, int accessorIndex, int components) {
   const tinygltf::Accessor& accessor = model.accessors.at(std::size_t(accessorIndex));
   const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(accessor.bufferView));
-  const unsigned char* data = model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset + accessor.byteOffset;
+  const unsigned char* data =
+      model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset + accessor.byteOffset;
   std::vector<T> out(accessor.count * std::size_t(components));
   std::memcpy(out.data(), data, out.size() * sizeof(T));
   return out;
@@ -102,8 +99,8 @@ std::vector<glm::mat4> evaluate(const tinygltf::Model& model, const tinygltf::An
     if (node.translation.size() == 3)
       t[std::size_t(j)] = glm::vec3(node.translation[0], node.translation[1], node.translation[2]);
     if (node.rotation.size() == 4)
-      r[std::size_t(j)] = glm::quat(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]),
-                                    float(node.rotation[2]));
+      r[std::size_t(j)] =
+          glm::quat(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2]));
     if (node.scale.size() == 3)
       s[std::size_t(j)] = glm::vec3(node.scale[0], node.scale[1], node.scale[2]);
   }
@@ -135,7 +132,8 @@ std::vector<glm::mat4> evaluate(const tinygltf::Model& model, const tinygltf::An
         parent[std::size_t(child)] = j;
   std::vector<glm::mat4> models(static_cast<std::size_t>(joints));
   for (std::size_t j = 0; j < std::size_t(joints); ++j) {
-    const glm::mat4 local = glm::translate(glm::mat4(1.0f), t[j]) * glm::mat4_cast(r[j]) * glm::scale(glm::mat4(1.0f), s[j]);
+    const glm::mat4 local =
+        glm::translate(glm::mat4(1.0f), t[j]) * glm::mat4_cast(r[j]) * glm::scale(glm::mat4(1.0f), s[j]);
     models[j] = parent[j] < 0 ? local : models[std::size_t(parent[j])] * local;
   }
   return models;
@@ -148,7 +146,8 @@ std::vector<glm::mat4> evaluateRuntime(const LodPackageLevel& level, std::size_t
   std::vector<glm::mat4> models(std::size_t(skeleton.jointCount()));
   for (int j = 0; j < skeleton.jointCount(); ++j) {
     const glm::mat4 local = glm::translate(glm::mat4(1.0f), lod.translationAt(j, frame)) *
-                            glm::mat4_cast(lod.rotationAt(j, frame)) * glm::scale(glm::mat4(1.0f), lod.scaleAt(j, frame));
+                            glm::mat4_cast(lod.rotationAt(j, frame)) *
+                            glm::scale(glm::mat4(1.0f), lod.scaleAt(j, frame));
     const int parent = skeleton.joints[std::size_t(j)].parent;
     models[std::size_t(j)] = parent < 0 ? local : models[std::size_t(parent)] * local;
   }
@@ -390,7 +389,8 @@ TEST(GltfExporter, SkeletonAlonePassesTheValidatorAndReadsBack) {
     std::size_t keys = 0;
     for (const tinygltf::AnimationChannel& channel : model.animations[animation].channels)
       if (channel.target_path == "rotation")
-        keys += model.accessors[std::size_t(model.animations[animation].samplers[std::size_t(channel.sampler)].input)].count;
+        keys += model.accessors[std::size_t(model.animations[animation].samplers[std::size_t(channel.sampler)].input)]
+                    .count;
     return keys;
   };
   EXPECT_LT(rotationKeys(3), rotationKeys(1));
@@ -467,8 +467,8 @@ TEST(GltfExporter, UnwritableOutputLeavesNothingAndSaysWhy) {
   QDir(dir.path()).mkdir("readonly");
   const QString readonlyDir = dir.filePath("readonly");
   QFile::setPermissions(readonlyDir, QFileDevice::ReadOwner | QFileDevice::ExeOwner);
-  const ExportResult denied = gltfExporter().exportPackage(package, readonlyDir + "/out.glb",
-                                                           test::exporterOptions(gltfExporter()), {});
+  const ExportResult denied =
+      gltfExporter().exportPackage(package, readonlyDir + "/out.glb", test::exporterOptions(gltfExporter()), {});
   QFile::setPermissions(readonlyDir, QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ExeOwner);
   if (::geteuid() != 0) { // root writes anywhere
     EXPECT_FALSE(denied.ok);
@@ -482,10 +482,15 @@ TEST(GltfExporter, CancelLeavesNothingBehindAndKeepsAnOldFile) {
   for (int cancelAt : {1, 3, 1000}) {
     int calls = 0;
     double last = -1.0;
-    const ExportProgress progress([&](double fraction, const QString&) { EXPECT_GE(fraction, last); last = fraction; },
-                                  [&] { return ++calls >= cancelAt; });
+    const ExportProgress progress(
+        [&](double fraction, const QString&) {
+          EXPECT_GE(fraction, last);
+          last = fraction;
+        },
+        [&] { return ++calls >= cancelAt; });
     const QString path = dir.filePath("cancelled.glb");
-    const ExportResult result = gltfExporter().exportPackage(package, path, test::exporterOptions(gltfExporter()), progress);
+    const ExportResult result =
+        gltfExporter().exportPackage(package, path, test::exporterOptions(gltfExporter()), progress);
     if (cancelAt == 1000) { // never cancelled: it went through
       EXPECT_TRUE(result.ok) << result.message.toStdString();
       continue;

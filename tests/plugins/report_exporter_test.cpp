@@ -8,10 +8,8 @@
 #include <QFile>
 #include <QFileInfo>
 #include <QTemporaryDir>
-
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-
 #include <string>
 #include <vector>
 
@@ -263,8 +261,8 @@ TEST(ReportExporter, UnwritableOutputAndCancelLeaveNothing) {
   for (int cancelAt : {1, 2, 3}) {
     int calls = 0;
     const ExportProgress progress({}, [&] { return ++calls >= cancelAt; });
-    const ExportResult cancelled =
-        reportExporter().exportPackage(p, dir.filePath("report.html"), test::exporterOptions(reportExporter()), progress);
+    const ExportResult cancelled = reportExporter().exportPackage(p, dir.filePath("report.html"),
+                                                                  test::exporterOptions(reportExporter()), progress);
     EXPECT_FALSE(cancelled.ok) << cancelAt;
     EXPECT_TRUE(cancelled.message.contains("cancelled"));
     EXPECT_TRUE(test::filesIn(dir.path()).isEmpty()) << test::filesIn(dir.path()).join(' ').toStdString();
