@@ -345,6 +345,13 @@ private slots:
     panel->sceneView()->setFocus();
     QTest::keyClick(panel->sceneView(), Qt::Key_Space);
     QVERIFY(!playback->isPlaying());
+    panel->activateWindow(); // shortcuts need the active window
+    QVERIFY(QTest::qWaitForWindowActive(panel.get()));
+    panel->timeline()->slider()->setFocus(); // Space anywhere in the dock
+    QTest::keyClick(panel->timeline()->slider(), Qt::Key_Space);
+    QVERIFY(playback->isPlaying());
+    QTest::keyClick(panel->timeline()->slider(), Qt::Key_Space);
+    QVERIFY(!playback->isPlaying());
     // camera: a drag orbits, the wheel dollies, F frames
     const float yaw = panel->sceneView()->camera().yawRadians;
     QTest::mousePress(panel->sceneView(), Qt::LeftButton, {}, QPoint(300, 300));

@@ -9,6 +9,7 @@
 #include <QComboBox>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QShortcut>
 #include <QToolButton>
 #include <QVBoxLayout>
 
@@ -85,6 +86,9 @@ ViewportPanel::ViewportPanel(Document* document, QWidget* parent)
   m_timeline = new TimelineWidget(m_playback);
   layout->addWidget(m_timeline);
 
+  // Space plays and pauses wherever the focus is in this dock (the view, the timeline, the bar).
+  auto* play = new QShortcut(QKeySequence(Qt::Key_Space), this, nullptr, nullptr, Qt::WidgetWithChildrenShortcut);
+  connect(play, &QShortcut::activated, m_playback, &Playback::togglePlaying);
   connect(frame, &QToolButton::clicked, this, &ViewportPanel::frameCharacters);
   connect(m_modeBox, &QComboBox::currentIndexChanged, this, &ViewportPanel::pose);
   connect(m_skeletonBox, &QCheckBox::toggled, this, &ViewportPanel::pose);
