@@ -129,13 +129,16 @@ int main(int argc, char** argv) {
       auto* crowdPanel = window.findChild<mlod::CrowdPanel*>("crowdPanel");
       if (crowdAgents > 0 && crowdPanel) {
         crowdPanel->setAgentCount(crowdAgents);
-        QObject::connect(crowdPanel, &mlod::CrowdPanel::levelsReady, &window, [crowdPanel, &status](bool ok, const QString& why) {
-          if (!ok) {
-            std::fprintf(stderr, "error: crowd: %s\n", qPrintable(why));
-            status = 1;
-          }
-          crowdPanel->measure(120);
-        });
+        QObject::connect(crowdPanel, &mlod::CrowdPanel::levelsReady, &window,
+                         [crowdPanel, shoot, &status](bool ok, const QString& why) {
+                           if (!ok) { // nothing to measure: the picture says why
+                             std::fprintf(stderr, "error: crowd: %s\n", qPrintable(why));
+                             status = 1;
+                             shoot();
+                             return;
+                           }
+                           crowdPanel->measure(120);
+                         });
         QObject::connect(crowdPanel, &mlod::CrowdPanel::measured, &window, [crowdPanel, shoot](double poseMs, double fps) {
           for (const QString& line : crowdPanel->overlayLines())
             std::printf("crowd: %s\n", qPrintable(line));
