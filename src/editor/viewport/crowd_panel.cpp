@@ -334,10 +334,13 @@ void CrowdPanel::refresh() {
                tr("pose evaluation %1 ms CPU · %2 fps")
                    .arg(stats.poseCpuMs, 0, 'f', 2)
                    .arg(m_fps > 0.0 ? QString::number(m_fps, 'f', 1) : QStringLiteral("–"))};
-  if (m_document->project().lods.levels.size() > 1 && lodSwitchesByDistance(m_document->project().lods).levels.size() < 2 &&
-      selection.mode == LodSelectionJob::Mode::Distance)
-    m_overlay << tr("The LOD set has no switch distances yet: every agent plays the last level (LOD Levels dock, "
-                    "Budget…)");
+  const bool bySize = selection.mode == LodSelectionJob::Mode::ScreenSize;
+  const LodSet& lods = m_document->project().lods;
+  if (lods.levels.size() > 1 && (bySize ? lodSwitchesByScreenSize(lods) : lodSwitchesByDistance(lods)).levels.size() < 2)
+    m_overlay << (bySize ? tr("The LOD set has no screen sizes: every agent plays level 0 (generate the levels: LOD "
+                              "Levels dock, Budget…)")
+                         : tr("The LOD set has no switch distances yet: every agent plays the last level (LOD Levels "
+                              "dock, Budget…)"));
   m_figures->setText(m_overlay.join(QStringLiteral("\n")));
   if (!m_view)
     return;

@@ -204,6 +204,44 @@ TEST(Crowd, LevelsFollowTheDistancesOfTheLodSet) {
   EXPECT_EQ(crowd.agentLevel(1), 0);
 }
 
+TEST(Crowd, LevelsByScreenSize) {
+  const SwingingChain chain = swingingChain(4);
+  LodSet set = setWithDistances({500, 1000, 2000});
+  set.levels[1].screenSizePixels = 400;
+  set.levels[2].screenSizePixels = 200;
+  set.levels[3].screenSizePixels = 100;
+  Result<std::vector<CrowdLevel>> levels = buildCrowdLevels(chain.skeleton, nullptr, chain.clip, set);
+  ASSERT_TRUE(levels) << levels.message();
+  Crowd crowd;
+  crowd.setLevels(std::move(levels).value());
+  crowd.setSwitches(lodSwitchesByDistance(set), lodSwitchesByScreenSize(set));
+  Crowd::Selection selection;
+  selection.mode = LodSelectionJob::Mode::ScreenSize;
+  selection.boundingRadiusCm = 90.0f;
+  crowd.setSelection(selection);
+  std::vector<CrowdAgent> agents;
+  for (float x : {100.0f, 300.0f, 600.0f, 1200.0f, 2500.0f, 6000.0f}) {
+    CrowdAgent agent;
+    agent.position = {x, 0, 0};
+    agents.push_back(agent);
+  }
+  crowd.setAgents(agents);
+  ASSERT_FALSE(crowd.update(0.0, glm::vec3(0.0f)));
+  const float sizes[] = {400, 200, 100};
+  std::set<int> seen;
+  for (int a = 0; a < crowd.agentCount(); ++a) {
+    const float pixels = projectedSizePixels(90.0f, agents[std::size_t(a)].position.x);
+    EXPECT_EQ(crowd.agentLevel(a), selectLevelByScreenSize(pixels, sizes)) << "agent " << a << ", " << pixels << " px";
+    seen.insert(crowd.agentLevel(a));
+  }
+  EXPECT_EQ(seen.size(), 4u); // the agents span every level
+  // the distances of the same set give other levels: the mode matters
+  selection.mode = LodSelectionJob::Mode::Distance;
+  crowd.setSelection(selection);
+  ASSERT_FALSE(crowd.update(0.0, glm::vec3(0.0f)));
+  EXPECT_EQ(crowd.agentLevel(1), 0); // 300 cm: before the first switch distance
+}
+
 TEST(Crowd, PalettesAreTheEvaluatorsForEachAgentsTime) {
   const SwingingChain chain = swingingChain(5);
   Result<std::vector<CrowdLevel>> levels = buildCrowdLevels(chain.skeleton, nullptr, chain.clip, setWithDistances({}));
