@@ -4,10 +4,13 @@
 #include "core/lod_clip_builder.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <sstream>
 #include <string>
 #include <tiny_gltf.h>
@@ -249,46 +252,64 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
   return animation;
 }
 
-// A level's mesh, bound to the one skin of the full skeleton.
-Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int jointCount, const std::string& name) {
-  if (mesh.positions.empty() || mesh.indices.empty())
-    return Error("the mesh of " + name + " is empty");
-  const std::size_t n = mesh.positions.size();
+// One primitive: the triangles `indices` (into `mesh`) with the vertices they use, in order
+// of first use, bound to the one skin of the full skeleton.
+Result<tinygltf::Primitive> primitiveOf(Builder& builder, const SkinnedMesh& mesh,
+                                        std::span<const std::uint32_t> indices, int jointCount,
+                                        const std::string& name) {
+  const std::size_t total = mesh.positions.size();
+  std::vector<std::uint32_t> remap(total, UINT32_MAX);
+  std::vector<std::uint32_t> vertices; // of `mesh`, per vertex of the primitive
+  std::vector<std::uint32_t> local;    // the triangles, in the primitive's vertices
+  local.reserve(indices.size());
+  for (std::uint32_t i : indices) {
+    if (i >= total)
+      return Error("the mesh of " + name + " has an index out of range");
+    if (remap[i] == UINT32_MAX) {
+      remap[i] = static_cast<std::uint32_t>(vertices.size());
+      vertices.push_back(i);
+    }
+    local.push_back(remap[i]);
+  }
+  const std::size_t n = vertices.size();
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
 
   std::vector<float> values;
-  values.reserve(n * 3);
+  values.reserve(n * 4);
   const float s = static_cast<float>(kMetresPerCm);
-  for (const glm::vec3& p : mesh.positions)
+  for (std::uint32_t v : vertices) {
+    const glm::vec3& p = mesh.positions[v];
     values.insert(values.end(), {p.x * s, p.y * s, p.z * s});
+  }
   primitive.attributes["POSITION"] = builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kArrayBuffer, true);
 
-  if (mesh.normals.size() == n) {
+  if (mesh.normals.size() == total) {
     values.clear();
-    for (const glm::vec3& v : mesh.normals) {
+    for (std::uint32_t v : vertices) {
       // Unit length in float, as the specification asks; a degenerate normal gets +Z.
-      const double length = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
+      const glm::vec3& m = mesh.normals[v];
+      const double length = std::sqrt(double(m.x) * m.x + double(m.y) * m.y + double(m.z) * m.z);
       const glm::vec3 u =
-          length > 1e-12 && std::isfinite(length) ? glm::vec3(glm::dvec3(v) / length) : glm::vec3(0.0f, 0.0f, 1.0f);
+          length > 1e-12 && std::isfinite(length) ? glm::vec3(glm::dvec3(m) / length) : glm::vec3(0.0f, 0.0f, 1.0f);
       values.insert(values.end(), {u.x, u.y, u.z});
     }
     primitive.attributes["NORMAL"] = builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kArrayBuffer, false);
   }
-  if (mesh.uvs.size() == n) {
+  if (mesh.uvs.size() == total) {
     values.clear();
-    for (const glm::vec2& uv : mesh.uvs) // core keeps Assimp's origin (bottom left); glTF's is top left
-      values.insert(values.end(), {uv.x, 1.0f - uv.y});
+    for (std::uint32_t v : vertices) // core keeps Assimp's origin (bottom left); glTF's is top left
+      values.insert(values.end(), {mesh.uvs[v].x, 1.0f - mesh.uvs[v].y});
     primitive.attributes["TEXCOORD_0"] = builder.floats(values, 2, TINYGLTF_TYPE_VEC2, kArrayBuffer, false);
   }
   if (mesh.skinned()) {
-    if (mesh.joints.size() != n || mesh.weights.size() != n)
+    if (mesh.joints.size() != total || mesh.weights.size() != total)
       return Error("the mesh of " + name + " has influences for " + std::to_string(mesh.weights.size()) + " of " +
-                   std::to_string(n) + " vertices");
+                   std::to_string(total) + " vertices");
     std::vector<std::uint16_t> joints;
     joints.reserve(n * 4);
     values.clear();
-    for (std::size_t v = 0; v < n; ++v) {
+    for (std::uint32_t v : vertices) {
       glm::vec4 w = mesh.weights[v];
       glm::u16vec4 jv = mesh.joints[v];
       // Exactly 1 in float (x + y + z + w): the residual of the rounding goes to the largest
@@ -299,10 +320,10 @@ Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int 
           largest = k;
       if (!(w[largest] > 0.0f))
         return Error("vertex " + std::to_string(v) + " of " + name + " has no positive weight");
-      const float total = w.x + w.y + w.z + w.w;
-      if (total != 1.0f) {
+      const float sum = w.x + w.y + w.z + w.w;
+      if (sum != 1.0f) {
         for (int k = 0; k < 4; ++k)
-          w[k] /= total;
+          w[k] /= sum;
         w[largest] += 1.0f - (w.x + w.y + w.z + w.w);
       }
       for (int k = 0; k < 4; ++k) {
@@ -316,7 +337,7 @@ Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int 
       values.insert(values.end(), {w.x, w.y, w.z, w.w});
     }
     if (jointCount <= 256) {
-      std::vector<std::uint8_t> bytes(joints.begin(), joints.end());
+      const std::vector<std::uint8_t> bytes(joints.begin(), joints.end());
       primitive.attributes["JOINTS_0"] =
           builder.integers(bytes, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, 4, TINYGLTF_TYPE_VEC4, kArrayBuffer);
     } else {
@@ -325,20 +346,54 @@ Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int 
     }
     primitive.attributes["WEIGHTS_0"] = builder.floats(values, 4, TINYGLTF_TYPE_VEC4, kArrayBuffer, false);
   }
-  for (std::uint32_t i : mesh.indices)
-    if (i >= n)
-      return Error("the mesh of " + name + " has an index out of range");
   if (n <= 65536) {
-    std::vector<std::uint16_t> indices(mesh.indices.begin(), mesh.indices.end());
-    primitive.indices =
-        builder.integers(indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 1, TINYGLTF_TYPE_SCALAR, kElementArrayBuffer);
-  } else {
-    primitive.indices = builder.integers(mesh.indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 1, TINYGLTF_TYPE_SCALAR,
+    const std::vector<std::uint16_t> shortIndices(local.begin(), local.end());
+    primitive.indices = builder.integers(shortIndices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 1, TINYGLTF_TYPE_SCALAR,
                                          kElementArrayBuffer);
+  } else {
+    primitive.indices =
+        builder.integers(local, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 1, TINYGLTF_TYPE_SCALAR, kElementArrayBuffer);
   }
+  return primitive;
+}
+
+// A level's mesh: one primitive per part (the source meshes, kept through simplification)
+// where the parts cover the triangles exactly, so an engine can give each its material;
+// else one primitive. Each primitive holds the vertices its triangles use (readers such as
+// Assimp expect no sharing of attributes between primitives).
+Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int jointCount, const std::string& name) {
+  if (mesh.positions.empty() || mesh.indices.empty())
+    return Error("the mesh of " + name + " is empty");
+  std::vector<std::tuple<std::size_t, std::size_t, std::string>> parts; // first index, count, name
+  for (const MeshPart& part : mesh.parts)
+    if (part.indexCount > 0)
+      parts.emplace_back(part.firstIndex, part.indexCount, part.name);
+  std::sort(parts.begin(), parts.end());
+  std::size_t at = 0;
+  bool exact = parts.size() > 1;
+  for (const auto& [first, count, partName] : parts) {
+    exact = exact && first == at && count % 3 == 0;
+    at = first + count;
+  }
+  if (!exact || at != mesh.indices.size())
+    parts = {{0, mesh.indices.size(), mesh.name}};
+
   tinygltf::Mesh out;
   out.name = name;
-  out.primitives.push_back(std::move(primitive));
+  Value::Array names;
+  for (const auto& [first, count, partName] : parts) {
+    Result<tinygltf::Primitive> primitive = primitiveOf(
+        builder, mesh, std::span<const std::uint32_t>(mesh.indices).subspan(first, count), jointCount, name);
+    if (!primitive)
+      return primitive.error();
+    out.primitives.push_back(std::move(primitive).value());
+    names.push_back(Value(partName));
+  }
+  if (parts.size() > 1) {
+    Value::Object extras;
+    extras["parts"] = Value(std::move(names)); // the source mesh of each primitive, in order
+    out.extras = Value(std::move(extras));
+  }
   return out;
 }
 

@@ -14,6 +14,7 @@
 //   the same at every frame, within a hair between frames);
 //   animation data that repeats (key times; a track a coarser level leaves as it was) is
 //   stored once and its accessor shared;
+// - a level's mesh: one primitive per part (source mesh), named in the mesh's extras.parts;
 // - mesh levels: one node per level with a mesh; the first selected level's node is in the
 //   scene and carries MSFT_lod {"ids": [the other levels' nodes]} and
 //   extras.MSFT_screencoverage (per level, the fraction of the viewport height the

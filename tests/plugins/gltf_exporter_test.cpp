@@ -182,6 +182,28 @@ void expectPlaysLikeTheRuntime(const LodPackage& package, const tinygltf::Model&
   }
 }
 
+// The triangle corners of a glTF mesh, primitive after primitive: what each corner's vertex holds.
+struct Corners {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec4> weights;
+  std::vector<glm::u8vec4> joints;
+};
+
+Corners cornersOf(const tinygltf::Model& model, const tinygltf::Mesh& mesh) {
+  Corners out;
+  for (const tinygltf::Primitive& primitive : mesh.primitives) {
+    const std::vector<float> positions = elements<float>(model, primitive.attributes.at("POSITION"), 3);
+    const std::vector<float> weights = elements<float>(model, primitive.attributes.at("WEIGHTS_0"), 4);
+    const std::vector<std::uint8_t> joints = elements<std::uint8_t>(model, primitive.attributes.at("JOINTS_0"), 4);
+    for (std::uint16_t i : elements<std::uint16_t>(model, primitive.indices, 1)) {
+      out.positions.push_back(glm::make_vec3(&positions[3 * i]));
+      out.weights.push_back(glm::make_vec4(&weights[4 * i]));
+      out.joints.emplace_back(joints[4 * i], joints[4 * i + 1], joints[4 * i + 2], joints[4 * i + 3]);
+    }
+  }
+  return out;
+}
+
 // Every level's mesh skinned by the glTF (its skin, weights and the level's animation) lands
 // where the runtime skins the level's mesh (the level's skeleton, runtime clip and palette),
 // at a few frames: positions within `toleranceM` metres.
@@ -194,11 +216,8 @@ void expectSkinsLikeTheRuntime(const LodPackage& package, const tinygltf::Model&
     const LodPackageLevel& level = package.levels[i];
     const SkinnedMesh* mesh = level.mesh();
     ASSERT_TRUE(mesh != nullptr);
-    const tinygltf::Primitive& primitive = model.meshes.at(i).primitives.at(0);
-    const std::vector<float> positions = elements<float>(model, primitive.attributes.at("POSITION"), 3);
-    const std::vector<float> weights = elements<float>(model, primitive.attributes.at("WEIGHTS_0"), 4);
-    const std::vector<std::uint8_t> influences = elements<std::uint8_t>(model, primitive.attributes.at("JOINTS_0"), 4);
-    ASSERT_EQ(positions.size(), mesh->vertexCount() * 3);
+    const Corners corners = cornersOf(model, model.meshes.at(i));
+    ASSERT_EQ(corners.positions.size(), mesh->indices.size());
     for (std::size_t c = 0; c < package.clips.size(); ++c) {
       const Clip& clip = package.clips[c];
       double worst = 0.0;
@@ -209,13 +228,14 @@ void expectSkinsLikeTheRuntime(const LodPackage& package, const tinygltf::Model&
         for (std::size_t j = 0; j < world.size(); ++j)
           palette[j] = world[j] * glm::make_mat4(&ibm[16 * j]);
         const std::vector<glm::mat4> models = evaluateRuntime(level, c, frame);
-        for (std::size_t v = 0; v < mesh->vertexCount(); ++v) {
-          const glm::vec4 p(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0f);
+        for (std::size_t k = 0; k < mesh->indices.size(); ++k) {
+          const std::size_t v = mesh->indices[k];
+          const glm::vec4 p(corners.positions[k], 1.0f);
           glm::vec3 gltf(0.0f), runtime(0.0f);
-          for (int k = 0; k < 4; ++k) {
-            gltf += weights[4 * v + std::size_t(k)] * glm::vec3(palette[influences[4 * v + std::size_t(k)]] * p);
-            const std::size_t r = mesh->joints[v][k];
-            runtime += mesh->weights[v][k] *
+          for (int n = 0; n < 4; ++n) {
+            gltf += corners.weights[k][n] * glm::vec3(palette[corners.joints[k][n]] * p);
+            const std::size_t r = mesh->joints[v][n];
+            runtime += mesh->weights[v][n] *
                        glm::vec3(models[r] * level.inverseBinds[r] * glm::vec4(mesh->positions[v], 1.0f));
           }
           worst = std::max(worst, double(glm::length(gltf - runtime * 0.01f)));
@@ -302,23 +322,23 @@ TEST(GltfExporter, SkinnedCharacterPassesTheValidatorAndReadsBack) {
     ASSERT_EQ(model.skins.size(), 1u);
     EXPECT_EQ(int(model.skins[0].joints.size()), joints);
     ASSERT_EQ(model.meshes.size(), package.levels.size()); // one mesh per level
-    // weights sum to exactly 1 in float (x + y + z + w), unused slots name joint 0
+    // weights sum to exactly 1 in float (x + y + z + w), unused slots name joint 0, positions in metres
     for (std::size_t m = 0; m < model.meshes.size(); ++m) {
-      const tinygltf::Primitive& primitive = model.meshes[m].primitives.at(0);
-      const std::vector<float> weights = elements<float>(model, primitive.attributes.at("WEIGHTS_0"), 4);
-      const std::vector<std::uint8_t> joint = elements<std::uint8_t>(model, primitive.attributes.at("JOINTS_0"), 4);
-      int bad = 0;
-      for (std::size_t v = 0; v < weights.size() / 4; ++v) {
-        const float* w = &weights[4 * v];
-        bad += (w[0] + w[1] + w[2] + w[3]) != 1.0f;
-        for (int k = 0; k < 4; ++k)
-          bad += w[k] == 0.0f && joint[4 * v + std::size_t(k)] != 0;
-      }
-      EXPECT_EQ(bad, 0) << "mesh " << m;
-      const std::size_t triangles = elements<std::uint16_t>(model, primitive.indices, 1).size() / 3;
       const SkinnedMesh* levelMesh = package.levels[m].mesh();
       ASSERT_TRUE(levelMesh != nullptr);
-      EXPECT_EQ(triangles, levelMesh->triangleCount());
+      // one primitive per source mesh (part); together every triangle of the level, in order
+      EXPECT_EQ(model.meshes[m].primitives.size(), std::max<std::size_t>(levelMesh->parts.size(), 1));
+      const Corners corners = cornersOf(model, model.meshes[m]);
+      ASSERT_EQ(corners.positions.size(), levelMesh->indices.size());
+      int bad = 0;
+      for (std::size_t k = 0; k < corners.positions.size(); ++k) {
+        const glm::vec4& w = corners.weights[k];
+        bad += (w.x + w.y + w.z + w.w) != 1.0f;
+        for (int n = 0; n < 4; ++n)
+          bad += w[n] == 0.0f && corners.joints[k][n] != 0;
+        bad += corners.positions[k] != levelMesh->positions[levelMesh->indices[k]] * 0.01f; // metres
+      }
+      EXPECT_EQ(bad, 0) << "mesh " << m;
     }
     // MSFT_lod on the first level's node names the other levels' nodes, coarser in order
     const json document = documentOf(out.bytes);
