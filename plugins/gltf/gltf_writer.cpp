@@ -359,8 +359,9 @@ Result<tinygltf::Primitive> primitiveOf(Builder& builder, const SkinnedMesh& mes
 
 // A level's mesh: one primitive per part (the source meshes, kept through simplification)
 // where the parts cover the triangles exactly, so an engine can give each its material;
-// else one primitive. Each primitive holds the vertices its triangles use (readers such as
-// Assimp expect no sharing of attributes between primitives).
+// else one primitive. Each primitive holds the vertices its triangles use: with attributes
+// shared between primitives, the re-import through Assimp 5.2.5 (io/importer.h) failed, its
+// bone weights naming vertices past a primitive's own.
 Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int jointCount, const std::string& name) {
   if (mesh.positions.empty() || mesh.indices.empty())
     return Error("the mesh of " + name + " is empty");
