@@ -47,6 +47,7 @@ ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* 
     : QDialog(parent), m_document(document), m_host(host) {
   setWindowTitle(tr("Export LOD Set"));
   setMinimumWidth(520);
+  m_pool.setMaxThreadCount(1);
   setObjectName("exportDialog");
   auto* layout = new QVBoxLayout(this);
 
@@ -329,7 +330,7 @@ void ExportDialog::startExport() {
         },
         Qt::QueuedConnection);
   };
-  m_watcher.setFuture(QtConcurrent::run([project = m_document->project(), assets, asset = m_asset, levels, exporter,
+  m_watcher.setFuture(QtConcurrent::run(&m_pool, [project = m_document->project(), assets, asset = m_asset, levels, exporter,
                                          path, options, cancel, report, hook = m_hook]() {
     if (hook)
       hook(*cancel);

@@ -9,6 +9,7 @@
 
 #include <QDialog>
 #include <QFutureWatcher>
+#include <QThreadPool>
 #include <QVariantMap>
 
 #include <atomic>
@@ -81,6 +82,9 @@ private:
   bool m_running = false;
   QString m_runningPath;
   std::shared_ptr<std::atomic<bool>> m_cancel;
+  // The export's own thread: a long export never holds a thread of the global pool that the
+  // document's analysis (and whatever waits for it) needs.
+  QThreadPool m_pool;
   QFutureWatcher<std::shared_ptr<ExportResult>> m_watcher;
   std::function<void(const std::atomic<bool>&)> m_hook;
 };
