@@ -8,6 +8,8 @@
 #   sdk      mlod_runtime (static) + headers under include/motionlod/runtime and a CMake
 #            package: find_package(MotionLODRuntime) gives mlod::runtime
 # Every component carries the licence files, so each can be redistributed alone.
+# The exporter SDK (src/sdk) is not packaged: its headers include core's and Qt's and a
+# plugin links core statically, so plugins are built in this tree (docs/plugin-guide.md).
 #
 # CPack builds ONE package holding all four components (motionlod_<v>_<arch>.deb and
 # motionlod-<v>-Linux-<arch>.tar.gz): the studio, the CLI and the plugins are built from the
