@@ -125,6 +125,11 @@ set(CPACK_PACKAGE_FILE_NAME "${MLOD_PACKAGE_NAME}-${PROJECT_VERSION}-Linux-${CMA
 
 # DEB: installs under /usr (CPACK_PACKAGING_INSTALL_PREFIX); configure with
 # -DCMAKE_INSTALL_PREFIX=/usr so GNUInstallDirs picks the multiarch libdir Debian uses.
+if(NOT CMAKE_INSTALL_PREFIX STREQUAL "/usr")
+  message(STATUS "Packaging: CMAKE_INSTALL_PREFIX is ${CMAKE_INSTALL_PREFIX}, so the .deb puts libraries and "
+                 "plugins in /usr/${CMAKE_INSTALL_LIBDIR} (it works, but release packages want Debian's multiarch "
+                 "folder: configure with -DCMAKE_INSTALL_PREFIX=/usr)")
+endif()
 set(CPACK_DEB_COMPONENT_INSTALL OFF)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${MLOD_PACKAGE_MAINTAINER}")
