@@ -264,7 +264,7 @@ void readVec3Track(Reader& r, std::vector<glm::vec3>& out, std::size_t frames, c
   }
 }
 
-void readClip(Reader& r, BundleClip& clip, int joints) {
+void readClip(Reader& r, BundleClip& clip, int joints, std::uint64_t& budget) {
   clip.name = r.str("clip name");
   clip.fps = r.f64();
   clip.frameCount = r.i32();
@@ -281,10 +281,12 @@ void readClip(Reader& r, BundleClip& clip, int joints) {
   if (clip.frameCount < 1 || !r.fits(std::uint64_t(joints), 43, "clip joints"))
     return r.fail("clip '" + clip.name + "': " + std::to_string(clip.frameCount) + " frames");
   const std::size_t frames = static_cast<std::size_t>(clip.frameCount);
-  // a static joint costs 43 bytes whatever the frame count: bound what the tracks may allocate
-  if (std::uint64_t(frames) * std::uint64_t(joints) > (std::uint64_t(1) << 31))
+  // a static joint costs 43 bytes whatever the frame count: bound what the tracks may expand to
+  const std::uint64_t jointFrames = std::uint64_t(frames) * std::uint64_t(joints);
+  if (jointFrames > kMaxBundleJointFrames - budget)
     return r.fail("clip '" + clip.name + "': " + std::to_string(frames) + " frames x " + std::to_string(joints) +
-                  " joints is too large");
+                  " joints would take the bundle past " + std::to_string(kMaxBundleJointFrames) + " joint-frames");
+  budget += jointFrames;
   clip.rotations.reserve(frames * std::size_t(joints));
   clip.translations.reserve(frames * std::size_t(joints));
   clip.scales.reserve(frames * std::size_t(joints));
@@ -300,7 +302,7 @@ void readClip(Reader& r, BundleClip& clip, int joints) {
       cluster.first = r.i32();
       cluster.last = r.i32();
       cluster.key = r.i32();
-      if (cluster.first <= previousLast || cluster.last - cluster.first < 2 || cluster.last >= clip.frameCount ||
+      if (cluster.first <= previousLast || std::int64_t(cluster.last) - cluster.first < 2 || cluster.last >= clip.frameCount ||
           cluster.key < cluster.first || cluster.key > cluster.last)
         return r.fail("clip '" + clip.name + "' joint " + std::to_string(j) + ": cluster [" +
                       std::to_string(cluster.first) + ", " + std::to_string(cluster.last) + "] key " +
@@ -340,7 +342,7 @@ void readClip(Reader& r, BundleClip& clip, int joints) {
     clip.clusterBegin.clear(); // no clusters: full detail, as the writer had it or not
 }
 
-bool readLevel(Reader& r, BundleLevel& level) {
+bool readLevel(Reader& r, BundleLevel& level, std::uint64_t& budget) {
   level.index = r.i32();
   level.name = r.str("level name");
   for (double* v : {&level.motionThreshold, &level.meshRatio, &level.switchDistanceCm, &level.pixelError,
@@ -362,7 +364,7 @@ bool readLevel(Reader& r, BundleLevel& level) {
     return false;
   level.clips.resize(clips);
   for (BundleClip& clip : level.clips) {
-    readClip(r, clip, static_cast<int>(joints));
+    readClip(r, clip, static_cast<int>(joints), budget);
     if (!r.ok())
       return false;
   }
@@ -469,6 +471,13 @@ std::string validateBundle(const Bundle& bundle) {
   if (!std::isfinite(bundle.verticalFovDegrees) || !std::isfinite(bundle.viewportHeightPixels) ||
       !std::isfinite(bundle.boundingRadiusCm))
     return "the projection and bounding radius must be finite";
+  std::uint64_t jointFrames = 0;
+  for (const BundleLevel& level : bundle.levels)
+    for (const BundleClip& clip : level.clips)
+      jointFrames += std::uint64_t(std::max(clip.frameCount, 0)) * std::uint64_t(std::max(clip.jointCount, 0));
+  if (jointFrames > kMaxBundleJointFrames)
+    return "the clips hold " + std::to_string(jointFrames) + " joint-frames, more than a bundle may (" +
+           std::to_string(kMaxBundleJointFrames) + ")";
   for (const BundleLevel& level : bundle.levels) {
     const std::string what = "level '" + level.name + "': ";
     const std::size_t n = level.parents.size();
@@ -594,6 +603,7 @@ std::optional<Bundle> readBundle(std::span<const std::uint8_t> bytes, std::strin
   Bundle bundle;
   std::size_t expected = tableEnd + 4;
   std::uint32_t levelCount = 0;
+  std::uint64_t jointFrames = 0; // expanded so far (kMaxBundleJointFrames)
   for (std::uint32_t i = 0; i < count; ++i) {
     const std::uint32_t type = table.u32();
     const std::uint32_t crc = table.u32();
@@ -634,7 +644,7 @@ std::optional<Bundle> readBundle(std::span<const std::uint8_t> bytes, std::strin
     } else {
       Reader r(data, "level section " + std::to_string(i));
       BundleLevel level;
-      if (!readLevel(r, level))
+      if (!readLevel(r, level, jointFrames))
         return fail(r.error());
       bundle.levels.push_back(std::move(level));
     }

@@ -32,6 +32,11 @@ namespace mlod {
 
 inline constexpr char kBundleMagic[8] = {'M', 'L', 'O', 'D', 'B', 'N', 'D', 'L'};
 inline constexpr std::uint32_t kBundleVersion = 1;
+// The most joint-frames (frames x joints, summed over every clip of every level) a bundle
+// may expand to when read: a static track takes 13 bytes in the file whatever the frame
+// count, so a small file could otherwise ask for gigabytes. 2^25 = 33.5 M: e.g. 8 levels of
+// a 60-joint, 10-minute clip at 120 fps (about 1.3 GB of tracks).
+inline constexpr std::uint64_t kMaxBundleJointFrames = std::uint64_t(1) << 25;
 
 // A clip as LodClip::build() takes it, owning its arrays.
 struct BundleClip {
