@@ -2,7 +2,7 @@
 # top-level CMakeLists, after every target exists.
 #
 # Components (cmake --install BUILD --component NAME):
-#   app      motionlod-studio, its desktop entry, icons, AppStream metadata, the sample
+#   app      motionlod-studio and its man page, desktop entry, icons, AppStream metadata, the sample
 #   cli      motionlod, its man page and the farm specs (Kubernetes, HTCondor)
 #   plugins  the exporter plugins (add_exporter_plugin() installs them)
 #   sdk      mlod_runtime (static) + headers under include/motionlod/runtime and a CMake
@@ -31,9 +31,18 @@ set(MLOD_PACKAGE_MAINTAINER "Motion LOD Studio maintainers <motionlod@localhost>
 set(MLOD_PACKAGE_HOMEPAGE "" CACHE STRING "Project home page written into the DEB and AppStream metadata (none if empty)")
 
 # --- licence files, in every component -------------------------------------------------
+# share/doc/motionlod/copyright (Debian's machine-readable format) and changelog.gz are
+# where Debian tools and people look; LICENSE and the notices are the sources' own.
+set(MLOD_CHANGELOG_GZ ${CMAKE_BINARY_DIR}/installer/changelog.gz)
+add_custom_command(OUTPUT ${MLOD_CHANGELOG_GZ}
+  COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_BINARY_DIR}/installer
+  COMMAND gzip -9 -n -c ${PROJECT_SOURCE_DIR}/CHANGELOG.md > ${MLOD_CHANGELOG_GZ}
+  DEPENDS ${PROJECT_SOURCE_DIR}/CHANGELOG.md
+  COMMENT "Compressing the changelog")
+add_custom_target(mlod_changelog ALL DEPENDS ${MLOD_CHANGELOG_GZ})
 foreach(component app cli plugins sdk)
   install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/THIRD-PARTY-NOTICES.md
-                ${PROJECT_SOURCE_DIR}/CHANGELOG.md
+                ${PROJECT_SOURCE_DIR}/installer/copyright ${MLOD_CHANGELOG_GZ}
           DESTINATION ${MLOD_DOCDIR} COMPONENT ${component})
 endforeach()
 
@@ -69,14 +78,18 @@ if(MLOD_BUILD_QT)
   install(FILES ${CMAKE_BINARY_DIR}/installer/org.motionlod.Studio.metainfo.xml
           DESTINATION ${CMAKE_INSTALL_DATADIR}/metainfo COMPONENT app)
 
-  # --- cli: the man page, gzipped as Debian installs man pages ---------------------------
-  set(MLOD_MAN_GZ ${CMAKE_BINARY_DIR}/installer/motionlod.1.gz)
-  add_custom_command(OUTPUT ${MLOD_MAN_GZ}
-    COMMAND gzip -9 -n -c ${PROJECT_SOURCE_DIR}/installer/motionlod.1 > ${MLOD_MAN_GZ}
-    DEPENDS ${PROJECT_SOURCE_DIR}/installer/motionlod.1
-    COMMENT "Compressing the motionlod man page")
-  add_custom_target(mlod_man_page ALL DEPENDS ${MLOD_MAN_GZ})
-  install(FILES ${MLOD_MAN_GZ} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT cli)
+  # --- man pages (cli: motionlod, app: motionlod-studio), gzipped as Debian installs them --
+  foreach(page_component motionlod:cli motionlod-studio:app)
+    string(REPLACE ":" ";" page_component ${page_component})
+    list(GET page_component 0 page)
+    list(GET page_component 1 component)
+    add_custom_command(OUTPUT ${CMAKE_BINARY_DIR}/installer/${page}.1.gz
+      COMMAND gzip -9 -n -c ${PROJECT_SOURCE_DIR}/installer/${page}.1 > ${CMAKE_BINARY_DIR}/installer/${page}.1.gz
+      DEPENDS ${PROJECT_SOURCE_DIR}/installer/${page}.1
+      COMMENT "Compressing the ${page} man page")
+    add_custom_target(mlod_man_${component} ALL DEPENDS ${CMAKE_BINARY_DIR}/installer/${page}.1.gz)
+    install(FILES ${CMAKE_BINARY_DIR}/installer/${page}.1.gz DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT ${component})
+  endforeach()
   # --- cli: the farm specs (docs/farm.md), ready to copy and edit ------------------------
   install(FILES ${PROJECT_SOURCE_DIR}/installer/farm/kubernetes-indexed-job.yaml
                 ${PROJECT_SOURCE_DIR}/installer/farm/motionlod.sub
@@ -100,14 +113,16 @@ install(FILES ${CMAKE_BINARY_DIR}/installer/MotionLODRuntimeConfig.cmake
 set(CPACK_PACKAGE_NAME ${MLOD_PACKAGE_NAME})
 set(CPACK_PACKAGE_VENDOR "Motion LOD Studio")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Motion level-of-detail authoring for crowds (studio, CLI, exporters, runtime SDK)")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Motion level-of-detail authoring for crowds: studio, CLI, exporters")
+# Lines under 80 columns with the leading space the .deb control file adds.
 set(CPACK_PACKAGE_DESCRIPTION
-"Motion LOD Studio simplifies character motion and meshes for crowds. Joint posture
-clustering (Ahn and Wohn, Motion Level-of-Detail) freezes each joint over runs of frames
-that stay within an error bound, and the skinned mesh is simplified per joint segment.
-The package holds the Qt studio (motionlod-studio), the batch command line (motionlod)
-with its man page, the exporter plugins (glTF 2.0, runtime bundle, report), the runtime
-library and headers for engines (find_package(MotionLODRuntime)), and a sample clip.")
+"Motion LOD Studio simplifies character motion and meshes for crowds. Joint
+posture clustering (Ahn and Wohn, Motion Level-of-Detail) freezes each joint
+over runs of frames that stay within an error bound, and the skinned mesh is
+simplified per joint segment. The package holds the Qt studio
+(motionlod-studio), the batch command line (motionlod), the exporter plugins
+(glTF 2.0, runtime bundle, report), the runtime library and headers for
+engines (find_package(MotionLODRuntime)), and a sample clip.")
 set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
 set(CPACK_PACKAGE_CONTACT "${MLOD_PACKAGE_MAINTAINER}")
 set(CPACK_STRIP_FILES ON)

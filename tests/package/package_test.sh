@@ -51,11 +51,13 @@ share/icons/hicolor/256x256/apps/motionlod-studio.png
 share/icons/hicolor/scalable/apps/motionlod-studio.svg
 share/metainfo/org.motionlod.Studio.metainfo.xml
 share/man/man1/motionlod.1.gz
+share/man/man1/motionlod-studio.1.gz
 share/motionlod/farm/kubernetes-indexed-job.yaml
 share/motionlod/farm/motionlod.sub
 share/doc/motionlod/LICENSE
 share/doc/motionlod/THIRD-PARTY-NOTICES.md
-share/doc/motionlod/CHANGELOG.md
+share/doc/motionlod/changelog.gz
+share/doc/motionlod/copyright
 include/motionlod/runtime/pose_evaluator.h
 include/motionlod/runtime/lod_clip.h
 $1/libmlod_runtime.a
@@ -158,9 +160,11 @@ tgz)
       fail "icon ${size}x${size} unreadable"
     [ "$w" = "$size" ] && [ "$h" = "$size" ] || fail "icon ${size}x${size} is ${w}x${h}"
   done
-  # The man page renders without a warning.
-  man_warnings=$(MANWIDTH=80 man --warnings -l "$root/share/man/man1/motionlod.1.gz" 2>&1 > /dev/null)
-  [ -z "$man_warnings" ] || fail "man page warnings: $man_warnings"
+  # The man pages render without a warning.
+  for page in motionlod motionlod-studio; do
+    man_warnings=$(MANWIDTH=80 man --warnings -l "$root/share/man/man1/$page.1.gz" 2>&1 > /dev/null)
+    [ -z "$man_warnings" ] || fail "$page man page warnings: $man_warnings"
+  done
 
   # The studio, from the unpacked tree, on its installed sample, under Xvfb.
   shot="$out/studio-tgz.png"
