@@ -96,6 +96,22 @@ if(MLOD_BUILD_QT)
           DESTINATION ${CMAKE_INSTALL_DATADIR}/motionlod/farm COMPONENT cli)
 endif()
 
+# --- plugins: no RUNPATH ----------------------------------------------------------------
+# The executables' $ORIGIN/../<libdir> means nothing from <libdir>/motionlod/plugins, and a
+# plugin needs no in-tree shared library (core and the SDK come in statically).
+if(MLOD_BUILD_QT AND EXISTS ${PROJECT_SOURCE_DIR}/plugins/CMakeLists.txt)
+  get_property(mlod_plugin_dirs DIRECTORY ${PROJECT_SOURCE_DIR}/plugins PROPERTY SUBDIRECTORIES)
+  foreach(dir ${mlod_plugin_dirs})
+    get_property(targets DIRECTORY ${dir} PROPERTY BUILDSYSTEM_TARGETS)
+    foreach(target ${targets})
+      get_target_property(type ${target} TYPE)
+      if(type STREQUAL "MODULE_LIBRARY")
+        set_target_properties(${target} PROPERTIES INSTALL_RPATH "")
+      endif()
+    endforeach()
+  endforeach()
+endif()
+
 # --- sdk: find_package(MotionLODRuntime) -----------------------------------------------
 # src/runtime/CMakeLists.txt installs the library and its headers into the export set.
 set(MLOD_RUNTIME_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/MotionLODRuntime)
