@@ -248,5 +248,53 @@ TEST(CliExport, ProjectGivesItsLevels) {
   EXPECT_EQ(info["levels"][2]["switch_distance_cm"], 200.0);
 }
 
+// A project whose motion in view (CMU 01_01) is assigned to a character (BCN_Epileptic):
+// the character is exported, playing its own clip and the retargeted motion at every level.
+TEST(CliExport, ProjectExportsTheCharacterWithItsMappedMotion) {
+  const fs::path dir = freshFolder("mapped");
+  nlohmann::json levels = nlohmann::json::array();
+  const double thresholds[] = {0.0, 5.0, 50.0}, ratios[] = {1.0, 0.8, 0.5};
+  for (int i = 0; i < 3; ++i)
+    levels.push_back({{"name", "LOD" + std::to_string(i)}, {"threshold", thresholds[i]}, {"mesh_ratio", ratios[i]},
+                      {"switch_distance_cm", 500.0 * i}, {"pixel_error", 0.0}, {"screen_size_pixels", 0.0},
+                      {"motion_error_cm", 0.0}, {"mesh_error_cm", 0.0}, {"triangles", 0}, {"active_joints", 0}});
+  const nlohmann::json mapping =
+      nlohmann::json::parse(test::readText(std::string(MLOD_TEST_DATA_DIR) + "/mappings/cmu_01_01_to_bcn_epileptic.json"));
+  const nlohmann::json project = {
+      {"format", "motionlod-project"},
+      {"version", 2},
+      {"alpha", 5.0},
+      {"mode", "greedy"},
+      {"lods",
+       {{"projection", {{"vertical_fov_degrees", 60.0}, {"viewport_height_pixels", 1080.0}}},
+        {"bounding_radius_cm", 0.0},
+        {"levels", levels}}},
+      {"assets",
+       {{{"path", test::modelPath("X/BCN_Epileptic.X")}, {"unit_scale", 100.0}, {"joints", nlohmann::json::object()}},
+        {{"path", test::modelPath("BVH/01_01.bvh")}, {"unit_scale", 2.54 / 0.45}, {"joints", nlohmann::json::object()}}}},
+      {"mappings", {{{"motion", 1}, {"character", 0}, {"table", mapping}}}},
+      {"current", {{"asset", 1}, {"clip", 0}, {"level", 1}, {"joint", ""}}}};
+  const fs::path file = dir / "mapped.mlod";
+  std::ofstream(file) << project.dump(2);
+  const std::string out = (dir / "mapped.mlodb").string();
+  const test::CliRun run = runMotionlod({"export", file.string(), "--plugin", "bundle", "-o", out});
+  ASSERT_EQ(run.status, 0) << run.err;
+  const test::CliRun info = runMotionlod({"info", out, "--json"});
+  ASSERT_EQ(info.status, 0) << info.err;
+  const nlohmann::json doc = nlohmann::json::parse(info.out);
+  EXPECT_EQ(doc["name"], "BCN_Epileptic");
+  EXPECT_EQ(doc["joints"], 54);
+  ASSERT_EQ(doc["levels"].size(), 3u);
+  int previousTriangles = 1 << 30;
+  for (const nlohmann::json& level : doc["levels"]) {
+    ASSERT_EQ(level["clips"].size(), 2u) << level.dump(); // its own clip and the mapped CMU motion
+    EXPECT_EQ(level["clips"][1]["frames"], 2752);
+    ASSERT_TRUE(level["mesh"].is_object());
+    EXPECT_LT(level["mesh"]["triangles"].get<int>(), previousTriangles);
+    previousTriangles = level["mesh"]["triangles"].get<int>();
+  }
+  EXPECT_GT(doc["levels"][2]["clips"][1]["clusters"].get<int>(), doc["levels"][1]["clips"][1]["clusters"].get<int>());
+}
+
 } // namespace
 } // namespace mlod
