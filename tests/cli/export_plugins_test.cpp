@@ -141,6 +141,19 @@ TEST(CliExport, BundleLevelsAndInfo) {
   EXPECT_NE(text.out.find("Motion LOD runtime bundle, version 1"), std::string::npos) << text.out;
 }
 
+// The file's own unit (BVH: 1 cm per unit) makes the CMU skeleton small enough that its
+// first generated level deviates by nothing; that level switches in at the bounding radius,
+// where its pixel figure must be 0, not infinite (the default LOD set used to be refused:
+// "level 1: pixel figures must be finite").
+TEST(CliExport, DefaultLodSetOfASkeletonInItsOwnUnit) {
+  const fs::path dir = freshFolder("own_unit");
+  const std::string out = (dir / "01_01.mlodb").string();
+  const test::CliRun run = runMotionlod({"export", test::modelPath("BVH/01_01.bvh"), "--plugin", "bundle", "-o", out});
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json info = nlohmann::json::parse(runMotionlod({"info", out, "--json"}).out);
+  ASSERT_EQ(info["levels"].size(), 4u);
+}
+
 TEST(CliExport, CorruptBundleIsRefused) {
   const fs::path dir = freshFolder("corrupt");
   const std::string out = (dir / "c.mlodb").string();

@@ -23,6 +23,8 @@ Error LodProjection::validate() const {
 
 double deviationPixels(double deviationCm, double distanceCm, double radiusCm, const LodProjection& projection) {
   assert(deviationCm >= 0.0 && radiusCm >= 0.0);
+  if (deviationCm == 0.0)
+    return 0.0; // nothing moves: no pixel changes, wherever the camera is
   const double reach = radiusCm + deviationCm; // every moved point lies within it
   const double depth = distanceCm - reach;
   if (!(depth > 0.0))

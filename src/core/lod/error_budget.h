@@ -32,8 +32,8 @@ struct LodProjection {
 };
 
 // The most pixels a deviation of `deviationCm` (>= 0) can span on screen, the character's
-// bounding sphere (`radiusCm`, >= 0) `distanceCm` from the camera; infinity when the camera
-// is inside the sphere grown by the deviation.
+// bounding sphere (`radiusCm`, >= 0) `distanceCm` from the camera: 0 for a deviation of 0,
+// else infinity when the camera is inside the sphere grown by the deviation.
 double deviationPixels(double deviationCm, double distanceCm, double radiusCm, const LodProjection& projection);
 
 // The largest deviation (cm) that spans at most `pixels` (> 0) at `distanceCm`.

@@ -38,6 +38,10 @@ TEST(ErrorBudget, PixelsFallWithDistanceAndTheInversesAgree) {
   // far away the bound is the plain pinhole one, f delta / d
   EXPECT_NEAR(deviationPixels(1.0, 1e6, radius, projection) / (projection.focalPixels() / 1e6), 1.0, 1e-3);
   EXPECT_EQ(deviationPixels(1.0, 50.0, radius, projection), std::numeric_limits<double>::infinity());
+  // a level that deviates by nothing spans nothing, even from inside the sphere (its switch
+  // distance is the radius): a finite figure that LodSet::validate() accepts
+  EXPECT_EQ(deviationPixels(0.0, distanceForPixels(0.0, 1.0, radius, projection), radius, projection), 0.0);
+  EXPECT_EQ(deviationPixels(0.0, 50.0, radius, projection), 0.0);
   // screen sizes are the runtime's
   EXPECT_NEAR(screenSizePixels(radius, 1000.0, projection), projectedSizePixels(100.0f, 1000.0f), 1e-3);
   EXPECT_NEAR(screenSizePixels(radius, distanceForScreenSize(radius, 270.0, projection), projection), 270.0, 1e-3);
