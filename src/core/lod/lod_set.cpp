@@ -112,33 +112,61 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
     const double aimedDistance = distanceForScreenSize(radius, aimedSize, options.projection);
     const double budget = deviationForPixels(pixels, aimedDistance, radius, options.projection);
 
-    const LevelMotion* chosen = nullptr;
-    for (double threshold : candidates) {
-      if (threshold < previousThreshold)
-        continue;
+    Error failed;
+    const auto motionAt = [&](double threshold) -> const LevelMotion* { // computed once per (level, E)
       const std::pair<int, double> key{perLevel ? i : 0, threshold};
       auto found = motions.find(key);
       if (found == motions.end()) {
         Result<LevelMotion> motion = character->motionAt(threshold, perLevel ? i : 0);
-        if (!motion)
-          return motion.error();
+        if (!motion) {
+          failed = motion.error();
+          return nullptr;
+        }
         found = motions.emplace(key, std::move(motion).value()).first;
       }
-      const double error = found->second.motionErrorCm;
-      if (error <= options.motionShare * budget)
-        chosen = &found->second;
-      else if (error > 2.0 * budget)
-        break; // errors grow with the threshold, if not strictly: this far out nothing fits
+      return &found->second;
+    };
+    const auto fits = [&](const LevelMotion& motion) { return motion.motionErrorCm <= options.motionShare * budget; };
+    const LevelMotion* chosen = nullptr;
+    double firstMiss = 0.0; // the smallest candidate above the chosen one that does not fit (0: none tried)
+    for (double threshold : candidates) {
+      if (threshold < previousThreshold)
+        continue;
+      const LevelMotion* motion = motionAt(threshold);
+      if (!motion)
+        return failed;
+      if (fits(*motion)) {
+        chosen = motion;
+        firstMiss = 0.0;
+      } else {
+        if (firstMiss == 0.0)
+          firstMiss = threshold;
+        if (motion->motionErrorCm > 2.0 * budget)
+          break; // errors grow with the threshold, if not strictly: this far out nothing fits
+      }
     }
     if (!chosen) { // not even the previous threshold fits any more (it always did at 0)
-      const std::pair<int, double> key{perLevel ? i : 0, previousThreshold};
-      if (!motions.count(key)) {
-        Result<LevelMotion> motion = character->motionAt(previousThreshold, perLevel ? i : 0);
+      chosen = motionAt(previousThreshold);
+      if (!chosen)
+        return failed;
+    }
+    // A level that would repeat the previous one's motion although its budget is larger: the
+    // candidates are too coarse here, so look between the chosen threshold and the first
+    // that misses, in whole cm·degrees (bisection; errors grow with the threshold).
+    if (i >= 2 && chosen->threshold == previousThreshold && firstMiss > 0.0) {
+      double lo = std::floor(chosen->threshold) + 1.0, hi = std::ceil(firstMiss) - 1.0; // whole E strictly between
+      while (lo <= hi) {
+        const double mid = std::floor(0.5 * (lo + hi));
+        const LevelMotion* motion = motionAt(mid);
         if (!motion)
-          return motion.error();
-        motions.emplace(key, std::move(motion).value());
+          return failed;
+        if (fits(*motion)) {
+          chosen = motion;
+          lo = mid + 1.0;
+        } else {
+          hi = mid - 1.0;
+        }
       }
-      chosen = &motions.at(key);
     }
 
     LodLevel level;

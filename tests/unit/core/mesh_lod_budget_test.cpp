@@ -198,6 +198,25 @@ TEST_F(PixelBudget, EditedSetsAreValidated) {
   EXPECT_FALSE(set.validate());
 }
 
+// A skeleton without a mesh (CMU 01_01): the table's thresholds are too coarse for its
+// levels 2 and 3 (both fitted E = 10, the next step 20 missed), so the generator looks
+// between them; no level repeats the one before it, and each still fits its budget.
+TEST(PixelBudgetSkeleton, LevelsDoNotRepeatWhenTheThresholdStepsAreCoarse) {
+  Result<LodSet> set = LodSet::fromPixelBudget(test::meshAsset("BVH/01_01.bvh"), 1.0, 4);
+  ASSERT_TRUE(set) << set.message();
+  EXPECT_FALSE(set->validate()) << set->validate().message();
+  ASSERT_EQ(set->levels.size(), 4u);
+  for (std::size_t i = 1; i < set->levels.size(); ++i) {
+    const LodLevel& level = set->levels[i];
+    std::cout << "[ level    ] " << level.name << ": E " << level.motionThreshold << ", motion "
+              << level.motionErrorCm << " cm, from " << level.switchDistanceCm << " cm" << std::endl;
+    EXPECT_LE(level.pixelError, 1.0 + 1e-9);
+    if (i >= 2) {
+      EXPECT_GT(level.motionThreshold, set->levels[i - 1].motionThreshold) << level.name;
+    }
+  }
+}
+
 TEST(PixelBudgetInput, BadRequestsAreErrors) {
   const Asset& asset = test::bcnEpileptic();
   EXPECT_FALSE(LodSet::fromPixelBudget(asset, 0.0, 4));
