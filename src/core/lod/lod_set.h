@@ -8,7 +8,8 @@
 // character's bounding sphere covers height / 2^i pixels (half the screen, a quarter ...);
 // there N pixels allow a deviation delta_i (error_budget.h). The motion takes the largest
 // candidate threshold whose motion error stays within motionShare x delta_i (bone reduction
-// included, lod_character.h), the mesh the fewest triangles whose error fits in what is
+// included, lod_character.h; where that would repeat the previous level's threshold, the
+// largest whole threshold below the first candidate that misses), the mesh the fewest triangles whose error fits in what is
 // left, measured on the level's own rebound mesh. The level then switches in at the
 // smallest distance where its measured deviation (motion + mesh error) spans at most N
 // pixels: never nearer than the previous level's. Every figure stays editable; validate()
