@@ -18,6 +18,7 @@
 #include <QTimer>
 
 #include <cstdio>
+#include <string_view>
 
 namespace {
 // The bundled sample: installed beside the executable, or the source tree's copy.
@@ -25,9 +26,59 @@ QString samplePath() {
   const QString installed = QDir(QCoreApplication::applicationDirPath()).filePath(MLOD_SAMPLE_RELPATH);
   return QFileInfo::exists(installed) ? QDir::cleanPath(installed) : QString(MLOD_SAMPLE_SOURCE);
 }
+
+// The command line, for the studio and for --help / --version without a display.
+struct StudioOptions {
+  QCommandLineOption open{"open", "Import FILE at start.", "FILE"};
+  QCommandLineOption sample{"sample", "Import the bundled sample clip (CMU mocap, in its unit) at start."};
+  QCommandLineOption unit{"unit-scale", "cm per file unit for the imports, or a preset: cm, m, mm, inch, cmu.", "S"};
+  QCommandLineOption screenshot{"screenshot", "Save the window to PNG once the imports and clustering are done, then quit.",
+                                "PNG"};
+  QCommandLineOption joint{"joint", "Select joint NAME once loaded (for --screenshot).", "NAME"};
+  QCommandLineOption level{"level", "Show LOD level N once loaded (for --screenshot).", "N"};
+  QCommandLineOption crowd{"crowd",
+                           "With --screenshot: show the Crowd dock with N agents (tinted by level), render 120 "
+                           "frames and print its figures (agents per level, joints, vertices, pose CPU ms, fps).",
+                           "N"};
+
+  void describe(QCommandLineParser& parser) const {
+    parser.setApplicationDescription("Motion LOD Studio: motion level-of-detail authoring for crowds");
+    parser.addHelpOption();
+    parser.addVersionOption();
+    parser.addOptions({open, sample, unit, screenshot, joint, level, crowd});
+    parser.addPositionalArgument("files", "Projects (.mlod) to open or files to import.", "[files...]");
+  }
+};
+
+void nameApplication() {
+  QCoreApplication::setOrganizationName("MotionLOD");
+  QCoreApplication::setApplicationName("Motion LOD Studio");
+  QCoreApplication::setApplicationVersion(mlod::kVersion);
+}
+
+// --help and --version print and quit: they need no display, so they are answered before
+// the GUI application (which aborts without one) exists.
+bool asksForHelpOrVersion(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view argument = argv[i];
+    if (argument == "-h" || argument == "--help" || argument == "--help-all" || argument == "-v" ||
+        argument == "--version")
+      return true;
+  }
+  return false;
+}
 } // namespace
 
 int main(int argc, char** argv) {
+  const StudioOptions options;
+  if (asksForHelpOrVersion(argc, argv)) {
+    QCoreApplication core(argc, argv);
+    nameApplication();
+    QCommandLineParser parser;
+    options.describe(parser);
+    parser.process(core); // prints and exits
+    return 0;
+  }
   // The 3D views draw with OpenGL 3.3 core (editor/viewport/); set before the application.
   QSurfaceFormat format;
   format.setVersion(3, 3);
@@ -35,29 +86,12 @@ int main(int argc, char** argv) {
   format.setDepthBufferSize(24);
   QSurfaceFormat::setDefaultFormat(format);
   QApplication app(argc, argv);
-  QApplication::setOrganizationName("MotionLOD");
-  QApplication::setApplicationName("Motion LOD Studio");
-  QApplication::setApplicationVersion(mlod::kVersion);
+  nameApplication();
 
   QCommandLineParser parser;
-  parser.setApplicationDescription("Motion LOD Studio: motion level-of-detail authoring for crowds");
-  parser.addHelpOption();
-  parser.addVersionOption();
-  const QCommandLineOption open("open", "Import FILE at start.", "FILE");
-  const QCommandLineOption sample("sample", "Import the bundled sample clip (CMU mocap, in its unit) at start.");
-  const QCommandLineOption unit("unit-scale", "cm per file unit for the imports, or a preset: cm, m, mm, inch, cmu.",
-                                "S");
-  const QCommandLineOption screenshot("screenshot",
-                                      "Save the window to PNG once the imports and clustering are done, then quit.", "PNG");
-  const QCommandLineOption joint("joint", "Select joint NAME once loaded (for --screenshot).", "NAME");
-  const QCommandLineOption level("level", "Show LOD level N once loaded (for --screenshot).", "N");
-  const QCommandLineOption crowd("crowd",
-                                 "With --screenshot: show the Crowd dock with N agents (tinted by level), render 120 "
-                                 "frames and print its figures (agents per level, joints, vertices, pose CPU ms, fps).",
-                                 "N");
-  parser.addOptions({open, sample, unit, screenshot, joint, level, crowd});
-  parser.addPositionalArgument("files", "Projects (.mlod) to open or files to import.", "[files...]");
+  options.describe(parser);
   parser.process(app);
+  const auto& [open, sample, unit, screenshot, joint, level, crowd] = options;
 
   // Each file with the unit it is imported in (0 = the window's import unit).
   QList<QPair<QString, double>> files;
