@@ -78,10 +78,7 @@ class BundleExporter : public QObject, public mlod::Exporter {
   Q_INTERFACES(mlod::Exporter)
 
 public:
-  QString id() const override { return QStringLiteral(MLOD_PLUGIN_ID); }
-  QString name() const override { return QStringLiteral(MLOD_PLUGIN_NAME); }
-  QString version() const override { return QStringLiteral(MLOD_PLUGIN_VERSION); }
-  QStringList suffixes() const override { return QString(MLOD_PLUGIN_SUFFIXES).split(','); }
+  MLOD_EXPORTER_IDENTITY_FROM_METADATA
   mlod::ExporterOptions options() const override {
     mlod::ExporterOptions out;
     out.append({"manifest", mlod::ExporterOption::Bool, true, {}, {}, {},

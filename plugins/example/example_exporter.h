@@ -32,10 +32,7 @@ class ExampleExporter : public QObject, public Exporter {
 public:
   // id, name, version and suffixes come from add_exporter_plugin() in CMakeLists.txt, so
   // they always say what the metadata the host reads says.
-  QString id() const override { return QStringLiteral(MLOD_PLUGIN_ID); }
-  QString name() const override { return QStringLiteral(MLOD_PLUGIN_NAME); }
-  QString version() const override { return QStringLiteral(MLOD_PLUGIN_VERSION); }
-  QStringList suffixes() const override { return QString(MLOD_PLUGIN_SUFFIXES).split(','); }
+  MLOD_EXPORTER_IDENTITY_FROM_METADATA
   ExporterOptions options() const override;
   ExportResult exportPackage(const LodPackage& package, const QString& path, const QVariantMap& options,
                              const ExportProgress& progress) override;

@@ -6,19 +6,6 @@
 
 namespace mlod {
 
-QString GltfExporter::id() const {
-  return QStringLiteral(MLOD_PLUGIN_ID);
-}
-QString GltfExporter::name() const {
-  return QStringLiteral(MLOD_PLUGIN_NAME);
-}
-QString GltfExporter::version() const {
-  return QStringLiteral(MLOD_PLUGIN_VERSION);
-}
-QStringList GltfExporter::suffixes() const {
-  return QString(MLOD_PLUGIN_SUFFIXES).split(',');
-}
-
 ExporterOptions GltfExporter::options() const {
   ExporterOptions out;
   out.append({QStringLiteral("format"),

@@ -15,10 +15,7 @@ class GltfExporter : public QObject, public Exporter {
   Q_INTERFACES(mlod::Exporter)
 
 public:
-  QString id() const override;
-  QString name() const override;
-  QString version() const override;
-  QStringList suffixes() const override;
+  MLOD_EXPORTER_IDENTITY_FROM_METADATA
   // format (auto|glb|gltf: auto follows the output's suffix, .glb when it has neither),
   // pretty (indent the JSON of a .gltf).
   ExporterOptions options() const override;

@@ -7,19 +7,6 @@
 
 namespace mlod {
 
-QString ReportExporter::id() const {
-  return QStringLiteral(MLOD_PLUGIN_ID);
-}
-QString ReportExporter::name() const {
-  return QStringLiteral(MLOD_PLUGIN_NAME);
-}
-QString ReportExporter::version() const {
-  return QStringLiteral(MLOD_PLUGIN_VERSION);
-}
-QStringList ReportExporter::suffixes() const {
-  return QString(MLOD_PLUGIN_SUFFIXES).split(',');
-}
-
 ExporterOptions ReportExporter::options() const {
   ExporterOptions out;
   out.append({QStringLiteral("format"),

@@ -14,10 +14,7 @@ class ReportExporter : public QObject, public Exporter {
   Q_INTERFACES(mlod::Exporter)
 
 public:
-  QString id() const override;
-  QString name() const override;
-  QString version() const override;
-  QStringList suffixes() const override;
+  MLOD_EXPORTER_IDENTITY_FROM_METADATA
   // format (auto|html|csv|json: auto follows the output's suffix, HTML when it has none of
   // them), csv_table (levels|joints: which table a CSV holds), indent (JSON indentation).
   ExporterOptions options() const override;

@@ -129,4 +129,14 @@ QString withSuffix(const QString& path, const QString& suffix, const QStringList
 } // namespace mlod
 
 #define MLOD_EXPORTER_IID "org.motionlod.Exporter/1"
+
+// id(), name(), version() and suffixes() as add_exporter_plugin() wrote them into the
+// plugin's metadata (the MLOD_PLUGIN_* compile definitions of its target), so the code says
+// what the host read before loading (it refuses a plugin whose id() differs). Put it in
+// the public section of the exporter class.
+#define MLOD_EXPORTER_IDENTITY_FROM_METADATA                                                                        \
+  QString id() const override { return QStringLiteral(MLOD_PLUGIN_ID); }                                           \
+  QString name() const override { return QStringLiteral(MLOD_PLUGIN_NAME); }                                       \
+  QString version() const override { return QStringLiteral(MLOD_PLUGIN_VERSION); }                                 \
+  QStringList suffixes() const override { return QString(MLOD_PLUGIN_SUFFIXES).split(','); }
 Q_DECLARE_INTERFACE(mlod::Exporter, MLOD_EXPORTER_IID)

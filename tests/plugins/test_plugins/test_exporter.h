@@ -11,10 +11,7 @@ namespace mlod::test {
 
 class SummaryExporter : public Exporter {
 public:
-  QString id() const override { return QStringLiteral(MLOD_PLUGIN_ID); }
-  QString name() const override { return QStringLiteral(MLOD_PLUGIN_NAME); }
-  QString version() const override { return QStringLiteral(MLOD_PLUGIN_VERSION); }
-  QStringList suffixes() const override { return QString(MLOD_PLUGIN_SUFFIXES).split(','); }
+  MLOD_EXPORTER_IDENTITY_FROM_METADATA
   ExporterOptions options() const override {
     ExporterOptions out;
     out.append({"fail", ExporterOption::Bool, false, {}, {}, {}, "Fail instead of writing"});
