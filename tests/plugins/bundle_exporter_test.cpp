@@ -3,8 +3,8 @@
 // describes it; an unwritable output or a cancelled export leaves nothing behind.
 
 #include "core/lod/lod_package.h"
-#include "io/importer.h"
 #include "runtime/bundle.h"
+#include "unit/package_fixtures.h"
 #include "sdk/plugin_host.h"
 
 #include <QDir>
@@ -17,7 +17,6 @@
 
 #include <gtest/gtest.h>
 
-#include <map>
 
 namespace mlod {
 namespace {
@@ -30,23 +29,6 @@ Exporter* bundleExporter() {
     loaded = true;
   }
   return host.exporter("bundle");
-}
-
-const LodPackage& packageOf(const std::string& relative, double unitScale) {
-  static std::map<std::string, LodPackage> cache;
-  auto found = cache.find(relative);
-  if (found == cache.end()) {
-    ImportOptions options;
-    options.unitScale = unitScale;
-    Result<Asset> asset = importAsset(std::string(MLOD_ASSIMP_MODELS) + "/" + relative, options);
-    if (!asset)
-      throw std::runtime_error(relative + ": " + asset.message());
-    Result<LodPackage> package = buildLodPackage(*asset);
-    if (!package)
-      throw std::runtime_error(relative + ": " + package.message());
-    found = cache.emplace(relative, std::move(package).value()).first;
-  }
-  return found->second;
 }
 
 QStringList filesIn(const QString& dir) {
@@ -91,9 +73,9 @@ void exportAndReadBack(const LodPackage& package) {
   }
 }
 
-TEST(BundleExporter, BcnEpilepticReadsBack) { exportAndReadBack(packageOf("X/BCN_Epileptic.X", 100.0)); }
+TEST(BundleExporter, BcnEpilepticReadsBack) { exportAndReadBack(test::realPackage("X/BCN_Epileptic.X", 100.0)); }
 
-TEST(BundleExporter, Cmu0101ReadsBack) { exportAndReadBack(packageOf("BVH/01_01.bvh", 2.54 / 0.45)); }
+TEST(BundleExporter, Cmu0101ReadsBack) { exportAndReadBack(test::realPackage("BVH/01_01.bvh", 2.54 / 0.45)); }
 
 TEST(BundleExporter, OptionsDropMeshesAndManifest) {
   Exporter* exporter = bundleExporter();
@@ -103,7 +85,7 @@ TEST(BundleExporter, OptionsDropMeshesAndManifest) {
   QString error;
   ASSERT_TRUE(parseExporterOptions(exporter->options(), {"manifest=false", "meshes=false"}, &options, &error));
   const QString path = dir.filePath("motion.mlodb");
-  ExportResult result = exporter->exportPackage(packageOf("X/BCN_Epileptic.X", 100.0), path, options, {});
+  ExportResult result = exporter->exportPackage(test::realPackage("X/BCN_Epileptic.X", 100.0), path, options, {});
   ASSERT_TRUE(result.ok) << result.message.toStdString();
   EXPECT_EQ(filesIn(dir.path()), QStringList({"motion.mlodb"}));
   std::string readError;
@@ -118,7 +100,7 @@ TEST(BundleExporter, UnwritableOutputLeavesNothingAndSaysWhy) {
   ASSERT_NE(exporter, nullptr);
   QTemporaryDir dir;
   const QString path = dir.filePath("missing/folder/out.mlodb");
-  ExportResult result = exporter->exportPackage(packageOf("BVH/01_01.bvh", 2.54 / 0.45), path,
+  ExportResult result = exporter->exportPackage(test::realPackage("BVH/01_01.bvh", 2.54 / 0.45), path,
                                                 defaultExporterOptions(exporter->options()), {});
   EXPECT_FALSE(result.ok);
   EXPECT_TRUE(result.message.contains("missing/folder/out.mlodb")) << result.message.toStdString();
@@ -132,7 +114,7 @@ TEST(BundleExporter, CancelLeavesNothing) {
     QTemporaryDir dir;
     int steps = 0;
     ExportResult result =
-        exporter->exportPackage(packageOf("BVH/01_01.bvh", 2.54 / 0.45), dir.filePath("out.mlodb"),
+        exporter->exportPackage(test::realPackage("BVH/01_01.bvh", 2.54 / 0.45), dir.filePath("out.mlodb"),
                                 defaultExporterOptions(exporter->options()),
                                 ExportProgress([&](double, const QString&) { ++steps; }, [&] { return steps >= cancelAt; }));
     EXPECT_FALSE(result.ok) << cancelAt;

@@ -3,35 +3,17 @@
 // the package's in-memory LodClips, at every level, on CMU 01_01 and BCN_Epileptic.
 
 #include "core/lod/lod_package.h"
-#include "io/importer.h"
 #include "runtime/bundle.h"
+#include "unit/package_fixtures.h"
 #include "runtime/pose_evaluator.h"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
-#include <map>
 #include <string>
 
 namespace mlod {
 namespace {
-
-const LodPackage& packageOf(const std::string& relative, double unitScale) {
-  static std::map<std::string, LodPackage> cache;
-  auto found = cache.find(relative);
-  if (found == cache.end()) {
-    ImportOptions options;
-    options.unitScale = unitScale;
-    Result<Asset> asset = importAsset(std::string(MLOD_ASSIMP_MODELS) + "/" + relative, options);
-    if (!asset)
-      throw std::runtime_error(relative + ": " + asset.message());
-    Result<LodPackage> package = buildLodPackage(*asset);
-    if (!package)
-      throw std::runtime_error(relative + ": " + package.message());
-    found = cache.emplace(relative, std::move(package).value()).first;
-  }
-  return found->second;
-}
 
 // Models and palettes of `clip` for several characters at spread times.
 void evaluate(const LodClip& clip, std::span<const std::int16_t> parents, std::span<const glm::mat4> inverseBinds,
@@ -119,19 +101,19 @@ void checkRoundTrip(const LodPackage& package) {
 }
 
 TEST(BundleRoundTrip, Cmu0101EvaluatesIdentically) {
-  const LodPackage& package = packageOf("BVH/01_01.bvh", 2.54 / 0.45);
+  const LodPackage& package = test::realPackage("BVH/01_01.bvh", 2.54 / 0.45);
   ASSERT_EQ(package.levels.size(), 4u);
   checkRoundTrip(package);
 }
 
 TEST(BundleRoundTrip, BcnEpilepticEvaluatesAndSkinsIdentically) {
-  const LodPackage& package = packageOf("X/BCN_Epileptic.X", 100.0);
+  const LodPackage& package = test::realPackage("X/BCN_Epileptic.X", 100.0);
   ASSERT_TRUE(package.mesh);
   checkRoundTrip(package);
 }
 
 TEST(BundleRoundTrip, CoarserLevelsTakeFewerBytes) {
-  const LodPackage& package = packageOf("BVH/01_01.bvh", 2.54 / 0.45);
+  const LodPackage& package = test::realPackage("BVH/01_01.bvh", 2.54 / 0.45);
   Result<Bundle> bundle = packageBundle(package);
   ASSERT_TRUE(bundle);
   std::vector<std::size_t> sizes;
