@@ -12,31 +12,27 @@ namespace mlod::cli {
 
 void ExportCommand::attach(CLI::App& app) {
   CLI::App* command = app.add_subcommand("export", "Export a file's or a project's LOD set through an exporter plugin");
-  command->add_option("FILE", input, "character or motion file (any format Assimp reads), or a .mlod project")
+  command->add_option("FILE", job.input, "character or motion file (any format Assimp reads), or a .mlod project")
       ->required();
-  command->add_option("--plugin", plugin, "exporter id (motionlod plugins lists them)")->required();
-  command->add_option("-o,--output", output, "output file")->required();
+  command->add_option("--plugin", job.plugin, "exporter id (motionlod plugins lists them)")->required();
+  command->add_option("-o,--output", job.output, "output file")->required();
   command->add_option("--levels", levels, "levels to export by index, e.g. 0,2,3 (default: all)");
   command->add_option("--option", options, "exporter option key=value (repeatable; motionlod plugins lists them)");
-  command->add_option("--unit-scale", unitScale,
+  command->add_option("--unit-scale", job.unitScale,
                       "cm per file unit, or a preset: cm, m, mm, inch, cmu (5.6444, CMU mocap); "
                       "default: the file's own unit (a project: each asset's)");
-  command->add_option("--asset", asset, "a project's asset to export, by index (default: its character)");
-  command->add_option("--import-timeout", importTimeoutSeconds, "seconds before a stuck import is stopped")
+  command->add_option("--asset", job.asset, "a project's asset to export, by index (default: its character)");
+  command->add_option("--import-timeout", job.importTimeoutSeconds, "seconds before a stuck import is stopped")
       ->check(CLI::Range(1.0, 86400.0));
   command->add_flag("--json", json, "print one JSON document on stdout");
 }
 
 int ExportCommand::run() const {
-  ExportJob job;
-  job.input = input;
-  job.plugin = plugin;
-  job.output = output;
-  job.unitScale = unitScale;
-  job.asset = asset;
-  job.importTimeoutSeconds = importTimeoutSeconds;
+  ExportJob filled = job; // levels and options are filled in below
+  const std::string& input = job.input;
+  const std::string& plugin = job.plugin;
   std::string reason;
-  if (!levels.empty() && !parseLevelList(levels, job.levels, reason)) {
+  if (!levels.empty() && !parseLevelList(levels, filled.levels, reason)) {
     printError(input, reason);
     return kExitBadInput;
   }
@@ -48,21 +44,21 @@ int ExportCommand::run() const {
     for (const std::string& option : options)
       keyValues << QString::fromStdString(option);
     QString error;
-    if (!parseExporterOptions(exporter->options(), keyValues, &job.options, &error)) {
+    if (!parseExporterOptions(exporter->options(), keyValues, &filled.options, &error)) {
       printError(input, "plugin " + plugin + ": " + error.toStdString());
       return kExitBadInput;
     }
   }
-  const ExportOutcome outcome = runExportJob(host, job, installInterruptHandler());
+  const ExportOutcome outcome = runExportJob(host, filled, installInterruptHandler());
   if (!outcome.ok())
     printError(outcome.errorFile, outcome.message);
   if (json) {
     nlohmann::json options_json = nlohmann::json::object();
-    for (auto it = job.options.begin(); it != job.options.end(); ++it)
+    for (auto it = filled.options.begin(); it != filled.options.end(); ++it)
       options_json[it.key().toStdString()] = it.value().toString().toStdString();
     nlohmann::json doc = {{"input", input},
                           {"plugin", plugin},
-                          {"output", output},
+                          {"output", job.output},
                           {"ok", outcome.ok()},
                           {"message", outcome.message},
                           {"bytes", outcome.bytes},

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "cli/cli_common.h"
+#include "cli/export_job.h"
 
 #include <string>
 #include <vector>
@@ -19,15 +20,10 @@ namespace mlod::cli {
 // Exit 2: bad input (file, project, plugin id, option, level); 1: the export failed
 // (unwritable output, cancelled).
 struct ExportCommand {
-  std::string input;
-  std::string plugin;
-  std::string output;
-  std::string levels;
-  std::vector<std::string> options;
-  std::string unitScale;
-  int asset = -1;
+  ExportJob job;                    // the options that map one to one; levels and options below
+  std::string levels;               // "0,2,3", parsed into job.levels
+  std::vector<std::string> options; // key=value, checked against the plugin into job.options
   bool json = false;
-  double importTimeoutSeconds = 120.0;
 
   void attach(CLI::App& app);
   int run() const;
