@@ -4,7 +4,7 @@
 #     [OUTPUT_DIRECTORY <dir>]  (default: ${CMAKE_BINARY_DIR}/${MLOD_PLUGIN_RELDIR})
 #     [NO_INSTALL] [STATIC])
 #
-# An exporter plugin (DESIGN.md section 8): a MODULE library `mlod_plugin_<id>` that links
+# An exporter plugin (docs/architecture.md section 8): a MODULE library `mlod_plugin_<id>` that links
 # mlod::sdk only, built into the build tree's plugin folder (which mirrors the install
 # layout, so the host finds it from bin/ as it does from an installed prefix) and installed
 # to ${MLOD_PLUGIN_RELDIR} (component "plugins").

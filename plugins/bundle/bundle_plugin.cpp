@@ -1,4 +1,4 @@
-// The runtime bundle exporter (DESIGN.md section 8): FILE.mlodb, the binary that
+// The runtime bundle exporter (docs/architecture.md section 8): FILE.mlodb, the binary that
 // src/runtime/bundle.h reads (docs/bundle-format.md), and FILE.mlodb.json beside it, a
 // manifest for people and tools. Both land together or not at all.
 

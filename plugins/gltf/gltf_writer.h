@@ -1,5 +1,5 @@
 #pragma once
-// A LodPackage as one glTF 2.0 asset (DESIGN.md section 8; docs/gltf-extension.md):
+// A LodPackage as one glTF 2.0 asset (docs/architecture.md section 8; docs/gltf-extension.md):
 // - units: metres (core is in cm: every length is scaled by 0.01), +Y up as imported;
 // - the original skeleton as nodes 0 .. J-1 (node j = joint j, its rest transform), one
 //   skin over all of them (inverse bind matrices: paletteInverseBinds()); every level's mesh

@@ -8,7 +8,7 @@ namespace CLI { class App; }
 
 namespace mlod::cli {
 
-// `motionlod batch MANIFEST.json [--shard I/N] [--jobs K] [--json]` (DESIGN.md section 6):
+// `motionlod batch MANIFEST.json [--shard I/N] [--jobs K] [--json]` (docs/architecture.md section 6):
 // exports many assets. The manifest is
 //     {"jobs":[{"input","plugin","output","options":{},   ("levels":[0,2], "unit_scale":S optional)}]}
 // with paths relative to the manifest's folder. --shard I/N takes the jobs whose index is

@@ -9,7 +9,7 @@ namespace CLI { class App; }
 namespace mlod::cli {
 
 // `motionlod bench-crowd FILE --characters N --frames F --threshold E [--alpha A]
-//  [--unit-scale S] [--threads K] [--json]` (DESIGN.md sections 5, 6): what the motion LOD
+//  [--unit-scale S] [--threads K] [--json]` (docs/architecture.md sections 5, 6): what the motion LOD
 // buys at run time. One process builds a crowd of N characters playing the file's first
 // clip (looping, each starting at its own time, advancing 1/60 s per frame) and evaluates
 // the same F frames at full detail (the same job on a clip without clusters) and at the

@@ -11,7 +11,7 @@ namespace CLI { class App; }
 namespace mlod::cli {
 
 // `motionlod export FILE|PROJECT.mlod --plugin ID -o OUT [--levels 0,2,3] [--option k=v …]
-//  [--unit-scale S] [--asset N] [--json]` (DESIGN.md sections 6 and 8): a file gets the
+//  [--unit-scale S] [--asset N] [--json]` (docs/architecture.md sections 6 and 8): a file gets the
 // default LOD set (LodSet::fromPixelBudget(asset, 1 pixel, 4 levels)); a project its own
 // levels, joint settings and the motions assigned to its character. The exporter writes
 // through a temporary file: an error or Ctrl+C leaves nothing at OUT.

@@ -1,5 +1,5 @@
 #pragma once
-// One export as `motionlod export` and each job of `motionlod batch` run it (DESIGN.md
+// One export as `motionlod export` and each job of `motionlod batch` run it (docs/architecture.md
 // sections 6 and 8): import the file (or a project's character and the motions assigned to
 // it), build the LodPackage of the selected levels, and hand it to an exporter plugin.
 // Nothing is printed here: the outcome says what happened, so the batch can run jobs on

@@ -1,4 +1,4 @@
-// motionlod: the batch command line (DESIGN.md section 6).
+// motionlod: the batch command line (docs/architecture.md section 6).
 
 #include "cli/batch_command.h"
 #include "cli/bench_crowd_command.h"

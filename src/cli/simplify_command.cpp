@@ -251,7 +251,7 @@ int SimplifyCommand::run() const {
         joint.thresholds.clear();
     }
   }
-  settings.zeroLength = 1e-6 * asset->unitScale; // DESIGN.md: 1e-6 file units
+  settings.zeroLength = 1e-6 * asset->unitScale; // docs/architecture.md: 1e-6 file units
   if (!loaded || flagGiven("--mode"))
     settings.mode = *jpcMode;
   if (!loaded || flagGiven("--alpha"))

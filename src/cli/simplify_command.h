@@ -13,7 +13,7 @@ namespace mlod::cli {
 
 // `motionlod simplify FILE|PROJECT.mlod [--clip NAME|INDEX] --threshold E[,E…] [--alpha A]
 //  [--joint NAME=E …] [--mode greedy|optimal] [--unit-scale S] [--json]`:
-// joint posture clustering of one clip at one or more thresholds (DESIGN.md sections 4, 6).
+// joint posture clustering of one clip at one or more thresholds (docs/architecture.md sections 4, 6).
 //
 // A project (.mlod) gives what the editor shows: the asset and clip in view (the first asset
 // when none), its unit scale, the project's alpha and mode, every per-joint alpha, lock and

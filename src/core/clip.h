@@ -28,7 +28,7 @@ public:
   std::vector<glm::vec3> translations; // local, cm; joint 0's is the root translation
   std::vector<glm::vec3> scales;       // local
   // Per joint: 1 where the source file carries that channel for the joint. A joint
-  // with a rotation channel is clusterable (DESIGN.md section 4); BVH End Sites have none.
+  // with a rotation channel is clusterable (docs/architecture.md section 4); BVH End Sites have none.
   std::vector<std::uint8_t> hasRotation;
   std::vector<std::uint8_t> hasTranslation;
   std::vector<std::uint8_t> hasScale;

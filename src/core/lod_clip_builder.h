@@ -1,5 +1,5 @@
 #pragma once
-// From the authoring model to the runtime (DESIGN.md section 5): a core Clip and the JPC
+// From the authoring model to the runtime (docs/architecture.md section 5): a core Clip and the JPC
 // ClusterSet of each LOD level become runtime LodClips; a Skeleton gives the evaluator its
 // parents and inverse binds; a SkinnedMesh becomes a SkinningMesh. Core may include the
 // runtime; the runtime never includes core.

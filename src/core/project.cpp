@@ -14,7 +14,7 @@ JpcSettings Project::jpcSettings(int asset, double unitScale) const {
   JpcSettings settings;
   settings.alpha = alpha;
   settings.mode = mode;
-  settings.zeroLength = 1e-6 * unitScale; // DESIGN.md section 4: 1e-6 file units
+  settings.zeroLength = 1e-6 * unitScale; // docs/architecture.md section 4: 1e-6 file units
   if (asset >= 0 && asset < static_cast<int>(assets.size()))
     settings.joints = assets[static_cast<std::size_t>(asset)].joints;
   return settings;

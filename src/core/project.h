@@ -1,5 +1,5 @@
 #pragma once
-// The project document (DESIGN.md section 3): which assets, how their joints are tuned, and
+// The project document (docs/architecture.md section 3): which assets, how their joints are tuned, and
 // the LOD levels, saved as versioned JSON (.mlod). No Qt: the editor and the CLI both read
 // it, so `motionlod simplify PROJECT.mlod` reproduces the editor's figures.
 //

@@ -1,4 +1,4 @@
-// Assimp scene -> core Asset. DESIGN.md section 3 states the import rules; this file
+// Assimp scene -> core Asset. docs/architecture.md section 3 states the import rules; this file
 // applies them and guards against what broken files hand us (null nodes, cycles,
 // dangling bone names, unsorted or non-finite keys).
 

@@ -1,5 +1,5 @@
 #pragma once
-// Import of characters and motions through Assimp into core types (DESIGN.md section 3):
+// Import of characters and motions through Assimp into core types (docs/architecture.md section 3):
 // - skeleton: the nodes that bones name, the animated nodes, their ancestors up to
 //   their lowest common one, and the leaf nodes below them (BVH End Sites);
 // - clips: one per animation, resampled at a fixed rate (BVH at its own frame time);

@@ -1,5 +1,5 @@
 #pragma once
-// The runtime bundle (DESIGN.md sections 2 and 8; the byte layout is docs/bundle-format.md):
+// The runtime bundle (docs/architecture.md sections 2 and 8; the byte layout is docs/bundle-format.md):
 // one character's LOD levels as an engine loads them, in a versioned little-endian binary
 // that this file reads and writes with GLM and the standard library alone.
 //

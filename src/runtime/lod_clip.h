@@ -1,5 +1,5 @@
 #pragma once
-// A clip as the runtime plays it at one LOD level (DESIGN.md section 5; Ahn & Wohn,
+// A clip as the runtime plays it at one LOD level (docs/architecture.md section 5; Ahn & Wohn,
 // "Motion Level-of-Detail", section 4): per joint, its clusters (runs of frames frozen at
 // one key posture, with the key's local matrix precomputed), the rotations of the frames
 // outside clusters, and the translation and scale tracks of the joints that animate them
@@ -17,7 +17,7 @@
 // clustered, so a joint is *frozen* (its whole local matrix constant) only inside a
 // cluster and when its translation and scale tracks are constant.
 //
-// Unfreeze blending (DESIGN.md section 5): when a cluster [first, last] of a joint ends
+// Unfreeze blending (docs/architecture.md section 5): when a cluster [first, last] of a joint ends
 // before the clip does, its rotation jumps within one frame from the key to the next
 // frame's. With blendFrames = N > 0 the jump is spread over N frames: for frame positions
 // f in [last, last + N) the joint's rotation is

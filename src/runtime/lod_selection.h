@@ -1,7 +1,7 @@
 #pragma once
 // Which LOD level a character plays. Ahn & Wohn control "the detail of the motion and the
 // geometry by the distance between the camera and the character's position" (section
-// 6.2); DESIGN.md section 3 adds the projected size on screen. Both switch with hysteresis,
+// 6.2); docs/architecture.md section 3 adds the projected size on screen. Both switch with hysteresis,
 // so that a character standing near a boundary does not flicker between two levels.
 //
 // Levels: 0 is the finest. `boundaries` has one entry per switch (levels - 1 entries).
@@ -22,7 +22,7 @@ namespace mlod {
 int selectLevelByDistance(float distance, std::span<const float> switchDistances, int currentLevel = -1,
                           float hysteresis = 0.1f);
 
-// The projection that screen sizes assume (DESIGN.md section 3: 60 degrees vertical field of
+// The projection that screen sizes assume (docs/architecture.md section 3: 60 degrees vertical field of
 // view, 1080 pixels high, by default).
 struct ScreenProjection {
   float verticalFovRadians = 1.04719755f; // 60 degrees

@@ -1,5 +1,5 @@
 #pragma once
-// The crowd pose evaluator (DESIGN.md section 5; Ahn & Wohn, "Motion Level-of-Detail",
+// The crowd pose evaluator (docs/architecture.md section 5; Ahn & Wohn, "Motion Level-of-Detail",
 // section 4: "our system transforms the key posture and current joint's information is
 // updated to his parent, until current clustered area of joint is finished").
 //

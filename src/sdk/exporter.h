@@ -1,5 +1,5 @@
 #pragma once
-// The exporter plugin interface (DESIGN.md section 8). An exporter turns a LodPackage
+// The exporter plugin interface (docs/architecture.md section 8). An exporter turns a LodPackage
 // (core/lod/lod_package.h: everything computed; exporters never recompute) into files. It
 // describes its options as data, so the editor builds a form and the CLI takes
 // `--option key=value`; it reports progress and honours cancel through ExportProgress; it

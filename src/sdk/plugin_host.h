@@ -1,5 +1,5 @@
 #pragma once
-// The exporter plugin host (DESIGN.md section 8): finds exporter plugins, reads each one's
+// The exporter plugin host (docs/architecture.md section 8): finds exporter plugins, reads each one's
 // metadata before loading it, checks the interface, and reports every failure instead of
 // stopping at the first.
 //

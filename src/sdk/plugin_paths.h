@@ -1,5 +1,5 @@
 #pragma once
-// Where exporter plugins are searched (DESIGN.md section 8): every folder of the
+// Where exporter plugins are searched (docs/architecture.md section 8): every folder of the
 // MOTIONLOD_PLUGIN_PATH environment variable (':'-separated), then
 // <executable dir>/../<libdir>/motionlod/plugins, the same relative path in the build
 // tree, a .deb and an unpacked .tgz.

@@ -1,4 +1,4 @@
-// The command-line contract of DESIGN.md section 6 and issue 4 for `bench-crowd`: the JSON
+// The command-line contract of docs/architecture.md section 6 and issue 4 for `bench-crowd`: the JSON
 // keys, figures that hold whatever the machine's speed (no timed assertion), skinning
 // figures where the file has a mesh, and `error: FILE: reason` with exit 2 for bad input.
 

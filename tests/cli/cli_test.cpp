@@ -1,4 +1,4 @@
-// The command-line contract of DESIGN.md section 6 for `--version` and `info`.
+// The command-line contract of docs/architecture.md section 6 for `--version` and `info`.
 
 #include "cli_runner.h"
 #include "test_files.h"

@@ -1,4 +1,4 @@
-// The command-line contract of DESIGN.md section 6 for `simplify`: the JSON keys exactly,
+// The command-line contract of docs/architecture.md section 6 for `simplify`: the JSON keys exactly,
 // the defaults, the readable table, and `error: FILE: reason` with exit 2 for bad input.
 
 #include "cli_runner.h"
@@ -13,7 +13,7 @@ namespace {
 using test::keysOf;
 using test::runMotionlod;
 
-// Guards the JSON document: keys exactly as DESIGN.md lists them, one entry per threshold,
+// Guards the JSON document: keys exactly as docs/architecture.md lists them, one entry per threshold,
 // the defaults (greedy, alpha 5), the CMU clip's figures.
 TEST(CliSimplify, JsonKeysAndValues) {
   const test::CliRun run = runMotionlod(

@@ -1,6 +1,6 @@
 #pragma once
 // LodPackages of real files of Debian's assimp-testmodels with the default LOD set of a
-// plain file (DESIGN.md section 6), built once per test program: what the runtime bundle's
+// plain file (docs/architecture.md section 6), built once per test program: what the runtime bundle's
 // round trip and the bundle exporter's tests share. No Qt (the sanitizer build runs them).
 
 #include "core/lod/lod_package.h"

@@ -1,5 +1,5 @@
 #pragma once
-// The crowd the studio previews (DESIGN.md section 7, "Crowd"; Ahn & Wohn, section 6.2:
+// The crowd the studio previews (docs/architecture.md section 7, "Crowd"; Ahn & Wohn, section 6.2:
 // "the detail of the motion and the geometry [chosen] by the distance between the camera and
 // the character's position"): N agents of one character on a grid or scattered, each playing
 // the clip from its own time offset, each at the LOD level the runtime's selection gives it

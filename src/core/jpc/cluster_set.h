@@ -1,5 +1,5 @@
 #pragma once
-// The result of joint posture clustering for one clip (DESIGN.md section 3): per joint,
+// The result of joint posture clustering for one clip (docs/architecture.md section 3): per joint,
 // sorted disjoint clusters of consecutive frames, each frozen at one key posture.
 
 #include "core/error.h"

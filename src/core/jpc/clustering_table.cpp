@@ -1,4 +1,4 @@
-// Clustering table, Ahn & Wohn section 4.2 (STEP 1), banded; DESIGN.md section 4.
+// Clustering table, Ahn & Wohn section 4.2 (STEP 1), banded; docs/architecture.md section 4.
 #include "core/jpc/clustering_table.h"
 
 #include <algorithm>

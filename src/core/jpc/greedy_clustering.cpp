@@ -1,4 +1,4 @@
-// Greedy clustering, Ahn & Wohn section 4.2, STEPs 2-5; DESIGN.md section 4.
+// Greedy clustering, Ahn & Wohn section 4.2, STEPs 2-5; docs/architecture.md section 4.
 #include "core/jpc/greedy_clustering.h"
 
 #include <cassert>

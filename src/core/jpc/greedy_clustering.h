@@ -1,6 +1,6 @@
 #pragma once
 // The paper's greedy cluster selection (Ahn & Wohn, section 4.2, STEPs 2-5), with the
-// tie rules of DESIGN.md section 4.
+// tie rules of docs/architecture.md section 4.
 
 #include "core/jpc/cluster_set.h"
 

@@ -1,4 +1,4 @@
-// Joint posture clustering, Ahn & Wohn section 4; DESIGN.md section 4.
+// Joint posture clustering, Ahn & Wohn section 4; docs/architecture.md section 4.
 #include "core/jpc/jpc.h"
 
 #include "core/jpc/clustering_table.h"

@@ -1,6 +1,6 @@
 #pragma once
 // Joint posture clustering (JPC) of a clip: Ahn & Wohn, "Motion Level-of-Detail: A
-// Simplification Method on Crowd Scene", section 4, as DESIGN.md section 4 makes it
+// Simplification Method on Crowd Scene", section 4, as docs/architecture.md section 4 makes it
 // precise. Per joint, runs of consecutive frames whose postures all stay within an error
 // threshold of one key posture become clusters; inside a cluster the joint is frozen at
 // its key posture.
@@ -53,7 +53,7 @@ public:
   int frameCount() const { return m_frameCount; }
   const JpcSettings& settings() const { return m_settings; }
   const std::string& jointName(int joint) const { return m_joints[static_cast<std::size_t>(joint)].name; }
-  // The joint carries a rotation channel in the clip (DESIGN.md section 4).
+  // The joint carries a rotation channel in the clip (docs/architecture.md section 4).
   bool clusterable(int joint) const { return m_joints[static_cast<std::size_t>(joint)].clusterable; }
   bool locked(int joint) const { return m_joints[static_cast<std::size_t>(joint)].locked; }
   int clusterableCount() const;

@@ -1,5 +1,5 @@
 #pragma once
-// The JSON document of `motionlod simplify --json` (DESIGN.md section 6): keys exactly
+// The JSON document of `motionlod simplify --json` (docs/architecture.md section 6): keys exactly
 //   {"file","clip","frames","fps","mode","alpha","unit_scale",
 //    "thresholds":[{"threshold","simplified_joint_percent","clusters","max_error",
 //                   "max_joint_position_error_cm","mean_joint_position_error_cm",

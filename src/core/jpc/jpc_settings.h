@@ -1,5 +1,5 @@
 #pragma once
-// Settings of joint posture clustering (JPC, DESIGN.md sections 3 and 4).
+// Settings of joint posture clustering (JPC, docs/architecture.md sections 3 and 4).
 //
 // Units: thresholds are errors E in cm·degrees (the paper's Table 1 uses 5, 50, 100, 300;
 // E / 57.3 is roughly a displacement in cm); alpha weighs the orientation error and is a
@@ -27,7 +27,7 @@ enum class JpcMode {
 const char* toString(JpcMode mode);                           // "greedy", "optimal"
 std::optional<JpcMode> parseJpcMode(const std::string& text); // inverse of toString()
 
-// Per-joint settings (DESIGN.md section 3). Everything absent falls back to JpcSettings.
+// Per-joint settings (docs/architecture.md section 3). Everything absent falls back to JpcSettings.
 struct JointSettings {
   std::optional<double> alpha; // cm, >= 0; absent = JpcSettings::alpha
   // Threshold override per LOD level (index = level), cm·degrees, >= 0. An absent entry,
@@ -40,7 +40,7 @@ struct JpcSettings {
   double alpha = kDefaultJpcAlpha; // cm, >= 0: the orientation weight of every joint without its own
   JpcMode mode = JpcMode::Greedy;
   // Child offsets shorter than this are zero-length (followed down to the next non-zero
-  // ones, DESIGN.md section 4), cm. DESIGN says 1e-6 file units: pass 1e-6 x the asset's
+  // ones, docs/architecture.md section 4), cm. DESIGN says 1e-6 file units: pass 1e-6 x the asset's
   // unit scale.
   double zeroLength = 1e-6;
   std::map<std::string, JointSettings> joints; // by joint name; a joint not listed takes the defaults

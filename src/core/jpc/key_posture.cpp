@@ -1,4 +1,4 @@
-// Key posture, Ahn & Wohn section 4.3, eq. (7) (STEP 6); DESIGN.md section 4.
+// Key posture, Ahn & Wohn section 4.3, eq. (7) (STEP 6); docs/architecture.md section 4.
 #include "core/jpc/key_posture.h"
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 #pragma once
 // Key posture of a cluster (Ahn & Wohn, section 4.3, eq. (7); STEP 6), restricted as
-// DESIGN.md section 4 says: among the rows k of the cluster whose errors to every frame
+// docs/architecture.md section 4 says: among the rows k of the cluster whose errors to every frame
 // of the cluster stay within the threshold, the one with the least sum of errors
 // sum_t E(t, k), summed in ascending t; ties: the earliest k. So E(t, key) <= T holds for
 // every frame of the cluster.

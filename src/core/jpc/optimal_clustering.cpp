@@ -1,4 +1,4 @@
-// Optimal clustering under the JPC error bound; DESIGN.md section 4 (beyond the paper).
+// Optimal clustering under the JPC error bound; docs/architecture.md section 4 (beyond the paper).
 #include "core/jpc/optimal_clustering.h"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 #pragma once
-// Optimal cluster selection (DESIGN.md section 4, beyond the paper): under the same error
+// Optimal cluster selection (docs/architecture.md section 4, beyond the paper): under the same error
 // bound as the greedy STEPs, the disjoint ranges of >= kMinClusterFrames frames, each with
 // some key k inside whose error to every frame of the range is within the threshold, that
 // cover the most frames; among those, the fewest ranges.

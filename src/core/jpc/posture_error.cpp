@@ -1,4 +1,4 @@
-// JPC error metric, Ahn & Wohn section 4.1, eqs. (1)-(6); DESIGN.md section 4.
+// JPC error metric, Ahn & Wohn section 4.1, eqs. (1)-(6); docs/architecture.md section 4.
 #include "core/jpc/posture_error.h"
 
 #include <cassert>

@@ -1,6 +1,6 @@
 #pragma once
 // The JPC error metric: how far apart two postures of one joint are (Ahn & Wohn, section
-// 4.1, eqs. (1)-(6), as DESIGN.md section 4 makes them precise).
+// 4.1, eqs. (1)-(6), as docs/architecture.md section 4 makes them precise).
 //
 // Units: lengths in cm, angles in degrees, errors E in cm·degrees.
 //   E_j(t, ref) = E_pos + alpha_j * E_ori                                         eq. (1)

@@ -133,7 +133,7 @@ Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip
         rotations.push_back(clip.rotation(int(j), t));
       }
     if (!restTranslation)
-      continue; // an animated translation or scale is never frozen (DESIGN.md section 4)
+      continue; // an animated translation or scale is never frozen (docs/architecture.md section 4)
     const JointTrack track(geometry[j], settings.alphaFor(joint.name), rotations);
     const std::optional<FrozenPose> frozen =
         frozenPose(track, settings.thresholdFor(joint.name, level, threshold));

@@ -1,5 +1,5 @@
 #pragma once
-// One error budget (DESIGN.md section 5): a level's deviation in cm, seen from a camera,
+// One error budget (docs/architecture.md section 5): a level's deviation in cm, seen from a camera,
 // in pixels; and back, the camera distance from which a deviation stays under N pixels
 // (the deviation-to-screen-size relation of Simplygon's LOD switching).
 //

@@ -167,7 +167,7 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
     level.settings = settings;
     if (index == 0) {
       // the original (LodSet::validate(): threshold 0, ratio 1): every joint, nothing
-      // clustered (DESIGN.md section 4: the "Original" column is 0 by definition)
+      // clustered (docs/architecture.md section 4: the "Original" column is 0 by definition)
       level.build = originalLevel(out);
       for (std::size_t c = 0; c < out.clips.size(); ++c) {
         Result<LodClip> runtime = buildLodClip(out.clips[c]);
@@ -211,7 +211,7 @@ Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> leve
   if (!step(progress, 0.0, "generating the default LOD set"))
     return Error(kLodPackageCancelled);
   LodBudgetOptions options;
-  options.jpc.zeroLength = 1e-6 * asset.unitScale; // DESIGN.md section 4: 1e-6 file units
+  options.jpc.zeroLength = 1e-6 * asset.unitScale; // docs/architecture.md section 4: 1e-6 file units
   Result<LodSet> lods = LodSet::fromPixelBudget(asset, 1.0, 4, options);
   if (!lods)
     return lods.error();

@@ -1,11 +1,11 @@
 #pragma once
-// What an exporter gets (DESIGN.md sections 3 and 8): one character's LOD set, fully
+// What an exporter gets (docs/architecture.md sections 3 and 8): one character's LOD set, fully
 // computed. Exporters never recompute anything: every level holds its motion (JPC clusters
 // on the full skeleton, bone reduction, the clips on the reduced skeleton), its mesh, the
 // runtime clips an engine plays, and the paper's Table 1 per clip.
 //
 // Built by core from an imported asset (a plain file: the default LOD set,
-// LodSet::fromPixelBudget(asset, 1 pixel, 4 levels), DESIGN.md section 6) or from a project
+// LodSet::fromPixelBudget(asset, 1 pixel, 4 levels), docs/architecture.md section 6) or from a project
 // (its LodSet, joint settings, and the motions assigned to the character through their
 // mappings, played on it as extra clips).
 //

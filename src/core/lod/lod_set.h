@@ -1,9 +1,9 @@
 #pragma once
-// LOD levels of one character (DESIGN.md section 3): a list of levels, each with a motion
+// LOD levels of one character (docs/architecture.md section 3): a list of levels, each with a motion
 // threshold, a mesh reduction, and the camera distance (and screen size) from which it is
 // used, under the projection its pixel figures assume. Level 0 is the original.
 //
-// One error budget (DESIGN.md section 5): fromPixelBudget() generates the levels so that
+// One error budget (docs/architecture.md section 5): fromPixelBudget() generates the levels so that
 // each stays within N pixels on screen. Level i (i >= 1) is aimed at the distance where the
 // character's bounding sphere covers height / 2^i pixels (half the screen, a quarter ...);
 // there N pixels allow a deviation delta_i (error_budget.h). The motion takes the largest

@@ -1,6 +1,6 @@
 #pragma once
 // A motion's joints mapped onto a character's, and the motion played on the character
-// (DESIGN.md section 3; Ahn & Wohn, section 3.1: "During the preprocessing, current
+// (docs/architecture.md section 3; Ahn & Wohn, section 3.1: "During the preprocessing, current
 // animation system aligns the selected motion / character structure and calculates
 // difference matrix between them. At the run-time, the system transforms the joint posture
 // from the motion database and applies the difference matrix.").

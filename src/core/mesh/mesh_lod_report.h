@@ -1,5 +1,5 @@
 #pragma once
-// The JSON document of `motionlod meshlod --json` (issue 5; DESIGN.md section 6): keys exactly
+// The JSON document of `motionlod meshlod --json` (issue 5; docs/architecture.md section 6): keys exactly
 //   {"file","triangles","vertices","locked_vertices",
 //    "levels":[{"ratio","triangles","vertices","max_error","shared_vertices_preserved",
 //               "warning","seconds"}]}

@@ -1,5 +1,5 @@
 #pragma once
-// The joint-mapping table of one motion assigned to a character (DESIGN.md section 3,
+// The joint-mapping table of one motion assigned to a character (docs/architecture.md section 3,
 // MotionMapping): one row per character joint, the motion joint that drives it beside it.
 // Edits go through the Document (one undo command each); the model follows the project, so
 // undo and redo show in the table.

@@ -1,5 +1,5 @@
 #pragma once
-// The Crowd dock (DESIGN.md section 7): N agents of the character in view (1 to 10,000) on
+// The Crowd dock (docs/architecture.md section 7): N agents of the character in view (1 to 10,000) on
 // a grid or scattered, each at its own time offset, each at the LOD level the runtime's
 // selection gives it from the project's LOD set (distance or screen size, hysteresis), drawn
 // instanced per level; a toggle tints agents by level; an overlay gives the agents per

@@ -1,5 +1,5 @@
 #pragma once
-// The OpenGL 3.3 core view both viewports draw through (DESIGN.md section 7): skinned meshes
+// The OpenGL 3.3 core view both viewports draw through (docs/architecture.md section 7): skinned meshes
 // drawn instanced with their palettes in a texture (GPU skinning, resources/shaders/), a
 // ground grid, coloured lines and points (the skeleton overlay) and overlay text. It holds
 // no animation logic: the panels pose characters with the runtime and hand the palettes

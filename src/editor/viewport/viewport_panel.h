@@ -1,5 +1,5 @@
 #pragma once
-// The Viewport dock (DESIGN.md section 7; the paper's Figures 8-12): the asset in view as a
+// The Viewport dock (docs/architecture.md section 7; the paper's Figures 8-12): the asset in view as a
 // skinned character (or bone capsules for a motion without mesh), original and simplified
 // side by side or the original as a ghost over the simplified, the skeleton overlay with the
 // joints frozen at the current frame highlighted and joint picking, a motion played on the

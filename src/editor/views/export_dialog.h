@@ -1,5 +1,5 @@
 #pragma once
-// File > Export… (Ctrl+E; DESIGN.md sections 7 and 8): the project's character through an
+// File > Export… (Ctrl+E; docs/architecture.md sections 7 and 8): the project's character through an
 // exporter plugin. The plugin combo lists what the host loaded; the options form is built
 // from the plugin's options as data (tooltips from their help); the output path's file
 // picker filters by the plugin's suffixes; the levels to include are ticked. The LodPackage

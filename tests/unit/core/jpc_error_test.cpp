@@ -1,4 +1,4 @@
-// The JPC error metric, eqs. (1)-(6) as DESIGN.md section 4 defines them.
+// The JPC error metric, eqs. (1)-(6) as docs/architecture.md section 4 defines them.
 
 #include "core/jpc/posture_error.h"
 #include "unit/core/jpc_fixtures.h"

@@ -1,4 +1,4 @@
-// Properties of JPC on real motion (DESIGN.md section 4): the error bound holds for every
+// Properties of JPC on real motion (docs/architecture.md section 4): the error bound holds for every
 // clustered frame, clusters are well formed, T = 0 clusters only bit-identical postures,
 // optimal covers at least what greedy does and never less as T rises, alpha = 0 ignores
 // a pure twist, locked joints stay whole, results do not depend on the thread count.
@@ -98,7 +98,7 @@ TEST(JpcProperties, BoundShapeAndMetricsOnRealData) {
   }
 }
 
-// Guards DESIGN.md's remark that CMU clips have joints that never move: at T = 0 they
+// Guards docs/architecture.md's remark that CMU clips have joints that never move: at T = 0 they
 // cluster whole (LHipJoint, RHipJoint, fingers), about a fifth of all joint-frames.
 TEST(JpcProperties, StillJointsClusterAtZero) {
   const Asset& asset = test::realAsset("BVH/01_01.bvh");

@@ -1,5 +1,5 @@
 #pragma once
-// Brute-force references for JPC, straight from the definitions of DESIGN.md section 4,
+// Brute-force references for JPC, straight from the definitions of docs/architecture.md section 4,
 // for clips of a few hundred frames: the full n x n table (test-only, never in core),
 // STEPs 1-6 as written, and an O(n^3) optimal partition. They call the same scalar error
 // kernel (JointTrack::error) as the banded code, so results must agree exactly.

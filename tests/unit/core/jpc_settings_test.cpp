@@ -133,7 +133,7 @@ TEST(JpcSettings, ClusterSetValidation) {
   EXPECT_TRUE(set.validate()); // past the end
 }
 
-// Guards the JSON contract of DESIGN.md section 6: the key names, exactly.
+// Guards the JSON contract of docs/architecture.md section 6: the key names, exactly.
 TEST(JpcSettings, ReportJsonKeys) {
   const Chain chain;
   Result<std::vector<JpcLevelResult>> levels =

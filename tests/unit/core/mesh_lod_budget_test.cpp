@@ -1,4 +1,4 @@
-// One error budget (DESIGN.md section 5): deviations in cm against pixels on screen, and LOD
+// One error budget (docs/architecture.md section 5): deviations in cm against pixels on screen, and LOD
 // sets generated from a pixel budget, checked by projecting the original and every level
 // through a pinhole camera at the level's switch distance.
 

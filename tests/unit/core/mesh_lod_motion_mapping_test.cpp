@@ -1,4 +1,4 @@
-// MotionMapping (DESIGN.md section 3; Ahn & Wohn, section 3.1): rig-convention name matching,
+// MotionMapping (docs/architecture.md section 3; Ahn & Wohn, section 3.1): rig-convention name matching,
 // the editable table, the committed CMU 01_01 -> BCN_Epileptic mapping and the motion played
 // on the character through rest-pose difference matrices.
 

@@ -35,7 +35,7 @@ struct OrderCase {
 
 class BvhChannelOrder : public ::testing::TestWithParam<OrderCase> {};
 
-// Guards DESIGN.md section 4: Euler channels compose in the order listed, intrinsic, so
+// Guards docs/architecture.md section 4: Euler channels compose in the order listed, intrinsic, so
 // "Zrotation Yrotation Xrotation" with values (30, 20, 10) is qz(30) * qy(20) * qx(10).
 TEST_P(BvhChannelOrder, ComposesInListedOrder) {
   const OrderCase& c = GetParam();

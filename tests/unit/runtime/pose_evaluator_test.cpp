@@ -152,7 +152,7 @@ float expectPlainKinematics(const Skeleton& skeleton, const Clip& reference, con
   return worst;
 }
 
-// Guards the central equivalence (DESIGN.md section 5): without blending, at every frame
+// Guards the central equivalence (docs/architecture.md section 5): without blending, at every frame
 // and at every threshold, the evaluator is forward kinematics of M'(t), folding on or off;
 // and so is the palette of palette-only runs, where frozen chains really fold.
 TEST(PoseEvaluator, EveryFrameEqualsKinematicsOfSimplifiedMotion) {
@@ -337,7 +337,7 @@ std::vector<std::uint8_t> blendWindows(const Skeleton& skeleton, const ClusterSe
 
 float distance(const glm::mat4& a, const glm::mat4& b) { return glm::length(glm::vec3(a[3]) - glm::vec3(b[3])); }
 
-// Guards unfreeze blending (DESIGN.md section 5): equal to M'(t) outside blend windows;
+// Guards unfreeze blending (docs/architecture.md section 5): equal to M'(t) outside blend windows;
 // inside them every joint within the level's joint-position fidelity of M'(t); and no
 // joint jumping between consecutive frames by more than the original motion does plus
 // that figure. At the bench's step (1/60 s on a 120 fps clip) and at every frame.

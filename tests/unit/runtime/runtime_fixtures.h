@@ -23,7 +23,7 @@
 
 namespace mlod::test {
 
-inline constexpr double kCmuUnitScale = 5.6444; // cm per BVH unit (DESIGN.md: CMU preset)
+inline constexpr double kCmuUnitScale = 5.6444; // cm per BVH unit (docs/architecture.md: CMU preset)
 
 // A real file, imported once (BVH at the CMU unit, everything else at its own).
 inline const Asset& runtimeAsset(const std::string& relative) {
