@@ -37,8 +37,6 @@ void BenchCrowdCommand::attach(CLI::App& app) {
   command->add_option("--repetitions", repetitions, "timed repetitions of each side (default 5; median)")
       ->check(CLI::Range(1, 1000));
   command->add_flag("--palette-only", paletteOnly, "write the skinning palette only, no model matrices");
-  command->add_flag("--no-folding", noFolding,
-                    "with --palette-only: compute frozen joints from their parents instead of folding frozen chains");
   command->add_option("--only", only, "full or lod: run one side only, no warm-up (for callgrind)")
       ->check(CLI::IsMember({"full", "lod"}));
   command->add_flag("--json", json, "print one JSON document on stdout");
@@ -72,7 +70,6 @@ struct Side {
   std::vector<double> poseSeconds;
   std::vector<double> skinSeconds;
   std::int64_t sampled = 0;  // joints evaluated in the last repetition
-  std::int64_t rebuilds = 0; // plan rebuilds in the last repetition
 };
 
 struct SkinTask {
@@ -179,7 +176,7 @@ int BenchCrowdCommand::run() const {
   const auto repetition = [&](Side& side, bool record) {
     side.context.reset();
     double pose = 0.0, skin = 0.0;
-    std::int64_t sampled = 0, rebuilds = 0;
+    std::int64_t sampled = 0;
     for (int frame = 0; frame < frames; ++frame) {
       for (std::size_t c = 0; c < n; ++c)
         times[c] = starts[c] + frame / 60.0;
@@ -189,7 +186,6 @@ int BenchCrowdCommand::run() const {
       job.clips = side.clips;
       job.times = times;
       job.blendFrames = blendFrames;
-      job.folding = !noFolding;
       job.pool = &pool;
       job.context = &side.context;
       job.out_models = models;
@@ -211,13 +207,11 @@ int BenchCrowdCommand::run() const {
       pose += std::chrono::duration<double>(posed - start).count();
       skin += std::chrono::duration<double>(done - posed).count();
       sampled += side.context.jointsSampled();
-      rebuilds += side.context.planRebuilds();
     }
     if (record) {
       side.poseSeconds.push_back(pose);
       side.skinSeconds.push_back(skin);
       side.sampled = sampled;
-      side.rebuilds = rebuilds;
     }
   };
   const bool runFull = only.empty() || only == "full";
@@ -250,7 +244,6 @@ int BenchCrowdCommand::run() const {
     out["char_frames_per_second"] = seconds > 0.0 ? charFrames / seconds : 0.0;
     out["ns_per_character_frame"] = 1e9 * seconds / charFrames;
     out["joints_evaluated_per_character_frame"] = static_cast<double>(side.sampled) / charFrames;
-    out["plan_rebuilds_per_character_frame"] = static_cast<double>(side.rebuilds) / charFrames;
     out["repetition_seconds"] = side.poseSeconds;
     return out;
   };
@@ -264,7 +257,6 @@ int BenchCrowdCommand::run() const {
   doc["threads"] = threads;
   doc["blend_frames"] = blendFrames;
   doc["outputs"] = paletteOnly ? "palette" : "models+palette";
-  doc["folding"] = !noFolding && paletteOnly; // folding applies to palette-only jobs
   doc["repetitions"] = repetitions;
   doc["joints"] = joints;
   doc["animated_joints"] = animated;
@@ -308,14 +300,13 @@ int BenchCrowdCommand::run() const {
   std::printf("LOD:        E = %g (alpha %g): %.1f%% joint-frames simplified, joint position error up to %.3f cm\n",
               threshold, alpha, level.simplifiedPercent, level.maxJointPositionErrorCm);
   std::printf("median of %d repetitions, alternating full and LOD:\n", repetitions);
-  std::printf("  %-6s %12s %18s %16s %14s\n", "", "seconds", "ns/character-frame", "joints sampled/cf",
-              "rebuilds/cf");
+  std::printf("  %-6s %12s %18s %16s\n", "", "seconds", "ns/character-frame", "joints sampled/cf");
   for (const Side& side : sides) {
     if ((&side == &sides[0] && !runFull) || (&side == &sides[1] && !runLod))
       continue;
     const double seconds = median(side.poseSeconds);
-    std::printf("  %-6s %12.6f %18.1f %16.2f %14.3f\n", side.name, seconds, 1e9 * seconds / charFrames,
-                static_cast<double>(side.sampled) / charFrames, static_cast<double>(side.rebuilds) / charFrames);
+    std::printf("  %-6s %12.6f %18.1f %16.2f\n", side.name, seconds, 1e9 * seconds / charFrames,
+                static_cast<double>(side.sampled) / charFrames);
   }
   if (runFull && runLod)
     std::printf("  speedup (pose): %.3fx\n", fullSeconds / lodSeconds);

@@ -26,7 +26,6 @@ struct BenchCrowdCommand {
   int blendFrames = 4;     // unfreeze blending, frames (0 = off)
   int repetitions = 5;     // of each of full and LOD, after one warm-up of each
   bool paletteOnly = false;
-  bool noFolding = false;  // palette-only: compute every frozen joint from its parent instead of folding
   std::string only;        // "", "full" or "lod": run one side only (for callgrind)
   bool json = false;
   ImportArguments import;

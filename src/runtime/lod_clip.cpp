@@ -160,6 +160,7 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
       clip.m_rotations.push_back(key);
       clip.m_rotations.push_back(key);
       out.local = static_cast<std::int32_t>(clip.m_locals.size());
+      out.joint = static_cast<std::int32_t>(j);
       clip.m_locals.push_back(toMatrix(Transform{translations[0], key, scales[0]}));
       clip.m_clusters.push_back(out);
     }
@@ -226,26 +227,7 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   clip.m_segmentBegin[joints] = static_cast<std::uint32_t>(clip.m_segments.size());
   clip.m_clusterBegin[joints] = static_cast<std::uint32_t>(clip.m_clusters.size());
 
-  // per frame, the joints whose segment starts there and those whose cluster ends there
-  // (counting sort by frame; joints stay in order within a frame)
-  clip.m_startBegin.assign(frames + 1, 0);
-  clip.m_endBegin.assign(frames + 1, 0);
-  for (const bool ends : {false, true}) {
-    std::vector<std::uint32_t>& begin = ends ? clip.m_endBegin : clip.m_startBegin;
-    std::vector<std::int16_t>& list = ends ? clip.m_ends : clip.m_starts;
-    const auto forEach = [&](auto&& visit) {
-      for (std::size_t j = 0; j < joints; ++j)
-        for (const Segment& segment : clip.segments(static_cast<int>(j)))
-          if (segment.first > 0 && (!ends || (segment.cluster < 0 && segment.previous >= 0)))
-            visit(static_cast<std::size_t>(segment.first), static_cast<std::int16_t>(j));
-    };
-    forEach([&](std::size_t frame, std::int16_t) { ++begin[frame + 1]; });
-    for (std::size_t f = 0; f < frames; ++f)
-      begin[f + 1] += begin[f];
-    list.resize(begin[frames]);
-    std::vector<std::uint32_t> at(begin.begin(), begin.end() - 1);
-    forEach([&](std::size_t frame, std::int16_t joint) { list[at[frame]++] = joint; });
-  }
+  buildPlans(clip);
   return clip;
 }
 
@@ -256,8 +238,106 @@ std::size_t LodClip::byteSize() const {
          m_scaleTrack.size() * sizeof(std::int32_t) + m_tracks.size() * sizeof(glm::vec3) +
          m_segmentBegin.size() * sizeof(std::uint32_t) + m_segments.size() * sizeof(Segment) +
          m_clusterBegin.size() * sizeof(std::uint32_t) + m_clusters.size() * sizeof(Cluster) +
-         m_rotations.size() * sizeof(glm::quat) + (m_startBegin.size() + m_endBegin.size()) * sizeof(std::uint32_t) +
-         (m_starts.size() + m_ends.size()) * sizeof(std::int16_t);
+         m_rotations.size() * sizeof(glm::quat) + m_pairs.size() * sizeof(glm::vec3) +
+         m_constantLocals.size() * sizeof(float) + planByteSize() + m_endBegin.size() * sizeof(std::uint32_t) +
+         m_ends.size() * sizeof(std::int32_t);
+}
+
+std::size_t LodClip::planByteSize() const {
+  return m_planBegin.size() * sizeof(std::uint32_t) + m_planSamples.size() * sizeof(PlanSample) +
+         m_planLocals.size() * sizeof(std::uint32_t);
+}
+
+void LodClip::buildPlans(LodClip& clip) {
+  const std::size_t joints = static_cast<std::size_t>(clip.m_jointCount);
+  const std::size_t frames = static_cast<std::size_t>(clip.m_frameCount);
+  const std::int32_t planFrames = std::max(clip.m_frameCount - 1, 1);
+  // translations and scales as (base, step): value at i0 = pairs[base + step * i0], the next follows
+  std::vector<std::int32_t> translationBase(joints), translationStep(joints), scaleBase(joints), scaleStep(joints);
+  clip.m_pairs.clear();
+  const auto channel = [&](const glm::vec3* track, const glm::vec3& value, std::int32_t& base, std::int32_t& step) {
+    base = static_cast<std::int32_t>(clip.m_pairs.size());
+    if (track) {
+      clip.m_pairs.insert(clip.m_pairs.end(), track, track + frames);
+      clip.m_pairs.push_back(track[frames - 1]); // i0 + 1 of a one-frame clip
+      step = 1;
+    } else {
+      clip.m_pairs.push_back(value);
+      clip.m_pairs.push_back(value);
+      step = 0;
+    }
+  };
+  clip.m_scaled = false;
+  for (std::size_t j = 0; j < joints; ++j) {
+    const int joint = static_cast<int>(j);
+    channel(clip.translationTrack(joint), clip.m_staticTranslation[j], translationBase[j], translationStep[j]);
+    channel(clip.scaleTrack(joint), clip.m_staticScale[j], scaleBase[j], scaleStep[j]);
+    clip.m_scaled = clip.m_scaled || (clip.m_flags[j] & kScaled);
+  }
+
+  // every constant local matrix in lane layout
+  const std::size_t constants = clip.m_locals.size();
+  clip.m_constantLocals.assign(((constants + kLanes - 1) / kLanes) * kLanes * kLocalArrays, 0.0f);
+  for (std::size_t m = 0; m < constants; ++m) {
+    const glm::mat4& local = clip.m_locals[m];
+    float* lane = clip.m_constantLocals.data() + laneOffset(static_cast<std::uint32_t>(m));
+    const float values[kLocalArrays] = {local[0][0], local[0][1], local[0][2], local[1][0], local[1][1], local[1][2],
+                                        local[2][0], local[2][1], local[2][2], local[3][0], local[3][1], local[3][2]};
+    for (int e = 0; e < kLocalArrays; ++e)
+      lane[kLanes * e] = values[e];
+  }
+
+  // the plan of every frame i0: each joint's segment, walked forward
+  clip.m_planBegin.assign(static_cast<std::size_t>(planFrames) + 1, 0);
+  clip.m_planSamples.clear();
+  clip.m_planLocals.assign(static_cast<std::size_t>(planFrames) * joints, 0);
+  std::vector<std::size_t> cursor(joints, 0);
+  for (std::int32_t i0 = 0; i0 < planFrames; ++i0) {
+    clip.m_planBegin[static_cast<std::size_t>(i0)] = static_cast<std::uint32_t>(clip.m_planSamples.size());
+    std::uint32_t* locals = &clip.m_planLocals[static_cast<std::size_t>(i0) * joints];
+    std::uint32_t slot = 0;
+    for (std::size_t j = 0; j < joints; ++j) {
+      const std::uint8_t flags = clip.m_flags[j];
+      std::int32_t rotation = clip.m_staticPair[j];
+      std::int32_t local = static_cast<std::int32_t>(j);
+      bool frozen = true;
+      if (flags & kRotationAnimated) {
+        const std::span<const Segment> list = clip.segments(static_cast<int>(j));
+        while (cursor[j] + 1 < list.size() && list[cursor[j] + 1].first <= i0)
+          ++cursor[j];
+        const Segment& segment = list[cursor[j]];
+        rotation = segment.base + segment.step * i0;
+        local = segment.local;
+        frozen = segment.cluster >= 0;
+      }
+      if (frozen && !(flags & (kTranslationAnimated | kScaleAnimated))) {
+        locals[j] = laneOffset(static_cast<std::uint32_t>(local));
+        continue;
+      }
+      PlanSample sample;
+      sample.rotation = rotation;
+      sample.translation = translationBase[j] + translationStep[j] * i0;
+      sample.scale = scaleBase[j] + scaleStep[j] * i0;
+      clip.m_planSamples.push_back(sample);
+      locals[j] = kPlanSlot | laneOffset(slot++);
+    }
+  }
+  clip.m_planBegin[static_cast<std::size_t>(planFrames)] = static_cast<std::uint32_t>(clip.m_planSamples.size());
+
+  // per frame, the clusters that end there before the clip's end (counting sort by frame;
+  // joint order within a frame)
+  clip.m_endBegin.assign(frames + 1, 0);
+  const auto forEachEnd = [&](auto&& visit) {
+    for (std::size_t c = 0; c < clip.m_clusters.size(); ++c)
+      if (clip.m_clusters[c].last < clip.m_frameCount - 1)
+        visit(static_cast<std::size_t>(clip.m_clusters[c].last), static_cast<std::int32_t>(c));
+  };
+  forEachEnd([&](std::size_t frame, std::int32_t) { ++clip.m_endBegin[frame + 1]; });
+  for (std::size_t f = 0; f < frames; ++f)
+    clip.m_endBegin[f + 1] += clip.m_endBegin[f];
+  clip.m_ends.resize(clip.m_endBegin[frames]);
+  std::vector<std::uint32_t> at(clip.m_endBegin.begin(), clip.m_endBegin.end() - 1);
+  forEachEnd([&](std::size_t frame, std::int32_t cluster) { clip.m_ends[at[frame]++] = cluster; });
 }
 
 double LodClip::wrapped(double g, std::int64_t* out_loop) const {

@@ -94,7 +94,35 @@ public:
     glm::quat lastRotation{1.0f, 0.0f, 0.0f, 0.0f}; // q(last), the original rotation, sign-aligned with R(last + 1)
     glm::quat exitOffset{1.0f, 0.0f, 0.0f, 0.0f};   // D = key * q(last)^-1, w >= 0; identity at the clip's end
     std::int32_t local = 0; // locals()[local]: the key posture's local matrix (static translation and scale)
+    std::int32_t joint = 0; // the joint it belongs to
   };
+  // One joint the evaluator samples at a frame i0 (see plan()): indices of its values at i0
+  // in rotations(), pairs() and pairs(); the values at i0 + 1 follow each.
+  struct PlanSample {
+    std::int32_t rotation = 0;
+    std::int32_t translation = 0;
+    std::int32_t scale = 0;
+  };
+  // What the evaluator reads at frame i0, the same for every character playing the clip
+  // (docs/architecture.md section 5: precomputed per clip frame, nothing rebuilt per
+  // character). `samples`: the joints sampled at i0 (rotation animated outside a cluster, or
+  // translation or scale animated), in joint order; sampled joint k is "slot" k.
+  // `locals`: per joint, where its local matrix is read, as a lane offset (laneOffset()):
+  // kPlanSlot | laneOffset(k) for slot k, else laneOffset(m) of constantLocals()' matrix m
+  // (its static local matrix, or the key posture of the cluster it is frozen in).
+  struct Plan {
+    std::span<const PlanSample> samples;
+    const std::uint32_t* locals = nullptr; // jointCount() entries
+  };
+  static constexpr std::uint32_t kPlanSlot = 0x80000000u;
+  // Local matrices in lane layout: blocks of kLanes matrices, each block kLocalArrays arrays
+  // of kLanes floats: the 3x3 rotation-scale part column by column (m00 m01 m02 m10 ... m22),
+  // then the translation x y z. Element e of matrix i is at laneOffset(i) + kLanes * e.
+  static constexpr int kLanes = 8;
+  static constexpr int kLocalArrays = 12;
+  static constexpr std::uint32_t laneOffset(std::uint32_t i) {
+    return (i / kLanes) * (kLanes * kLocalArrays) + i % kLanes;
+  }
   enum JointFlags : std::uint8_t {
     kRotationAnimated = 1,
     kTranslationAnimated = 2,
@@ -166,20 +194,32 @@ public:
     return {m_clusters.data() + m_clusterBegin[j], m_clusterBegin[j + 1] - m_clusterBegin[j]};
   }
   std::span<const glm::quat> rotations() const { return m_rotations; }
+  // Translation and scale values the plans index: every animated track, and for each static
+  // channel two copies of its value.
+  std::span<const glm::vec3> pairs() const { return m_pairs; }
+  // Every joint's rest local matrix (index = joint) and every cluster's key local matrix,
+  // in lane layout (laneOffset()); the float array the plans' constant offsets index.
+  const float* constantLocals() const { return m_constantLocals.data(); }
+  // A scale other than 1 somewhere in the clip (else the evaluator skips scales).
+  bool scaled() const { return m_scaled; }
   // Index of the segment of `joint` that holds frame i0 (binary search).
   int findSegment(int joint, int i0) const;
-  // The joints whose rotation is read differently from frame i0 = `frame` on (a segment of
-  // theirs starts there), in joint order; what a character stepping forward re-reads.
-  std::span<const std::int16_t> segmentStarts(int frame) const {
-    const std::size_t f = static_cast<std::size_t>(frame);
-    return {m_starts.data() + m_startBegin[f], m_startBegin[f + 1] - m_startBegin[f]};
+  // The plan of frame i0 in [0, planFrames()), planFrames() = max(frameCount - 1, 1).
+  int planFrames() const { return static_cast<int>(m_planBegin.size()) - 1; }
+  Plan plan(int i0) const {
+    const std::size_t f = static_cast<std::size_t>(i0);
+    return {{m_planSamples.data() + m_planBegin[f], m_planBegin[f + 1] - m_planBegin[f]},
+            m_planLocals.data() + f * static_cast<std::size_t>(m_jointCount)};
   }
-  // The joints one of whose clusters ends at `frame` before the clip's end (an unfreeze
-  // window opens there), in joint order.
-  std::span<const std::int16_t> clusterEnds(int frame) const {
+  // Bytes of the plans (included in byteSize()).
+  std::size_t planByteSize() const;
+  // The clusters (indices into allClusters()) that end at `frame` before the clip's end (an
+  // unfreeze window opens there), in joint order.
+  std::span<const std::int32_t> clusterEnds(int frame) const {
     const std::size_t f = static_cast<std::size_t>(frame);
     return {m_ends.data() + m_endBegin[f], m_endBegin[f + 1] - m_endBegin[f]};
   }
+  std::span<const Cluster> allClusters() const { return m_clusters; }
   // i0 (the frame at or before the frame position, at most frameCount - 2) and the
   // fraction past it.
   void split(double frame, std::int32_t& out_i0, float& out_fraction) const {
@@ -192,6 +232,9 @@ public:
   }
 
 private:
+  // The per-frame plans, pairs, constant locals in lane layout and cluster ends of a clip
+  // whose tracks, segments and clusters are built.
+  static void buildPlans(LodClip& clip);
   // Linear interpolation of a per-frame track at a fractional frame.
   glm::vec3 interpolate(const glm::vec3* track, double frame) const;
   double wrapped(double g, std::int64_t* out_loop) const;
@@ -213,10 +256,14 @@ private:
   std::vector<std::uint32_t> m_clusterBegin; // jointCount + 1
   std::vector<Cluster> m_clusters;
   std::vector<glm::quat> m_rotations;
-  std::vector<std::uint32_t> m_startBegin; // frameCount + 1
-  std::vector<std::int16_t> m_starts;
+  bool m_scaled = false;
+  std::vector<glm::vec3> m_pairs;
+  std::vector<float> m_constantLocals;
+  std::vector<std::uint32_t> m_planBegin; // planFrames() + 1
+  std::vector<PlanSample> m_planSamples;
+  std::vector<std::uint32_t> m_planLocals; // planFrames() x jointCount
   std::vector<std::uint32_t> m_endBegin; // frameCount + 1
-  std::vector<std::int16_t> m_ends;
+  std::vector<std::int32_t> m_ends;
 };
 
 // nlerp(identity, offset, weight): the offset scaled down to `weight` in [0, 1] (offset.w >= 0).

@@ -1,15 +1,13 @@
-// The crowd pose evaluator: per character a *plan* (which joints are active, where their
-// rotations are read, the folded matrices of frozen chains) that holds for a range of
-// frames, rebuilt incrementally when a joint's cluster starts or ends; per frame, the
-// active joints are sampled structure-of-arrays and the hierarchy is walked once.
+// The crowd pose evaluator: per character, the clip's plan of its frame (shared by every
+// character playing the clip) says which joints to sample and where every other joint's
+// local matrix lies; the sampled joints are computed 8 at once (structure of arrays), the
+// few that blend get their offsets first, and the hierarchy is walked once.
 #include "runtime/pose_evaluator.h"
 
-#include <glm/gtc/type_ptr.hpp>
-
 #include <algorithm>
-#include <climits>
 #include <cmath>
 #include <cstring>
+#include <glm/gtc/type_ptr.hpp>
 
 // The hot path is also compiled for x86-64-v3 (AVX2, FMA) and picked at load time.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(MLOD_NO_TARGET_CLONES)
@@ -22,32 +20,20 @@ namespace mlod {
 
 namespace {
 
-// The active joints' sampling buffers, in blocks of 8 joints (array-of-structures-of-arrays):
-// value `array` of active slot k is at [(k / 8) * kBlockFloats + array * 8 + k % 8], so that
-// a block computes 8 joints at once and the hierarchy reads a joint's values at constant
-// offsets from one pointer.
-enum SoaArray {
-  kAx, kAy, kAz, kAw, // rotation at the frame before
-  kBx, kBy, kBz, kBw, // rotation at the frame after
-  kQx, kQy, kQz, kQw, // the interpolated rotation
-  kM00, kM01, kM02, kM10, kM11, kM12, kM20, kM21, kM22, // local rotation x scale, columns
-  kSx, kSy, kSz,       // local scale
-  kSoaArrays
-};
-constexpr int kLanes = 8;
-constexpr std::size_t kBlockFloats = kSoaArrays * kLanes;
+constexpr int kLanes = LodClip::kLanes;
+constexpr std::size_t kLocalBlock = static_cast<std::size_t>(kLanes) * LodClip::kLocalArrays;
+// Arrays of a local matrix in lane layout (LodClip::laneOffset()).
+enum LocalArray { kM00, kM01, kM02, kM10, kM11, kM12, kM20, kM21, kM22, kTx, kTy, kTz };
+// The sampled joints' inputs, blocks of 8 lanes (slot k at sampleOffset(k)): the rotations
+// at i0 (A) and i0 + 1 (B), and the lerped scale.
+enum SampleArray { kAx, kAy, kAz, kAw, kBx, kBy, kBz, kBw, kSx, kSy, kSz, kSampleArrays };
+constexpr std::size_t kSampleBlock = static_cast<std::size_t>(kLanes) * kSampleArrays;
 
-// Joint status in a plan: bit 0 = active (its local matrix is computed this frame);
-// constant joints (frozen or static) take a precomputed local matrix.
-constexpr std::uint8_t kActive = 1;
-constexpr std::uint8_t kBlend = 2; // its rotation gets blend offsets (implies active)
-constexpr std::uint8_t kLevel = 8; // a level-change offset applies
-constexpr std::uint8_t kWrap = 16; // a loop-wrap offset applies
+// The sample lane of the slot whose local lane offset is `localOffset`.
+inline std::size_t sampleOffset(std::uint32_t localOffset) {
+  return (localOffset / kLocalBlock) * kSampleBlock + localOffset % kLocalBlock;
+}
 
-constexpr std::uint8_t kAnimatedTranslationOrScale = LodClip::kTranslationAnimated | LodClip::kScaleAnimated;
-
-// 4 floats in a vector register (GCC and clang vector extensions: SSE on x86-64, AVX/FMA in
-// the x86-64-v3 clone).
 typedef float v4 __attribute__((vector_size(16)));
 
 inline v4 load4(const float* p) {
@@ -55,10 +41,19 @@ inline v4 load4(const float* p) {
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-inline void store4(float* p, v4 v) { std::memcpy(p, &v, sizeof v); }
+inline void store4(float* p, v4 v) {
+  std::memcpy(p, &v, sizeof v);
+}
+// out = a x L for an affine 4x4 matrix a (column-major) and a local matrix L in lane layout.
+inline void mulLane(const float* __restrict a, const float* __restrict l, float* __restrict out) {
+  const v4 a0 = load4(a), a1 = load4(a + 4), a2 = load4(a + 8), a3 = load4(a + 12);
+  store4(out, a0 * l[kM00 * kLanes] + a1 * l[kM01 * kLanes] + a2 * l[kM02 * kLanes]);
+  store4(out + 4, a0 * l[kM10 * kLanes] + a1 * l[kM11 * kLanes] + a2 * l[kM12 * kLanes]);
+  store4(out + 8, a0 * l[kM20 * kLanes] + a1 * l[kM21 * kLanes] + a2 * l[kM22 * kLanes]);
+  store4(out + 12, a0 * l[kTx * kLanes] + a1 * l[kTy * kLanes] + a2 * l[kTz * kLanes] + a3);
+}
 
 // out = a x b for affine 4x4 matrices (column-major, bottom row 0 0 0 1; b's is not read).
-// out must not alias a or b.
 inline void mulAffine(const float* __restrict a, const float* __restrict b, float* __restrict out) {
   const v4 a0 = load4(a), a1 = load4(a + 4), a2 = load4(a + 8), a3 = load4(a + 12);
   store4(out, a0 * b[0] + a1 * b[1] + a2 * b[2]);
@@ -67,36 +62,34 @@ inline void mulAffine(const float* __restrict a, const float* __restrict b, floa
   store4(out + 12, a0 * b[12] + a1 * b[13] + a2 * b[14] + a3);
 }
 
-// Lerp of a block's 8 rotation pairs (stored rotations are sign-aligned: no sign test). Not
-// normalised: matrixBlock() divides by the squared length, so that blend offsets can be
-// composed as plain products.
-inline void lerpBlock(float* __restrict b, float fraction) {
-  for (int l = 0; l < kLanes; ++l) {
-    b[kQx * kLanes + l] = b[kAx * kLanes + l] + (b[kBx * kLanes + l] - b[kAx * kLanes + l]) * fraction;
-    b[kQy * kLanes + l] = b[kAy * kLanes + l] + (b[kBy * kLanes + l] - b[kAy * kLanes + l]) * fraction;
-    b[kQz * kLanes + l] = b[kAz * kLanes + l] + (b[kBz * kLanes + l] - b[kAz * kLanes + l]) * fraction;
-    b[kQw * kLanes + l] = b[kAw * kLanes + l] + (b[kBw * kLanes + l] - b[kAw * kLanes + l]) * fraction;
-  }
-}
-
-// Rotation matrices of a block's 8 quaternions, of any non-zero length (glm::mat3_cast of
-// the normalised quaternion: 2 becomes 2 / |q|^2), columns scaled.
-inline void matrixBlock(float* __restrict b) {
-  for (int l = 0; l < kLanes; ++l) {
-    const float x = b[kQx * kLanes + l], y = b[kQy * kLanes + l], z = b[kQz * kLanes + l], w = b[kQw * kLanes + l];
+// Local rotation-scale matrices of a block's 8 slots: the rotations lerped (stored
+// rotations are sign-aligned: no sign test) and turned into matrices without normalising
+// first (glm::mat3_cast of the normalised quaternion: 2 becomes 2 / |q|^2), so that blend
+// offsets multiplied into A and B need no normalisation of their own.
+template <bool Scaled> inline void matrixBlock(const float* __restrict s, float* __restrict l, float fraction) {
+  for (int i = 0; i < kLanes; ++i) {
+    const float ax = s[kAx * kLanes + i], ay = s[kAy * kLanes + i], az = s[kAz * kLanes + i], aw = s[kAw * kLanes + i];
+    const float x = ax + (s[kBx * kLanes + i] - ax) * fraction, y = ay + (s[kBy * kLanes + i] - ay) * fraction,
+                z = az + (s[kBz * kLanes + i] - az) * fraction, w = aw + (s[kBw * kLanes + i] - aw) * fraction;
     const float two = 2.0f / (x * x + y * y + z * z + w * w);
-    const float xx = x * x * two, yy = y * y * two, zz = z * z * two, xy = x * y * two, xz = x * z * two,
-                yz = y * z * two, wx = w * x * two, wy = w * y * two, wz = w * z * two;
-    const float sx = b[kSx * kLanes + l], sy = b[kSy * kLanes + l], sz = b[kSz * kLanes + l];
-    b[kM00 * kLanes + l] = (1.0f - (yy + zz)) * sx;
-    b[kM01 * kLanes + l] = (xy + wz) * sx;
-    b[kM02 * kLanes + l] = (xz - wy) * sx;
-    b[kM10 * kLanes + l] = (xy - wz) * sy;
-    b[kM11 * kLanes + l] = (1.0f - (xx + zz)) * sy;
-    b[kM12 * kLanes + l] = (yz + wx) * sy;
-    b[kM20 * kLanes + l] = (xz + wy) * sz;
-    b[kM21 * kLanes + l] = (yz - wx) * sz;
-    b[kM22 * kLanes + l] = (1.0f - (xx + yy)) * sz;
+    const float xt = x * two, yt = y * two, zt = z * two;
+    const float xx = x * xt, yy = y * yt, zz = z * zt, xy = x * yt, xz = x * zt, yz = y * zt, wx = w * xt, wy = w * yt,
+                wz = w * zt;
+    float sx = 1.0f, sy = 1.0f, sz = 1.0f;
+    if constexpr (Scaled) {
+      sx = s[kSx * kLanes + i];
+      sy = s[kSy * kLanes + i];
+      sz = s[kSz * kLanes + i];
+    }
+    l[kM00 * kLanes + i] = (1.0f - (yy + zz)) * sx;
+    l[kM01 * kLanes + i] = (xy + wz) * sx;
+    l[kM02 * kLanes + i] = (xz - wy) * sx;
+    l[kM10 * kLanes + i] = (xy - wz) * sy;
+    l[kM11 * kLanes + i] = (1.0f - (xx + zz)) * sy;
+    l[kM12 * kLanes + i] = (yz + wx) * sy;
+    l[kM20 * kLanes + i] = (xz + wy) * sz;
+    l[kM21 * kLanes + i] = (yz - wx) * sz;
+    l[kM22 * kLanes + i] = (1.0f - (xx + yy)) * sz;
   }
 }
 
@@ -105,10 +98,14 @@ inline glm::quat lerpOffset(const glm::quat& offset, float weight) {
   return glm::quat(1.0f - weight + weight * offset.w, weight * offset.x, weight * offset.y, weight * offset.z);
 }
 
-glm::quat positiveW(const glm::quat& q) { return q.w < 0.0f ? -q : q; }
+glm::quat positiveW(const glm::quat& q) {
+  return q.w < 0.0f ? -q : q;
+}
 
 // An offset below float resolution changes nothing: the joint need not blend.
-bool isIdentity(const glm::quat& q) { return std::abs(q.x) + std::abs(q.y) + std::abs(q.z) <= 1e-7f; }
+bool isIdentity(const glm::quat& q) {
+  return std::abs(q.x) + std::abs(q.y) + std::abs(q.z) <= 1e-7f;
+}
 
 // The rotation of `joint` that `clip` shows at `seconds` without level blending: M'
 // with its unfreeze blends and, in a wrap window, the wrap offset.
@@ -127,27 +124,13 @@ glm::quat shownRotation(const LodClip& clip, int joint, double seconds, int blen
   return q;
 }
 
-// Sets or clears bit j of a joint set.
-inline void assign(std::uint64_t* set, int j, bool value) {
-  const std::uint64_t bit = std::uint64_t{1} << (j & 63);
-  set[j >> 6] = value ? set[j >> 6] | bit : set[j >> 6] & ~bit;
-}
-// Calls visit(j) for every joint of the set, in order.
-template <typename Visit>
-inline void forEachJoint(const std::uint64_t* set, std::size_t words, Visit&& visit) {
-  for (std::size_t w = 0; w < words; ++w)
-    for (std::uint64_t bits = set[w]; bits; bits &= bits - 1)
-      visit(static_cast<int>(w * 64 + static_cast<std::size_t>(__builtin_ctzll(bits))));
-}
+const glm::mat4 kIdentity(1.0f);
+
 } // namespace
 
 struct PoseEvaluation {
   using State = PoseEvaluatorContext::CharacterState;
   using Scratch = PoseEvaluatorContext::Scratch;
-
-  // Frames a character may step forward and still re-read only the joints whose events lie
-  // in between; a longer jump (or any step back) re-reads every joint.
-  static constexpr std::int32_t kIncrementalFrames = 64;
 
   static void runRange(void* data, int begin, int end, int thread) {
     const PoseEvaluatorJob& job = *static_cast<const PoseEvaluatorJob*>(data);
@@ -156,50 +139,87 @@ struct PoseEvaluation {
       evaluate(job, c, scratch);
   }
 
+  // One character's blending joints, as it is being evaluated: its plan's local offsets
+  // (copied to scratch when a constant joint has to be sampled) and its slot count.
+  struct Blends {
+    const LodClip& clip;
+    Scratch& scratch;
+    const std::uint32_t* refs;
+    int slots;
+    std::int32_t i0;
+
+    // The sample lane of joint j, made a slot of its own (its constant rotation, static
+    // translation and scale) when the plan has it constant.
+    float* lane(int j) {
+      std::uint32_t ref = refs[j];
+      if (!(ref & LodClip::kPlanSlot)) {
+        if (refs != scratch.refs.data()) {
+          std::copy_n(refs, clip.jointCount(), scratch.refs.data());
+          refs = scratch.refs.data();
+        }
+        ref = LodClip::kPlanSlot | LodClip::laneOffset(static_cast<std::uint32_t>(slots++));
+        scratch.refs[static_cast<std::size_t>(j)] = ref;
+        glm::quat q = clip.rotations()[static_cast<std::size_t>(clip.staticRotationPair(j))];
+        if (clip.flags(j) & LodClip::kRotationAnimated) // frozen: its cluster's key
+          q = clip.rotations()[static_cast<std::size_t>(
+              clip.segments(j)[static_cast<std::size_t>(clip.findSegment(j, i0))].base)];
+        const std::uint32_t offset = ref & ~LodClip::kPlanSlot;
+        float* s = scratch.samples.data() + sampleOffset(offset);
+        s[kAx * kLanes] = s[kBx * kLanes] = q.x;
+        s[kAy * kLanes] = s[kBy * kLanes] = q.y;
+        s[kAz * kLanes] = s[kBz * kLanes] = q.z;
+        s[kAw * kLanes] = s[kBw * kLanes] = q.w;
+        const glm::vec3& scale = clip.staticScale(j);
+        s[kSx * kLanes] = scale.x;
+        s[kSy * kLanes] = scale.y;
+        s[kSz * kLanes] = scale.z;
+        float* l = scratch.locals.data() + offset;
+        const glm::vec3& translation = clip.staticTranslation(j);
+        l[kTx * kLanes] = translation.x;
+        l[kTy * kLanes] = translation.y;
+        l[kTz * kLanes] = translation.z;
+      }
+      return scratch.samples.data() + sampleOffset(ref & ~LodClip::kPlanSlot);
+    }
+
+    // Joint j's rotations A and B premultiplied by `offset` (unnormalised).
+    void apply(int j, const glm::quat& offset) {
+      float* s = lane(j);
+      for (const int at : {kAx, kBx}) {
+        const glm::quat q(s[(at + 3) * kLanes], s[at * kLanes], s[(at + 1) * kLanes], s[(at + 2) * kLanes]);
+        const glm::quat r = offset * q;
+        s[at * kLanes] = r.x;
+        s[(at + 1) * kLanes] = r.y;
+        s[(at + 2) * kLanes] = r.z;
+        s[(at + 3) * kLanes] = r.w;
+      }
+    }
+  };
+
   static void evaluate(const PoseEvaluatorJob& job, int c, Scratch& scratch) {
     PoseEvaluatorContext& ctx = *job.context;
     const LodClip& clip = *job.clips[static_cast<std::size_t>(c)];
     State& st = ctx.m_states[static_cast<std::size_t>(c)];
     const double t = job.times[static_cast<std::size_t>(c)];
-    std::int64_t loop = 0;
-    const double f = clip.framePosition(t, &loop);
-    std::int32_t i0 = 0;
-    float fraction = 0.0f;
-    clip.split(f, i0, fraction);
     const int blendFrames = job.blendFrames;
-    const bool models = !job.out_models.empty();
-
-    bool full = !st.planValid || st.folding != job.folding || st.models != models || st.blendFrames != blendFrames;
     if (st.clip != &clip) {
-      if (st.clip && st.planValid && blendFrames > 0 && st.blendFrames == blendFrames)
+      if (st.clip && blendFrames > 0 && st.blendFrames == blendFrames)
         startLevelBlend(job, c, t);
       else
         st.levelBlend = false;
       st.clip = &clip;
-      std::fill_n(ctx.m_cursor.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(c) * ctx.m_joints),
-                  ctx.m_joints, -1);
-      full = true;
     }
-    float levelWeight = 0.0f;
-    if (st.levelBlend) {
-      const double w = (t - st.levelStart) / st.levelSeconds;
-      if (w >= 0.0 && w < 1.0) {
-        levelWeight = static_cast<float>(1.0 - w);
-      } else {
-        st.levelBlend = false;
-        full = true;
-      }
-    }
-    const bool wrapWindow = blendFrames > 0 && clip.looping() && loop >= 1 && i0 < blendFrames;
-    if (wrapWindow != st.wrapWindow || (wrapWindow && loop != st.loop))
-      full = true;
-    st.loop = loop;
-    st.wrapWindow = wrapWindow;
-    full = full || i0 < st.i0 || i0 - st.i0 > kIncrementalFrames;
-    if (full || i0 != st.i0)
-      scratch.rebuilds += rebuild(job, c, i0, full, scratch) ? 1 : 0;
-    pose(job, c, f, i0, fraction, levelWeight, scratch);
-    scratch.sampled += st.activeCount;
+    st.blendFrames = blendFrames;
+    if (clip.scaled())
+      poseScaled(job, c, t, scratch);
+    else
+      poseUnscaled(job, c, t, scratch);
+  }
+  MLOD_RUNTIME_CLONES static void poseScaled(const PoseEvaluatorJob& job, int c, double t, Scratch& scratch) {
+    pose<true>(job, c, t, scratch);
+  }
+  MLOD_RUNTIME_CLONES static void poseUnscaled(const PoseEvaluatorJob& job, int c, double t, Scratch& scratch) {
+    pose<false>(job, c, t, scratch);
   }
 
   // The rotations shown before the switch, against the new clip's at the same time.
@@ -228,323 +248,128 @@ struct PoseEvaluation {
     st.levelSeconds = blendFrames / after.fps();
   }
 
-  // Re-reads joint j of character c at frame i0: its segment, unfreeze windows and blend
-  // offsets. Returns true when the joint toggled between active and constant, or now holds
-  // another constant local matrix. Written without branches on the joint's state where it
-  // can be: which joints have events differs from character to character, and a
-  // mispredicted branch costs as much as a matrix product.
-  static bool updateJoint(const PoseEvaluatorJob& job, const State& st, std::size_t i, int j, std::int32_t i0,
-                          bool full) {
-    PoseEvaluatorContext& ctx = *job.context;
-    const LodClip& clip = *st.clip;
-    const int blendFrames = job.blendFrames;
-    const std::uint8_t oldStatus = ctx.m_status[i];
-    const glm::mat4* oldLocal = ctx.m_constLocal[i];
-    const std::uint8_t flags = clip.flags(j);
-    std::int32_t rotationIndex = clip.staticRotationPair(j), rotationStep = 0, windowLatest = -1, windowCount = 0;
-    const glm::mat4* local = &clip.staticLocal(j);
-    bool frozen = true;
-    if (flags & LodClip::kRotationAnimated) {
-      const LodClip::Segment* segments = clip.segments(j).data();
-      int s = ctx.m_cursor[i];
-      if (s < 0) {
-        s = clip.findSegment(j, i0);
-      } else {
-        // usually the next segment; far jumps search
-        int steps = 0;
-        while (i0 > segments[s].last && ++steps < 4)
-          ++s;
-        if (i0 < segments[s].first || i0 > segments[s].last)
-          s = clip.findSegment(j, i0);
-      }
-      ctx.m_cursor[i] = s;
-      const LodClip::Segment& segment = segments[s];
-      rotationIndex = segment.base;
-      rotationStep = segment.step;
-      local = &clip.locals()[static_cast<std::size_t>(segment.local)];
-      frozen = segment.cluster >= 0;
-      if (blendFrames > 0) {
-        const LodClip::Cluster* clusters = clip.clusters(j).data();
-        for (int cc = segment.previous; cc >= 0 && clusters[cc].last + blendFrames > i0; --cc)
-          ++windowCount;
-        windowLatest = segment.previous;
-      }
-    }
-    const bool level = st.levelBlend && !isIdentity(ctx.m_levelOffset[i]);
-    const bool wrap = st.wrapWindow && !isIdentity(ctx.m_wrapOffset[i]);
-    const bool blend = (windowCount > 0) | level | wrap;
-    const bool constant = frozen & !(flags & kAnimatedTranslationOrScale) & !blend;
-    const std::uint8_t status = static_cast<std::uint8_t>((constant ? 0 : kActive) | (blend ? kBlend : 0) |
-                                                          (level ? kLevel : 0) | (wrap ? kWrap : 0));
-    ctx.m_status[i] = status;
-    ctx.m_constLocal[i] = constant ? local : nullptr;
-    if (constant && (oldLocal != local || full)) // (full: the clip may be new at an old address)
-      ctx.m_local[i] = *local; // the character's own copy: read every frame, next to its other state
-    ctx.m_rotationIndex[i] = rotationIndex;
-    ctx.m_rotationStep[i] = rotationStep;
-    ctx.m_windowLatest[i] = windowLatest;
-    ctx.m_windowCount[i] = windowCount;
-    return ((oldStatus ^ status) & kActive) | (constant & (oldLocal != local));
-  }
-
-  // Makes the plan of character c hold at frame i0. `full`: re-reads every joint. Else the
-  // character steps forward from the frame of its plan, and only the joints with an event
-  // in between are re-read: a segment that starts (a cluster starts or ends) or an unfreeze
-  // window that ends, straight from the clip's per-frame lists. Then refolds the frozen joints below the ones that changed
-  // (palette-only jobs). Returns false when no joint had an event.
-  static bool rebuild(const PoseEvaluatorJob& job, int c, std::int32_t i0, bool full, Scratch& scratch) {
+  // The offsets of the joints that blend at frame position f (older offsets outermost:
+  // unfreeze windows, newest first, then the wrap, then a level change).
+  static void blend(const PoseEvaluatorJob& job, int c, double t, double f, std::int64_t loop, Blends& blends) {
     PoseEvaluatorContext& ctx = *job.context;
     State& st = ctx.m_states[static_cast<std::size_t>(c)];
-    const LodClip& clip = *st.clip;
-    const int joints = ctx.m_joints;
-    const std::size_t words = ctx.m_words;
-    const std::size_t base = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
-    std::uint64_t* activeSet = &ctx.m_activeSet[static_cast<std::size_t>(c) * words];
-    std::uint8_t* __restrict changed = scratch.changed.data();
-    std::uint8_t* __restrict foldChanged = scratch.foldChanged.data();
-    const std::uint8_t* statuses = &ctx.m_status[base];
-    const std::int16_t* parents = job.parents.data();
+    const LodClip& clip = blends.clip;
+    const std::int32_t i0 = blends.i0;
     const int blendFrames = job.blendFrames;
-    // only palette-only jobs fold: a frozen joint whose model matrix is written costs one
-    // product from its parent's, folded or not
-    const bool folds = job.folding && job.out_models.empty();
-
-    bool any = false, statusChanged = full;
-    int firstChanged = joints;
-    std::int32_t active = st.activeCount;
-    const auto reread = [&](int j) {
-      const std::uint8_t before = statuses[j];
-      const bool toggled = updateJoint(job, st, base + static_cast<std::size_t>(j), j, i0, full) || full;
-      const std::uint8_t status = statuses[j];
-      changed[j] = changed[j] | toggled;
-      firstChanged = toggled ? std::min(firstChanged, j) : firstChanged;
-      statusChanged = statusChanged | (status != before);
-      active += (status & kActive) - (full ? 0 : (before & kActive));
-      assign(activeSet, j, status & kActive);
-      any = true;
-    };
-    if (full) {
-      if (st.wrapWindow)
+    const double inverseBlendFrames = 1.0 / blendFrames;
+    const std::span<const LodClip::Cluster> clusters = clip.allClusters();
+    for (std::int32_t e = i0; e >= 0 && e > i0 - blendFrames; --e)
+      for (const std::int32_t index : clip.clusterEnds(e)) {
+        const LodClip::Cluster& cluster = clusters[static_cast<std::size_t>(index)];
+        if (e == i0) {
+          // [last, last + 1) of the cluster it leaves: S starts from q(last), not the key
+          float* s = blends.lane(cluster.joint);
+          s[kAx * kLanes] = cluster.lastRotation.x;
+          s[kAy * kLanes] = cluster.lastRotation.y;
+          s[kAz * kLanes] = cluster.lastRotation.z;
+          s[kAw * kLanes] = cluster.lastRotation.w;
+        }
+        const float weight = static_cast<float>(std::clamp((f - e) * inverseBlendFrames, 0.0, 1.0));
+        blends.apply(cluster.joint, lerpOffset(cluster.exitOffset, 1.0f - weight));
+      }
+    const int joints = clip.jointCount();
+    if (clip.looping() && loop >= 1 && i0 < blendFrames) {
+      const float weight = 1.0f - static_cast<float>(std::min(f * inverseBlendFrames, 1.0));
+      for (int j = 0; j < joints; ++j) {
+        const glm::quat wrap = positiveW(clip.rotationAt(j, clip.frameCount() - 1, blendFrames) *
+                                         glm::inverse(clip.rotationAt(j, 0.0, blendFrames)));
+        if (!isIdentity(wrap))
+          blends.apply(j, lerpOffset(wrap, weight));
+      }
+    }
+    if (st.levelBlend) {
+      const double w = (t - st.levelStart) / st.levelSeconds;
+      if (w >= 0.0 && w < 1.0) {
+        const glm::quat* offsets = &ctx.m_levelOffset[static_cast<std::size_t>(c) * static_cast<std::size_t>(joints)];
         for (int j = 0; j < joints; ++j)
-          ctx.m_wrapOffset[base + static_cast<std::size_t>(j)] =
-              positiveW(clip.rotationAt(j, clip.frameCount() - 1, blendFrames) *
-                        glm::inverse(clip.rotationAt(j, 0.0, blendFrames)));
-      active = 0;
-      for (int j = 0; j < joints; ++j)
-        reread(j);
-    } else {
-      // a joint on two lists is re-read twice: harmless, it reads the same state
-      for (std::int32_t x = st.i0 + 1; x <= i0; ++x) {
-        for (std::int16_t j : clip.segmentStarts(x))
-          reread(j);
-        if (blendFrames > 0 && x - blendFrames >= 0)
-          for (std::int16_t j : clip.clusterEnds(x - blendFrames)) // the unfreeze window ends
-            reread(j);
+          if (!isIdentity(offsets[j]))
+            blends.apply(j, lerpOffset(offsets[j], static_cast<float>(1.0 - w)));
+      } else {
+        st.levelBlend = false;
       }
     }
-    st.i0 = i0;
-    st.activeCount = active;
-    if (!any)
-      return false;
-
-    // palette only: which constant joints' model matrices are needed (those on the way
-    // from an active joint up to its nearest active ancestor; the others are folded)
-    if (folds && statusChanged) {
-      std::uint8_t* needModel = &ctx.m_needModel[base];
-      std::uint8_t* __restrict need = foldChanged; // as scratch here
-      for (int j = 0; j < joints; ++j)
-        need[j] = statuses[j] & kActive;
-      for (int j = joints - 1; j > 0; --j)
-        if (need[j] && parents[j] >= 0)
-          need[parents[j]] = 1;
-      for (int j = 0; j < joints; ++j)
-        if (need[j] != needModel[j] || full) {
-          needModel[j] = need[j];
-          changed[j] = 1; // folded <-> computed from its parent
-          firstChanged = std::min(firstChanged, j);
-        }
-    }
-    // the folds below the joints that changed
-    if (folds) {
-      const std::uint8_t* needModel = &ctx.m_needModel[base];
-      for (int j = firstChanged; j < joints; ++j) {
-        const std::size_t i = base + static_cast<std::size_t>(j);
-        const int p = parents[j];
-        const bool redo = !needModel[j] && (changed[j] || (p >= firstChanged && (changed[p] || foldChanged[p])));
-        foldChanged[j] = redo;
-        if (!redo)
-          continue;
-        const std::size_t pi = base + static_cast<std::size_t>(p);
-        if (p >= 0 && !needModel[p]) {
-          ctx.m_anchor[i] = ctx.m_anchor[pi];
-          mulAffine(glm::value_ptr(ctx.m_fold[pi]), glm::value_ptr(*ctx.m_constLocal[i]), glm::value_ptr(ctx.m_fold[i]));
-        } else {
-          ctx.m_anchor[i] = static_cast<std::int16_t>(p);
-          ctx.m_fold[i] = *ctx.m_constLocal[i];
-        }
-        mulAffine(glm::value_ptr(ctx.m_fold[i]), glm::value_ptr(job.inverseBinds[static_cast<std::size_t>(j)]),
-                  glm::value_ptr(ctx.m_foldPalette[i]));
-      }
-    }
-    std::fill_n(changed, joints, 0);
-    st.planValid = true;
-    st.folding = job.folding;
-    st.models = !job.out_models.empty();
-    st.blendFrames = blendFrames;
-    return true;
   }
 
-  MLOD_RUNTIME_CLONES
-  static void pose(const PoseEvaluatorJob& job, int c, double f, std::int32_t i0, float fraction, float levelWeight,
-                   Scratch& scratch) {
-    PoseEvaluatorContext& ctx = *job.context;
-    const State& st = ctx.m_states[static_cast<std::size_t>(c)];
-    const LodClip& clip = *st.clip;
-    const int joints = ctx.m_joints;
-    const std::size_t words = ctx.m_words;
-    const std::size_t base = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
-    const std::uint64_t* activeSet = &ctx.m_activeSet[static_cast<std::size_t>(c) * words];
-    float* __restrict soa = scratch.soa.data();
-    float* __restrict locals = glm::value_ptr(scratch.locals[0]); // active slot k's local matrix: locals[16 k ...]
-    const glm::quat* rotations = clip.rotations().data();
-    const std::int32_t* rotationIndex = &ctx.m_rotationIndex[base];
-    const std::int32_t* rotationStep = &ctx.m_rotationStep[base];
-    const int count = st.activeCount;
-    const int blocks = (count + kLanes - 1) / kLanes;
-    const auto lane = [soa](int k) {
-      const unsigned u = static_cast<unsigned>(k);
-      return soa + (u / kLanes) * kBlockFloats + u % kLanes;
-    };
-    // the next lane after `b` (lane k): the next float, or the next block's first
-    const auto next = [](float* b, int k) { return (k + 1) % kLanes ? b + 1 : b + 1 - kLanes + kBlockFloats; };
+  template <bool Scaled>
+  __attribute__((always_inline)) static inline void pose(const PoseEvaluatorJob& job, int c, double t,
+                                                         Scratch& scratch) {
+    const LodClip& clip = *job.clips[static_cast<std::size_t>(c)];
+    std::int64_t loop = 0;
+    const double f = clip.framePosition(t, &loop);
+    std::int32_t i0 = 0;
+    float fraction = 0.0f;
+    clip.split(f, i0, fraction);
+    const LodClip::Plan plan = clip.plan(i0);
+    const int count = static_cast<int>(plan.samples.size());
 
-    // 1. gather the two rotations around f of every active joint
-    const std::uint8_t* status = &ctx.m_status[base];
-    std::int16_t* blending = scratch.blending.data(); // pairs (joint, lane)
-    int k = 0, blendCount = 0;
-    float* b = soa;
-    forEachJoint(activeSet, words, [&](int j) {
-      const glm::quat* p = rotations + (rotationIndex[j] + rotationStep[j] * i0);
-      blending[2 * blendCount] = static_cast<std::int16_t>(j);
-      blending[2 * blendCount + 1] = static_cast<std::int16_t>(k);
-      blendCount += (status[j] & kBlend) ? 1 : 0;
-      b[kAx * kLanes] = p[0].x;
-      b[kAy * kLanes] = p[0].y;
-      b[kAz * kLanes] = p[0].z;
-      b[kAw * kLanes] = p[0].w;
-      b[kBx * kLanes] = p[1].x;
-      b[kBy * kLanes] = p[1].y;
-      b[kBz * kLanes] = p[1].z;
-      b[kBw * kLanes] = p[1].w;
-      // translation straight into the local matrix; scale into the block
-      const std::uint8_t flags = clip.flags(j);
-      glm::vec3 translation = clip.staticTranslation(j);
-      if (flags & LodClip::kTranslationAnimated) {
-        const glm::vec3* track = clip.translationTrack(j);
-        translation = track[i0] + (track[i0 + 1] - track[i0]) * fraction;
+    // 1. gather the sampled joints' two rotations, lerp translation (and scale) into their lanes
+    const glm::quat* rotations = clip.rotations().data();
+    const glm::vec3* pairs = clip.pairs().data();
+    float* __restrict samples = scratch.samples.data();
+    float* __restrict locals = scratch.locals.data();
+    const LodClip::PlanSample* sample = plan.samples.data();
+    for (int k = 0; k < count; ++k, ++sample) {
+      const std::uint32_t lane = LodClip::laneOffset(static_cast<std::uint32_t>(k));
+      float* s = samples + sampleOffset(lane);
+      float* l = locals + lane;
+      const glm::quat* p = rotations + sample->rotation;
+      s[kAx * kLanes] = p[0].x;
+      s[kAy * kLanes] = p[0].y;
+      s[kAz * kLanes] = p[0].z;
+      s[kAw * kLanes] = p[0].w;
+      s[kBx * kLanes] = p[1].x;
+      s[kBy * kLanes] = p[1].y;
+      s[kBz * kLanes] = p[1].z;
+      s[kBw * kLanes] = p[1].w;
+      const glm::vec3* tr = pairs + sample->translation;
+      l[kTx * kLanes] = tr[0].x + (tr[1].x - tr[0].x) * fraction;
+      l[kTy * kLanes] = tr[0].y + (tr[1].y - tr[0].y) * fraction;
+      l[kTz * kLanes] = tr[0].z + (tr[1].z - tr[0].z) * fraction;
+      if constexpr (Scaled) {
+        const glm::vec3* sc = pairs + sample->scale;
+        s[kSx * kLanes] = sc[0].x + (sc[1].x - sc[0].x) * fraction;
+        s[kSy * kLanes] = sc[0].y + (sc[1].y - sc[0].y) * fraction;
+        s[kSz * kLanes] = sc[0].z + (sc[1].z - sc[0].z) * fraction;
       }
-      float* local = locals + 16 * static_cast<std::size_t>(k);
-      local[12] = translation.x;
-      local[13] = translation.y;
-      local[14] = translation.z;
-      glm::vec3 scale(1.0f);
-      if (flags & LodClip::kScaled) {
-        const glm::vec3* track = clip.scaleTrack(j);
-        scale = track ? track[i0] + (track[i0 + 1] - track[i0]) * fraction : clip.staticScale(j);
-      }
-      b[kSx * kLanes] = scale.x;
-      b[kSy * kLanes] = scale.y;
-      b[kSz * kLanes] = scale.z;
-      b = next(b, k++);
-    });
-    for (; k < blocks * kLanes; b = next(b, k++)) { // unused lanes: the identity
-      b[kAx * kLanes] = b[kAy * kLanes] = b[kAz * kLanes] = b[kBx * kLanes] = b[kBy * kLanes] = b[kBz * kLanes] = 0.0f;
-      b[kAw * kLanes] = b[kBw * kLanes] = b[kSx * kLanes] = b[kSy * kLanes] = b[kSz * kLanes] = 1.0f;
     }
-    // 2. lerp, 8 joints at once
-    for (int block = 0; block < blocks; ++block)
-      lerpBlock(soa + static_cast<std::size_t>(block) * kBlockFloats, fraction);
-    // 3. blend offsets of the few joints that resume (older offsets outermost), as products
-    //    of unnormalised quaternions (each offset's nlerp normalisation is the final one's)
-    const float inverseBlendFrames = job.blendFrames > 0 ? 1.0f / static_cast<float>(job.blendFrames) : 0.0f;
-    for (int n = 0; n < blendCount; ++n) {
-      const int j = blending[2 * n];
-      const std::size_t i = base + static_cast<std::size_t>(j);
-      b = lane(blending[2 * n + 1]);
-      glm::quat q(b[kQw * kLanes], b[kQx * kLanes], b[kQy * kLanes], b[kQz * kLanes]);
-      const LodClip::Cluster* clusters = clip.clusters(j).data();
-      const int windows = ctx.m_windowCount[i];
-      const int latest = ctx.m_windowLatest[i];
-      if (windows > 0 && clusters[latest].last == i0) {
-        // [last, last + 1) of the cluster it leaves: S starts from q(last), not the key
-        const glm::quat& a = clusters[latest].lastRotation;
-        q = glm::quat(a.w + (b[kBw * kLanes] - a.w) * fraction, a.x + (b[kBx * kLanes] - a.x) * fraction,
-                      a.y + (b[kBy * kLanes] - a.y) * fraction, a.z + (b[kBz * kLanes] - a.z) * fraction);
-      }
-      for (int w = 0; w < windows; ++w) {
-        const LodClip::Cluster& cluster = clusters[latest - w];
-        const float weight = std::clamp(static_cast<float>(f - cluster.last) * inverseBlendFrames, 0.0f, 1.0f);
-        q = lerpOffset(cluster.exitOffset, 1.0f - weight) * q;
-      }
-      if (status[j] & kWrap)
-        q = lerpOffset(ctx.m_wrapOffset[i], 1.0f - std::min(static_cast<float>(f) * inverseBlendFrames, 1.0f)) * q;
-      if (status[j] & kLevel)
-        q = lerpOffset(ctx.m_levelOffset[i], levelWeight) * q;
-      b[kQx * kLanes] = q.x;
-      b[kQy * kLanes] = q.y;
-      b[kQz * kLanes] = q.z;
-      b[kQw * kLanes] = q.w;
-    }
-    // 4. rotation matrices, 8 joints at once, then into each active joint's local matrix
-    for (int block = 0; block < blocks; ++block)
-      matrixBlock(soa + static_cast<std::size_t>(block) * kBlockFloats);
-    b = soa;
-    for (k = 0; k < count; b = next(b, k++)) {
-      float* local = locals + 16 * static_cast<std::size_t>(k);
-      local[0] = b[kM00 * kLanes];
-      local[1] = b[kM01 * kLanes];
-      local[2] = b[kM02 * kLanes];
-      local[4] = b[kM10 * kLanes];
-      local[5] = b[kM11 * kLanes];
-      local[6] = b[kM12 * kLanes];
-      local[8] = b[kM20 * kLanes];
-      local[9] = b[kM21 * kLanes];
-      local[10] = b[kM22 * kLanes];
-    }
-    // 5. the hierarchy, parents first: the same two products for every joint whose model
-    //    matrix is computed, whatever its status (no branch on it: statuses differ from
-    //    character to character, and a mispredicted branch costs as much as a product)
-    glm::mat4* models = job.out_models.empty() ? scratch.models.data() : &job.out_models[base];
-    glm::mat4* palette = &job.out_palette[base];
+    // 2. the joints that blend: offsets into their rotations; constant ones become slots
+    Blends blends{clip, scratch, plan.locals, count, i0};
+    if (job.blendFrames > 0)
+      blend(job, c, t, f, loop, blends);
+    // 3. local matrices, 8 slots at once
+    const int blocks = (blends.slots + kLanes - 1) / kLanes;
+    for (int b = 0; b < blocks; ++b)
+      matrixBlock<Scaled>(samples + static_cast<std::size_t>(b) * kSampleBlock,
+                          locals + static_cast<std::size_t>(b) * kLocalBlock, fraction);
+    scratch.sampled += blends.slots;
+
+    // 4. the hierarchy, parents first: the same two products for every joint, its local
+    //    matrix read from its slot or where the clip keeps it (a select, not a branch)
+    const int joints = clip.jointCount();
+    const std::size_t base = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
+    float* models = glm::value_ptr(job.out_models.empty() ? scratch.models[0] : job.out_models[base]);
+    float* palette = glm::value_ptr(job.out_palette[base]);
+    const float* inverseBinds = glm::value_ptr(job.inverseBinds[0]);
     const std::int16_t* parents = job.parents.data();
-    const glm::mat4* inverseBinds = job.inverseBinds.data();
-    const std::int16_t* anchor = &ctx.m_anchor[base];
-    const std::uint8_t* needModel = &ctx.m_needModel[base];
-    const glm::mat4* foldPalette = &ctx.m_foldPalette[base];
-    const glm::mat4* localCopy = &ctx.m_local[base];
-    const bool folds = job.folding && job.out_models.empty();
-    const float* active = locals;
-    for (int j = 0; j < joints; ++j) {
-      const bool isActive = status[j] & kActive;
-      // (a constant joint's matrix, or the next active one's: a select, not a branch)
-      const float* local = isActive ? active : glm::value_ptr(localCopy[j]);
-      active += isActive ? 16 : 0;
-      if (folds && !isActive && !needModel[j]) {
-        // folded: the palette straight from the nearest ancestor with a model matrix
-        const int a = anchor[j];
-        if (a >= 0)
-          mulAffine(glm::value_ptr(models[a]), glm::value_ptr(foldPalette[j]), glm::value_ptr(palette[j]));
-        else
-          palette[j] = foldPalette[j];
-        continue;
-      }
-      float* model = glm::value_ptr(models[j]);
+    const std::uint32_t* refs = blends.refs;
+    const float* constants = clip.constantLocals();
+    const auto localOf = [&](std::uint32_t ref) {
+      return ((ref & LodClip::kPlanSlot) ? locals : constants) + (ref & ~LodClip::kPlanSlot);
+    };
+    // the root (joint 0 has no parent)
+    mulLane(glm::value_ptr(kIdentity), localOf(refs[0]), models);
+    mulAffine(models, inverseBinds, palette);
+    for (int j = 1; j < joints; ++j) {
       const int p = parents[j];
-      if (p >= 0)
-        mulAffine(glm::value_ptr(models[p]), local, model);
-      else
-        std::memcpy(model, local, sizeof(glm::mat4));
-      mulAffine(model, glm::value_ptr(inverseBinds[j]), glm::value_ptr(palette[j]));
+      const float* parent = p >= 0 ? models + 16 * p : glm::value_ptr(kIdentity);
+      float* model = models + 16 * j;
+      mulLane(parent, localOf(refs[j]), model);
+      mulAffine(model, inverseBinds + 16 * j, palette + 16 * j);
     }
   }
 };
@@ -554,37 +379,24 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
   joints = std::max(joints, 0);
   threads = std::max(threads, 1);
   m_joints = joints;
-  m_blocks = (static_cast<std::size_t>(joints) + kLanes - 1) / kLanes;
-  m_words = (static_cast<std::size_t>(joints) + 63) / 64;
-  const std::size_t n = static_cast<std::size_t>(characters) * static_cast<std::size_t>(joints);
   m_states.assign(static_cast<std::size_t>(characters), CharacterState{});
-  m_cursor.assign(n, -1);
-  m_status.assign(n, 0);
-  m_rotationIndex.assign(n, 0);
-  m_rotationStep.assign(n, 0);
-  m_windowLatest.assign(n, -1);
-  m_windowCount.assign(n, 0);
-  m_constLocal.assign(n, nullptr);
-  m_local.assign(n, glm::mat4(1.0f));
-  m_anchor.assign(n, -1);
-  m_needModel.assign(n, 1);
-  m_activeSet.assign(static_cast<std::size_t>(characters) * m_words, 0);
-  m_fold.assign(n, glm::mat4(1.0f));
-  m_foldPalette.assign(n, glm::mat4(1.0f));
-  m_levelOffset.assign(n, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
-  m_wrapOffset.assign(n, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+  m_levelOffset.assign(static_cast<std::size_t>(characters) * static_cast<std::size_t>(joints),
+                       glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+  const std::size_t blocks = std::max<std::size_t>((static_cast<std::size_t>(joints) + kLanes - 1) / kLanes, 1);
   m_scratch.clear();
   m_scratch.resize(static_cast<std::size_t>(threads));
   for (Scratch& scratch : m_scratch) {
-    scratch.soa.assign(kBlockFloats * std::max<std::size_t>(m_blocks, 1), 0.0f);
-    scratch.models.assign(static_cast<std::size_t>(joints), glm::mat4(1.0f));
-    scratch.locals.assign(std::max(joints, 1), glm::mat4(1.0f)); // rows 3 stay 0 0 0 1
-    scratch.blending.assign(2 * static_cast<std::size_t>(joints), 0);
-    scratch.changed.assign(static_cast<std::size_t>(joints), 0);
-    scratch.foldChanged.assign(static_cast<std::size_t>(joints), 0);
+    // every lane holds a valid rotation and scale from the start (lanes past a character's
+    // slots are computed too, and must not produce NaNs)
+    scratch.samples.assign(kSampleBlock * blocks, 0.0f);
+    for (std::size_t b = 0; b < blocks; ++b)
+      for (const int array : {kAw, kBw, kSx, kSy, kSz})
+        std::fill_n(scratch.samples.begin() + static_cast<std::ptrdiff_t>(b * kSampleBlock + array * kLanes), kLanes,
+                    1.0f);
+    scratch.locals.assign(kLocalBlock * blocks, 0.0f);
+    scratch.models.assign(std::max<std::size_t>(static_cast<std::size_t>(joints), 1), glm::mat4(1.0f));
+    scratch.refs.assign(static_cast<std::size_t>(joints), 0);
   }
-  m_parentsSeen = nullptr;
-  m_inverseBindsSeen = nullptr;
 }
 
 void PoseEvaluatorContext::reset() {
@@ -594,21 +406,17 @@ void PoseEvaluatorContext::reset() {
 
 void PoseEvaluatorContext::reset(int character) {
   m_states[static_cast<std::size_t>(character)] = CharacterState{};
-  std::fill_n(m_cursor.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(character) * m_joints), m_joints,
-              -1);
 }
 
 std::size_t PoseEvaluatorContext::bytesPerCharacter() const {
-  const std::size_t perJoint = 5 * sizeof(std::int32_t) + 2 * sizeof(std::uint8_t) + sizeof(const glm::mat4*) +
-                               sizeof(std::int16_t) + 3 * sizeof(glm::mat4) + 2 * sizeof(glm::quat);
-  return sizeof(CharacterState) + perJoint * static_cast<std::size_t>(m_joints) + m_words * sizeof(std::uint64_t);
+  return sizeof(CharacterState) + sizeof(glm::quat) * static_cast<std::size_t>(m_joints);
 }
 
 std::size_t PoseEvaluatorContext::byteSize() const {
   std::size_t scratch = 0;
   for (const Scratch& s : m_scratch)
-    scratch += sizeof(Scratch) + s.soa.size() * sizeof(float) + (s.models.size() + s.locals.size()) * sizeof(glm::mat4) +
-               s.blending.size() * sizeof(std::int16_t) + s.changed.size() + s.foldChanged.size();
+    scratch += sizeof(Scratch) + (s.samples.size() + s.locals.size()) * sizeof(float) +
+               s.models.size() * sizeof(glm::mat4) + s.refs.size() * sizeof(std::uint32_t);
   return sizeof(*this) + bytesPerCharacter() * m_states.size() + scratch;
 }
 
@@ -655,16 +463,8 @@ bool PoseEvaluatorJob::run() const {
   if (!validate())
     return false;
   PoseEvaluatorContext& ctx = *context;
-  if (ctx.m_parentsSeen != parents.data() || ctx.m_inverseBindsSeen != inverseBinds.data()) {
-    for (PoseEvaluatorContext::CharacterState& state : ctx.m_states)
-      state.planValid = false;
-    ctx.m_parentsSeen = parents.data();
-    ctx.m_inverseBindsSeen = inverseBinds.data();
-  }
-  for (PoseEvaluatorContext::Scratch& scratch : ctx.m_scratch) {
+  for (PoseEvaluatorContext::Scratch& scratch : ctx.m_scratch)
     scratch.sampled = 0;
-    scratch.rebuilds = 0;
-  }
   const int characters = static_cast<int>(clips.size());
   const int threads = pool ? pool->threadCount() : 1;
   if (threads > 1) {
@@ -674,11 +474,8 @@ bool PoseEvaluatorJob::run() const {
     PoseEvaluation::runRange(const_cast<PoseEvaluatorJob*>(this), 0, characters, 0);
   }
   ctx.m_lastSampled = 0;
-  ctx.m_lastRebuilds = 0;
-  for (const PoseEvaluatorContext::Scratch& scratch : ctx.m_scratch) {
+  for (const PoseEvaluatorContext::Scratch& scratch : ctx.m_scratch)
     ctx.m_lastSampled += scratch.sampled;
-    ctx.m_lastRebuilds += scratch.rebuilds;
-  }
   return true;
 }
 

@@ -5,28 +5,23 @@
 //
 // For every character of a crowd (a LodClip = the level it plays, and a time in seconds)
 // PoseEvaluatorJob writes the model-space matrices of its joints and its skinning palette
-// (model x inverse bind). Per character and joint, at frame position f = time x fps:
-// - an *active* joint is sampled: its rotation nlerped between the two frames around f,
-//   translation and scale lerped, turned into a local matrix, composed with its parent's;
-// - a *frozen* joint (inside a cluster, translation and scale static) or a static one (a
-//   joint the clip never moves: BVH end sites) takes its constant local matrix: no
-//   sampling, no quaternion work, but still one product for its model matrix and one for
-//   its palette entry.
-// - folding: in a palette-only job (no out_models), a frozen joint whose model matrix
-//   nobody needs (no active joint below it) is folded: F, the product of the constant
-//   local matrices from its nearest ancestor A with a model matrix down to it, and
-//   F x inverse bind are kept per character, so it costs one product (model_A x F x IB).
-//   Where model matrices are written, every joint's is computed anyway and a folded one
-//   would cost the same product, so nothing folds.
-// The plan (which joints are active, where their rotations are read, the folds) is
-// rebuilt incrementally: a character stepping forward re-reads only the joints with an
-// event in between (a cluster starts or ends, an unfreeze window ends), from the clip's
-// per-frame event lists ("hierarchy reconstruction", the paper's cost of variable
-// motion); a jump back or far ahead re-reads every joint.
+// (model x inverse bind). Per character, at frame position f = time x fps, i0 = floor(f):
+// - what to sample, what is constant and where each joint's local matrix is read depend on
+//   the clip and i0 alone: the clip's plan of frame i0 (LodClip::plan()), precomputed once
+//   per clip and shared by every character playing it. A character holds no plan, only its
+//   time, its level and its blend state;
+// - a *sampled* joint (rotation outside a cluster, or an animated translation or scale) has
+//   its two rotations around f nlerped, translation and scale lerped, 8 joints at once;
+// - a *constant* joint (frozen inside a cluster with static translation and scale, or a
+//   joint the clip never moves: BVH end sites) reads its local matrix where the clip stores
+//   it: no sampling, no copy;
+// - the hierarchy pass is the same two products (model = parent's model x local; palette =
+//   model x inverse bind) for every joint, without a branch on its kind.
 //
 // With blendFrames = 0 the result is forward kinematics of the simplified motion M'(t)
 // (LodClip::rotationAt() etc.). With blendFrames = N > 0, joints resume without popping:
-// - after a cluster ends, as LodClip describes (a property of the clip and f alone);
+// - after a cluster ends, as LodClip describes (a property of the clip and f alone; the
+//   clip's per-frame lists of cluster ends say which joints are inside a window);
 // - at a looping clip's wrap (from the second period on, for f < N): the jump from the
 //   pose at the last frame to the pose at frame 0 decays over N frames (rotations; the
 //   root's translation wraps as the clip does: root motion is the caller's business);
@@ -34,7 +29,9 @@
 //   that differs decays from the old clip's to the new clip's over N frames of the new
 //   clip, starting at the time of the first run with the new clip. This one depends on
 //   the character's history; PoseEvaluatorContext keeps it.
-// Translations are never blended.
+// A blending joint's two rotations are multiplied by its offsets before the nlerp (the
+// product is linear in the rotation, so nlerp(O a, O b) = O nlerp(a, b)); a constant joint
+// that blends is sampled for that frame. Translations are never blended.
 //
 // Cost: the job never allocates; the context holds every buffer, sized once. Characters
 // are spread over the threads of an optional WorkerPool; the result does not depend on
@@ -43,11 +40,10 @@
 #include "runtime/lod_clip.h"
 #include "runtime/worker_pool.h"
 
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
-
 #include <cstddef>
 #include <cstdint>
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <span>
 #include <vector>
 
@@ -55,9 +51,9 @@ namespace mlod {
 
 struct PoseEvaluation; // the implementation (pose_evaluator.cpp)
 
-// The caller-owned state and scratch of PoseEvaluatorJob: per character, the plan of its
-// current interval (which joints are active, cursors into the clip, folded matrices, blend
-// offsets); per thread, structure-of-arrays sampling buffers. Allocates in resize() only.
+// The caller-owned state and scratch of PoseEvaluatorJob: per character, the clip of its
+// last run and its level-change blend (start, offsets); per thread, sampling buffers.
+// Allocates in resize() only.
 class PoseEvaluatorContext {
 public:
   PoseEvaluatorContext() = default;
@@ -66,8 +62,7 @@ public:
   // Sizes the context for up to `characters` characters of `joints` joints evaluated on up
   // to `threads` threads (the WorkerPool's threadCount()). Forgets every character's state.
   void resize(int characters, int joints, int threads = 1);
-  // Forgets every character's state (cursors, folds, the clip of its last run: no level
-  // blend follows). Call it after changing the skeleton's inverse binds in place.
+  // Forgets every character's state (the clip of its last run: no level blend follows).
   void reset();
   void reset(int character);
 
@@ -79,64 +74,32 @@ public:
   std::size_t byteSize() const;
 
   // Statistics of the last run, summed over characters: joints whose local matrix was
-  // computed (sampled or blended), and characters whose plan was rebuilt.
+  // computed (sampled or blended).
   std::int64_t jointsSampled() const { return m_lastSampled; }
-  std::int64_t planRebuilds() const { return m_lastRebuilds; }
 
 private:
   friend struct PoseEvaluation;
   friend struct PoseEvaluatorJob;
   struct CharacterState {
-    const LodClip* clip = nullptr; // the clip of the last run (its plan is below)
-    bool planValid = false;
-    bool folding = false;          // settings the plan was made with
-    bool models = false;
-    std::int32_t blendFrames = 0;
-    std::int32_t i0 = 0;           // the frame the plan was made at
-    std::int64_t loop = 0;
-    bool wrapWindow = false;
-    bool levelBlend = false;
+    const LodClip* clip = nullptr; // the clip of the last run
+    std::int32_t blendFrames = 0;  // of the last run
+    bool levelBlend = false;       // a level-change blend is under way
     double levelStart = 0.0;       // seconds
     double levelSeconds = 0.0;
-    std::int32_t activeCount = 0;
   };
   struct alignas(64) Scratch {
-    std::vector<float> soa;             // the active joints' sampling buffers, in blocks of 8 (AoSoA)
-    std::vector<glm::mat4> models;      // model matrices when the job has no out_models
-    std::vector<glm::mat4> locals;      // the active joints' local matrices, in active order
-    std::vector<std::int16_t> blending; // (joint, lane) of the joints that blend this frame
-    std::vector<std::uint8_t> changed;  // all 0 between rebuilds
-    std::vector<std::uint8_t> foldChanged;
+    std::vector<float> samples;      // the sampled joints' rotations (and scales), blocks of 8 lanes
+    std::vector<float> locals;       // their local matrices, lane layout (LodClip::laneOffset())
+    std::vector<glm::mat4> models;   // model matrices when the job has no out_models
+    std::vector<std::uint32_t> refs; // a plan's local offsets, copied when a constant joint blends
     std::int64_t sampled = 0;
-    std::int64_t rebuilds = 0;
   };
 
   int m_joints = 0;
-  std::size_t m_blocks = 0; // blocks of 8 joints
-  std::size_t m_words = 0;  // 64-bit words of a joint set
   std::vector<CharacterState> m_states;
-  // per character x joint
-  std::vector<std::int32_t> m_cursor;
-  std::vector<std::uint8_t> m_status;
-  std::vector<std::int32_t> m_rotationIndex;
-  std::vector<std::int32_t> m_rotationStep;
-  std::vector<std::int32_t> m_windowLatest;
-  std::vector<std::int32_t> m_windowCount;
-  std::vector<const glm::mat4*> m_constLocal; // constant joints: their local matrix in the clip
-  std::vector<glm::mat4> m_local;             // constant joints: a copy of it
-  std::vector<std::int16_t> m_anchor;
-  std::vector<std::uint8_t> m_needModel;
-  // per character x word: the active joints (bit j % 64 of word j / 64)
-  std::vector<std::uint64_t> m_activeSet;
-  std::vector<glm::mat4> m_fold;        // frozen: F relative to the anchor
-  std::vector<glm::mat4> m_foldPalette; // frozen: F x inverse bind
-  std::vector<glm::quat> m_levelOffset;
-  std::vector<glm::quat> m_wrapOffset;
+  std::vector<glm::quat> m_levelOffset; // per character x joint
   std::vector<Scratch> m_scratch;
-  const void* m_parentsSeen = nullptr; // the skeleton arrays the folds were made with
-  const void* m_inverseBindsSeen = nullptr;
   std::int64_t m_lastSampled = 0;
-  std::int64_t m_lastRebuilds = 0;
 };
 
 struct PoseEvaluatorJob {
@@ -152,8 +115,6 @@ struct PoseEvaluatorJob {
   std::span<const double> times;
   // Frames over which a resuming joint blends back (0 = off: exactly M'(t)).
   int blendFrames = 0;
-  // Fold frozen chains whose model matrices are not needed (palette-only jobs; see above).
-  bool folding = true;
   // Threads to spread characters over; null = the calling thread only.
   WorkerPool* pool = nullptr;
   // State and scratch, sized for at least clips.size() characters of this skeleton and

@@ -264,7 +264,6 @@ Error Crowd::update(double seconds, const glm::vec3& camera) {
   m_stats.jointsEvaluated = 0;
   m_stats.jointsFullDetail = 0;
   m_stats.verticesSkinned = 0;
-  m_stats.planRebuilds = 0;
   for (int l = 0; l < levels; ++l) {
     const std::size_t li = static_cast<std::size_t>(l);
     const CrowdLevel& level = m_levels[li];
@@ -300,13 +299,11 @@ Error Crowd::update(double seconds, const glm::vec3& camera) {
     job.inverseBinds = level.inverseBinds;
     job.clips = m_clips;
     job.times = m_times;
-    job.folding = true;
     job.context = &context;
     job.out_palette = m_palettes[li];
     if (!job.run())
       return Error("crowd: the pose evaluator refused level " + std::to_string(l) + "'s inputs");
     m_stats.jointsEvaluated += context.jointsSampled();
-    m_stats.planRebuilds += context.planRebuilds();
   }
   m_stats.poseCpuMs = 1000.0 * (threadCpuSeconds() - cpuStart);
   return {};

@@ -92,7 +92,6 @@ struct CrowdFrameStats {
   std::int64_t jointsEvaluated = 0;  // joints whose local matrix was computed (PoseEvaluatorContext::jointsSampled)
   std::int64_t jointsFullDetail = 0; // what every agent at full detail would have computed
   std::int64_t verticesSkinned = 0;  // vertices of each agent's level mesh, summed
-  std::int64_t planRebuilds = 0;
   double poseCpuMs = 0.0;            // CPU time of the selection and pose evaluation (this thread), ms
 };
 

@@ -1,7 +1,8 @@
 // PoseEvaluatorJob on real motion (CMU 01_01, 38 joints, 2,752 frames at 120 fps) at the
 // thresholds of the paper's Table 1: exactly forward kinematics of M'(t) without blending,
-// folding on and off; the original at threshold 0; bounded and continuous with blending;
-// deterministic over threads; and validate() rejecting each invalid input in turn.
+// with model matrices and palette-only; the original at threshold 0; bounded and continuous
+// with blending; deterministic over threads; and validate() rejecting each invalid input
+// in turn.
 
 #include "runtime/pose_evaluator.h"
 #include "unit/runtime/runtime_fixtures.h"
@@ -42,12 +43,11 @@ LodClip lodClip(const Clip& clip, const ClusterSet* clusters, bool looping = fal
 struct Playback {
   std::vector<glm::mat4> models;
   std::vector<glm::mat4> palette;
-  std::int64_t rebuilds = 0;
   std::int64_t sampled = 0;
 };
 
 Playback play(const Rig& rig, const std::vector<const LodClip*>& clips, const std::vector<double>& times,
-              int blendFrames, bool folding, bool models = true) {
+              int blendFrames, bool models = true) {
   const std::size_t joints = static_cast<std::size_t>(rig.joints());
   Playback out;
   if (models)
@@ -61,22 +61,20 @@ Playback play(const Rig& rig, const std::vector<const LodClip*>& clips, const st
     job.clips = std::span<const LodClip* const>(&clips[step], 1);
     job.times = std::span<const double>(&times[step], 1);
     job.blendFrames = blendFrames;
-    job.folding = folding;
     job.context = &context;
     if (models)
       job.out_models = std::span<glm::mat4>(&out.models[step * joints], joints);
     job.out_palette = std::span<glm::mat4>(&out.palette[step * joints], joints);
     if (!job.run())
       throw std::runtime_error("the job did not validate");
-    out.rebuilds += context.planRebuilds();
     out.sampled += context.jointsSampled();
   }
   return out;
 }
 
-Playback play(const Rig& rig, const LodClip& clip, const std::vector<double>& times, int blendFrames, bool folding,
+Playback play(const Rig& rig, const LodClip& clip, const std::vector<double>& times, int blendFrames,
               bool models = true) {
-  return play(rig, std::vector<const LodClip*>(times.size(), &clip), times, blendFrames, folding, models);
+  return play(rig, std::vector<const LodClip*>(times.size(), &clip), times, blendFrames, models);
 }
 
 // palette = model x inverse bind within tolerance x (the joint's position + the magnitude of
@@ -95,7 +93,7 @@ bool paletteNear(const glm::mat4& palette, const glm::mat4& model, const glm::ma
   return true;
 }
 
-// Palette-only runs (out_models empty, where frozen chains fold): every palette matrix is
+// Palette-only runs (out_models empty): every palette matrix is
 // plain FK of `reference` times the inverse bind.
 void expectPlainPalette(const Skeleton& skeleton, const Clip& reference, const Rig& rig, const Playback& played,
                         const std::vector<double>& times, const std::string& what) {
@@ -153,8 +151,8 @@ float expectPlainKinematics(const Skeleton& skeleton, const Clip& reference, con
 }
 
 // Guards the central equivalence (docs/architecture.md section 5): without blending, at every frame
-// and at every threshold, the evaluator is forward kinematics of M'(t), folding on or off;
-// and so is the palette of palette-only runs, where frozen chains really fold.
+// and at every threshold, the evaluator is forward kinematics of M'(t); and so is the
+// palette of palette-only runs.
 TEST(PoseEvaluator, EveryFrameEqualsKinematicsOfSimplifiedMotion) {
   const Asset& asset = runtimeAsset(kCmu);
   const Clip& clip = asset.clips.front();
@@ -163,14 +161,12 @@ TEST(PoseEvaluator, EveryFrameEqualsKinematicsOfSimplifiedMotion) {
   for (const JpcLevelResult& level : levelsOf(kCmu)) {
     const Clip simplified = simplifiedClip(clip, level.clusters);
     const LodClip lod = lodClip(clip, &level.clusters);
-    for (bool folding : {true, false}) {
-      const Playback played = play(rig, lod, times, 0, folding);
-      const std::string what = "E=" + std::to_string(level.threshold) + (folding ? " folded" : " unfolded");
-      const float worst = expectPlainKinematics(asset.skeleton, simplified, rig, played, times, what);
-      RecordProperty(what, std::to_string(worst));
-      expectPlainPalette(asset.skeleton, simplified, rig, play(rig, lod, times, 0, folding, false), times,
-                         what + ", palette only");
-    }
+    const Playback played = play(rig, lod, times, 0);
+    const std::string what = "E=" + std::to_string(level.threshold);
+    const float worst = expectPlainKinematics(asset.skeleton, simplified, rig, played, times, what);
+    RecordProperty(what, std::to_string(worst));
+    expectPlainPalette(asset.skeleton, simplified, rig, play(rig, lod, times, 0, false), times,
+                       what + ", palette only");
   }
 }
 
@@ -186,7 +182,7 @@ TEST(PoseEvaluator, HalfFramesEqualInterpolatedSimplifiedMotion) {
       continue;
     const Clip simplified = simplifiedClip(clip, level.clusters);
     const LodClip lod = lodClip(clip, &level.clusters);
-    const Playback played = play(rig, lod, times, 0, true);
+    const Playback played = play(rig, lod, times, 0);
     expectPlainKinematics(asset.skeleton, simplified, rig, played, times, "E=" + std::to_string(level.threshold));
   }
 }
@@ -203,14 +199,14 @@ TEST(PoseEvaluator, ThresholdZeroAndFullDetailEqualTheOriginal) {
   const LodClip atZero = lodClip(clip, &zero.clusters);
   const LodClip full = lodClip(clip, nullptr);
   EXPECT_EQ(full.clusterCount(), 0);
-  expectPlainKinematics(asset.skeleton, clip, rig, play(rig, atZero, times, 0, true), times, "E=0");
-  expectPlainKinematics(asset.skeleton, clip, rig, play(rig, full, times, 0, true), times, "full detail");
+  expectPlainKinematics(asset.skeleton, clip, rig, play(rig, atZero, times, 0), times, "E=0");
+  expectPlainKinematics(asset.skeleton, clip, rig, play(rig, full, times, 0), times, "full detail");
 }
 
-// Guards the incremental plan (rebuilt only below the joints whose cluster starts or
-// ends): stepping through the clip gives bit for bit what a fresh plan per frame gives,
-// and a whole crowd in one run (one character per frame) gives the same again.
-TEST(PoseEvaluator, IncrementalPlansEqualFreshOnes) {
+// Guards the shared per-frame plans (a character keeps no plan of its own): one character
+// stepping through the clip gives bit for bit what a whole crowd in one run (one
+// character per frame, each evaluated once) gives.
+TEST(PoseEvaluator, SteppingEqualsFreshCharacters) {
   const Asset& asset = runtimeAsset(kCmu);
   const Clip& clip = asset.clips.front();
   const Rig rig(asset.skeleton);
@@ -218,9 +214,8 @@ TEST(PoseEvaluator, IncrementalPlansEqualFreshOnes) {
   const LodClip lod = lodClip(clip, &level.clusters);
   const std::vector<double> times = timesAlong(clip, 0.0, clip.frameCount - 1);
   const std::size_t joints = static_cast<std::size_t>(rig.joints());
-  for (bool folding : {true, false}) {
-    const Playback sequential = play(rig, lod, times, 0, folding);
-    EXPECT_LT(sequential.rebuilds, static_cast<std::int64_t>(times.size())) << "some frames reuse the plan";
+  for (bool withModels : {true, false}) {
+    const Playback sequential = play(rig, lod, times, 0, withModels);
     std::vector<const LodClip*> clips(times.size(), &lod);
     std::vector<glm::mat4> models(times.size() * joints), palette(times.size() * joints);
     PoseEvaluatorContext context(static_cast<int>(times.size()), rig.joints());
@@ -229,13 +224,15 @@ TEST(PoseEvaluator, IncrementalPlansEqualFreshOnes) {
     job.inverseBinds = rig.inverseBinds;
     job.clips = clips;
     job.times = times;
-    job.folding = folding;
     job.context = &context;
-    job.out_models = models;
+    if (withModels)
+      job.out_models = models;
     job.out_palette = palette;
     ASSERT_TRUE(job.run());
-    EXPECT_EQ(context.planRebuilds(), static_cast<std::int64_t>(times.size()));
-    EXPECT_EQ(std::memcmp(models.data(), sequential.models.data(), models.size() * sizeof(glm::mat4)), 0);
+    EXPECT_EQ(context.jointsSampled(), sequential.sampled);
+    if (withModels) {
+      EXPECT_EQ(std::memcmp(models.data(), sequential.models.data(), models.size() * sizeof(glm::mat4)), 0);
+    }
     EXPECT_EQ(std::memcmp(palette.data(), sequential.palette.data(), palette.size() * sizeof(glm::mat4)), 0);
   }
 }
@@ -288,7 +285,7 @@ TEST(PoseEvaluator, ThreadsAndPaletteOnlyChangeNothing) {
   const Run two = crowd(2, true);
   EXPECT_EQ(std::memcmp(one.models.data(), two.models.data(), n * sizeof(glm::mat4)), 0);
   EXPECT_EQ(std::memcmp(one.palette.data(), two.palette.data(), n * sizeof(glm::mat4)), 0);
-  // palette only (frozen chains fold): the same on any thread count, and within rounding
+  // palette only: the same on any thread count, and within rounding
   // of model x inverse bind
   const Run single = crowd(1, false);
   const Run three = crowd(3, false);
@@ -309,11 +306,10 @@ TEST(PoseEvaluator, LodSamplesFewerJoints) {
   int animated = 0;
   for (int j = 0; j < full.jointCount(); ++j)
     animated += (full.flags(j) & (LodClip::kRotationAnimated | LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 1 : 0;
-  const Playback fullPlay = play(rig, full, times, 0, true);
+  const Playback fullPlay = play(rig, full, times, 0);
   EXPECT_EQ(fullPlay.sampled, static_cast<std::int64_t>(animated) * static_cast<std::int64_t>(times.size()));
-  EXPECT_EQ(fullPlay.rebuilds, 1) << "without clusters the first plan holds for the whole clip";
   const LodClip lod = lodClip(clip, &levelsOf(kCmu).back().clusters);
-  const Playback lodPlay = play(rig, lod, times, 0, true);
+  const Playback lodPlay = play(rig, lod, times, 0);
   EXPECT_LT(lodPlay.sampled * 2, fullPlay.sampled) << "at E = 300 most joint-frames are frozen";
 }
 
@@ -359,7 +355,7 @@ TEST(PoseEvaluator, BlendingStaysWithinFidelityAndOutsideWindowsEqualsSimplified
         std::vector<double> frames(times.size());
         for (std::size_t s = 0; s < times.size(); ++s)
           frames[s] = times[s] * clip.fps;
-        const Playback played = play(rig, lod, times, blendFrames, true);
+        const Playback played = play(rig, lod, times, blendFrames);
         const std::vector<std::uint8_t> windows = blendWindows(asset.skeleton, level.clusters, frames, blendFrames);
         std::vector<glm::mat4> expected;
         std::size_t inside = 0;
@@ -419,7 +415,7 @@ TEST(PoseEvaluator, LevelChangesBlend) {
   std::vector<const LodClip*> clips(times.size());
   for (std::size_t s = 0; s < times.size(); ++s)
     clips[s] = (s / 97) % 2 == 0 ? &coarseClip : &fineClip;
-  const Playback played = play(rig, clips, times, blendFrames, true);
+  const Playback played = play(rig, clips, times, blendFrames);
   std::vector<double> frames(times.size());
   for (std::size_t s = 0; s < times.size(); ++s)
     frames[s] = static_cast<double>(s);
@@ -480,8 +476,8 @@ TEST(PoseEvaluator, LoopingClipsBlendAtTheWrap) {
   const auto relative = [&](const Playback& played, std::size_t s, std::size_t j) {
     return glm::vec3(played.models[s * joints + j][3]) - glm::vec3(played.models[s * joints][3]);
   };
-  const Playback blended = play(rig, looping, times, blendFrames, true);
-  const Playback popped = play(rig, looping, times, 0, true);
+  const Playback blended = play(rig, looping, times, blendFrames);
+  const Playback popped = play(rig, looping, times, 0);
   float blendedJump = 0.0f, poppedJump = 0.0f;
   std::vector<glm::mat4> expected;
   for (std::size_t s = 1; s < times.size(); ++s) {
