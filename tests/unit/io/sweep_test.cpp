@@ -1,14 +1,18 @@
 // Every file of Debian's assimp-testmodels (which deliberately holds broken files) either
 // imports into a valid Asset or is refused with a message: no crash, no hang. One test
-// per folder, through the sandboxed importer as the CLI and the studio use it.
+// per folder, through the sandboxed importer as the CLI and the studio use it. How many
+// files of each folder import is pinned in tests/data/sweep_counts.json: a change to the
+// importer that starts refusing (or accepting) files shows up here, not only a crash.
 
 #include "io/isolated_import.h"
 #include "test_files.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 namespace mlod {
 namespace {
@@ -21,6 +25,14 @@ std::vector<std::string> modelFolders() {
       folders.push_back(entry.path().filename().string());
   std::sort(folders.begin(), folders.end());
   return folders;
+}
+
+const nlohmann::json& expectedCounts() {
+  static const nlohmann::json counts = [] {
+    std::ifstream in(test::dataPath("sweep_counts.json"));
+    return nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  }();
+  return counts;
 }
 
 class Sweep : public ::testing::TestWithParam<std::string> {};
@@ -46,6 +58,10 @@ TEST_P(Sweep, EveryFileImportsOrIsRefusedClearly) {
   }
   std::printf("%s: %d imported, %d refused\n", GetParam().c_str(), imported, refused);
   EXPECT_GT(imported + refused, 0);
+  const nlohmann::json& expected = expectedCounts()["folders"][GetParam()];
+  ASSERT_TRUE(expected.is_object()) << GetParam() << " is not in tests/data/sweep_counts.json";
+  EXPECT_EQ(imported, expected["imported"].get<int>()) << GetParam();
+  EXPECT_EQ(refused, expected["refused"].get<int>()) << GetParam();
 }
 
 INSTANTIATE_TEST_SUITE_P(AssimpTestModels, Sweep, ::testing::ValuesIn(modelFolders()),
@@ -57,6 +73,24 @@ INSTANTIATE_TEST_SUITE_P(AssimpTestModels, Sweep, ::testing::ValuesIn(modelFolde
 
 // Guards the sweep itself: the test models must be installed, or it proves nothing.
 TEST(Sweep, TestModelsAreInstalled) { EXPECT_GE(modelFolders().size(), 40u); }
+
+// Guards the committed table: it parses, names every installed folder and nothing else, and
+// its totals are the sums of its rows (318 of 595 files import with assimp-testmodels 5.2.5).
+TEST(Sweep, CommittedCountsCoverEveryFolder) {
+  const nlohmann::json& counts = expectedCounts();
+  ASSERT_TRUE(counts.is_object()) << "tests/data/sweep_counts.json does not parse";
+  std::vector<std::string> listed;
+  int imported = 0, refused = 0;
+  for (const auto& [folder, row] : counts["folders"].items()) {
+    listed.push_back(folder);
+    imported += row["imported"].get<int>();
+    refused += row["refused"].get<int>();
+  }
+  std::sort(listed.begin(), listed.end());
+  EXPECT_EQ(listed, modelFolders());
+  EXPECT_EQ(imported, counts["imported"].get<int>());
+  EXPECT_EQ(refused, counts["refused"].get<int>());
+}
 
 } // namespace
 } // namespace mlod
