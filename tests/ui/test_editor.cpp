@@ -604,6 +604,49 @@ private slots:
     QVERIFY(!next.autosave()->hasRecovery());
   }
 
+  // Autosave through its own timers (not saveNow()): an edit starts the after-change timer,
+  // which writes the recovery file; the periodic timer writes again only when there are
+  // unsaved changes; a new window recovers the edit from what the timers wrote.
+  void autosaveTimersWriteTheRecovery() {
+    Project lost;
+    QString recovery;
+    {
+      auto window = openSample();
+      QVERIFY(window);
+      Autosave* autosave = window->autosave();
+      recovery = autosave->path();
+      autosave->discard();
+      autosave->setDelays(50, 60 * 60 * 1000);
+      QSignalSpy saved(autosave, &Autosave::saved);
+      QVERIFY(editThreshold(*window, jointIndex(*window, "RightArm"), "240"));
+      QVERIFY(saved.wait(10000));
+      QCOMPARE(saved.count(), 1);
+      QVERIFY(autosave->hasRecovery());
+      QVERIFY(waitForFigures(window->document()));
+      // The periodic timer: writes while the document is modified, so a second edit that
+      // the after-change timer never sees (set far away) is still saved within a period.
+      autosave->setDelays(60 * 60 * 1000, 100);
+      QVERIFY(editThreshold(*window, jointIndex(*window, "RightArm"), "260"));
+      QVERIFY(saved.wait(10000));
+      QVERIFY(waitForFigures(window->document()));
+      QVERIFY(saved.wait(10000)); // and again one period later: the changes are still unsaved
+      lost = window->document()->project();
+      window->hide(); // a crash: no close(), the recovery file stays
+    }
+    MainWindow next;
+    next.show();
+    QCOMPARE(next.autosave()->path(), recovery);
+    QVERIFY(next.autosave()->hasRecovery());
+    QSignalSpy opened(next.document(), &Document::projectOpened);
+    QVERIFY(next.offerRecovery(false));
+    QVERIFY(opened.wait(60000));
+    QVERIFY(waitForFigures(next.document()));
+    QCOMPARE(*next.document()->project().assets[0].joints.at("RightArm").thresholds[1], 260.0);
+    QVERIFY(next.document()->project().lods == lost.lods);
+    next.autosave()->discard();
+    QVERIFY(!next.autosave()->hasRecovery());
+  }
+
   // A long job (a worker held by the test hook) shows progress; Cancel leaves the document as it was.
   void cancelLongJob() {
     auto window = openSample();
