@@ -62,15 +62,22 @@ inline void mulAffine(const float* __restrict a, const float* __restrict b, floa
   store4(out + 12, a0 * b[12] + a1 * b[13] + a2 * b[14] + a3);
 }
 
-// Local rotation-scale matrices of a block's 8 slots: the rotations lerped (stored
-// rotations are sign-aligned: no sign test) and turned into matrices without normalising
-// first (glm::mat3_cast of the normalised quaternion: 2 becomes 2 / |q|^2), so that blend
-// offsets multiplied into A and B need no normalisation of their own.
-template <bool Scaled> inline void matrixBlock(const float* __restrict s, float* __restrict l, float fraction) {
+// The rotations of a block's 8 slots lerped in place: A becomes the unnormalised nlerp
+// (stored rotations are sign-aligned: no sign test).
+inline void lerpBlock(float* __restrict s, float fraction) {
+  for (int i = 0; i < kLanes; ++i)
+    for (int c = 0; c < 4; ++c) {
+      const float a = s[(kAx + c) * kLanes + i];
+      s[(kAx + c) * kLanes + i] = a + (s[(kBx + c) * kLanes + i] - a) * fraction;
+    }
+}
+
+// Local rotation-scale matrices of a block's 8 slots from their rotations in A, of any
+// non-zero length (glm::mat3_cast of the normalised quaternion: 2 becomes 2 / |q|^2), so
+// that blend offsets multiplied into them need no normalisation of their own.
+template <bool Scaled> inline void matrixBlock(const float* __restrict s, float* __restrict l) {
   for (int i = 0; i < kLanes; ++i) {
-    const float ax = s[kAx * kLanes + i], ay = s[kAy * kLanes + i], az = s[kAz * kLanes + i], aw = s[kAw * kLanes + i];
-    const float x = ax + (s[kBx * kLanes + i] - ax) * fraction, y = ay + (s[kBy * kLanes + i] - ay) * fraction,
-                z = az + (s[kBz * kLanes + i] - az) * fraction, w = aw + (s[kBw * kLanes + i] - aw) * fraction;
+    const float x = s[kAx * kLanes + i], y = s[kAy * kLanes + i], z = s[kAz * kLanes + i], w = s[kAw * kLanes + i];
     const float two = 2.0f / (x * x + y * y + z * z + w * w);
     const float xt = x * two, yt = y * two, zt = z * two;
     const float xx = x * xt, yy = y * yt, zz = z * zt, xy = x * yt, xz = x * zt, yz = y * zt, wx = w * xt, wy = w * yt,
@@ -149,8 +156,9 @@ struct PoseEvaluation {
     std::int32_t i0;
 
     // The sample lane of joint j, made a slot of its own (its constant rotation, static
-    // translation and scale) when the plan has it constant.
-    float* lane(int j) {
+    // translation and scale) when the plan has it constant. `keyPair`: where its rotation
+    // is in rotations() when that is known (else looked up).
+    float* lane(int j, std::int32_t keyPair = -1) {
       std::uint32_t ref = refs[j];
       if (!(ref & LodClip::kPlanSlot)) {
         if (refs != scratch.refs.data()) {
@@ -159,16 +167,18 @@ struct PoseEvaluation {
         }
         ref = LodClip::kPlanSlot | LodClip::laneOffset(static_cast<std::uint32_t>(slots++));
         scratch.refs[static_cast<std::size_t>(j)] = ref;
-        glm::quat q = clip.rotations()[static_cast<std::size_t>(clip.staticRotationPair(j))];
-        if (clip.flags(j) & LodClip::kRotationAnimated) // frozen: its cluster's key
-          q = clip.rotations()[static_cast<std::size_t>(
-              clip.segments(j)[static_cast<std::size_t>(clip.findSegment(j, i0))].base)];
+        if (keyPair < 0) {
+          keyPair = clip.staticRotationPair(j);
+          if (clip.flags(j) & LodClip::kRotationAnimated) // frozen: its cluster's key
+            keyPair = clip.segments(j)[static_cast<std::size_t>(clip.findSegment(j, i0))].base;
+        }
+        const glm::quat& q = clip.rotations()[static_cast<std::size_t>(keyPair)];
         const std::uint32_t offset = ref & ~LodClip::kPlanSlot;
         float* s = scratch.samples.data() + sampleOffset(offset);
-        s[kAx * kLanes] = s[kBx * kLanes] = q.x;
-        s[kAy * kLanes] = s[kBy * kLanes] = q.y;
-        s[kAz * kLanes] = s[kBz * kLanes] = q.z;
-        s[kAw * kLanes] = s[kBw * kLanes] = q.w;
+        s[kAx * kLanes] = q.x;
+        s[kAy * kLanes] = q.y;
+        s[kAz * kLanes] = q.z;
+        s[kAw * kLanes] = q.w;
         const glm::vec3& scale = clip.staticScale(j);
         s[kSx * kLanes] = scale.x;
         s[kSy * kLanes] = scale.y;
@@ -182,18 +192,15 @@ struct PoseEvaluation {
       return scratch.samples.data() + sampleOffset(ref & ~LodClip::kPlanSlot);
     }
 
-    // Joint j's rotations A and B premultiplied by `offset` (unnormalised).
-    void apply(int j, const glm::quat& offset) {
-      float* s = lane(j);
-      for (const int at : {kAx, kBx}) {
-        const glm::quat q(s[(at + 3) * kLanes], s[at * kLanes], s[(at + 1) * kLanes], s[(at + 2) * kLanes]);
-        const glm::quat r = offset * q;
-        s[at * kLanes] = r.x;
-        s[(at + 1) * kLanes] = r.y;
-        s[(at + 2) * kLanes] = r.z;
-        s[(at + 3) * kLanes] = r.w;
-      }
+    // Joint j's (lerped) rotation premultiplied by `offset` (unnormalised).
+    static void apply(float* s, const glm::quat& offset) {
+      const glm::quat r = offset * glm::quat(s[kAw * kLanes], s[kAx * kLanes], s[kAy * kLanes], s[kAz * kLanes]);
+      s[kAx * kLanes] = r.x;
+      s[kAy * kLanes] = r.y;
+      s[kAz * kLanes] = r.z;
+      s[kAw * kLanes] = r.w;
     }
+    void apply(int j, const glm::quat& offset) { apply(lane(j), offset); }
   };
 
   static void evaluate(const PoseEvaluatorJob& job, int c, Scratch& scratch) {
@@ -212,14 +219,19 @@ struct PoseEvaluation {
     st.blendFrames = blendFrames;
     if (clip.scaled())
       poseScaled(job, c, t, scratch);
-    else
+    else if (scratch.singleRoot)
       poseUnscaled(job, c, t, scratch);
+    else
+      poseUnscaledRoots(job, c, t, scratch);
   }
   MLOD_RUNTIME_CLONES static void poseScaled(const PoseEvaluatorJob& job, int c, double t, Scratch& scratch) {
-    pose<true>(job, c, t, scratch);
+    pose<true, false>(job, c, t, scratch);
   }
   MLOD_RUNTIME_CLONES static void poseUnscaled(const PoseEvaluatorJob& job, int c, double t, Scratch& scratch) {
-    pose<false>(job, c, t, scratch);
+    pose<false, true>(job, c, t, scratch);
+  }
+  MLOD_RUNTIME_CLONES static void poseUnscaledRoots(const PoseEvaluatorJob& job, int c, double t, Scratch& scratch) {
+    pose<false, false>(job, c, t, scratch);
   }
 
   // The rotations shown before the switch, against the new clip's at the same time.
@@ -250,7 +262,8 @@ struct PoseEvaluation {
 
   // The offsets of the joints that blend at frame position f (older offsets outermost:
   // unfreeze windows, newest first, then the wrap, then a level change).
-  static void blend(const PoseEvaluatorJob& job, int c, double t, double f, std::int64_t loop, Blends& blends) {
+  static void blend(const PoseEvaluatorJob& job, int c, double t, double f, float fraction, std::int64_t loop,
+                    Blends& blends) {
     PoseEvaluatorContext& ctx = *job.context;
     State& st = ctx.m_states[static_cast<std::size_t>(c)];
     const LodClip& clip = blends.clip;
@@ -261,23 +274,38 @@ struct PoseEvaluation {
     for (std::int32_t e = i0; e >= 0 && e > i0 - blendFrames; --e)
       for (const std::int32_t index : clip.clusterEnds(e)) {
         const LodClip::Cluster& cluster = clusters[static_cast<std::size_t>(index)];
+        // a joint constant in the plan inside the window is frozen in its next cluster
+        // (entries come newest first, so this is the first entry that reaches it)
+        const std::size_t next = static_cast<std::size_t>(index) + 1;
+        float* s =
+            blends.lane(cluster.joint,
+                        next < clusters.size() && clusters[next].joint == cluster.joint ? clusters[next].keyPair : -1);
         if (e == i0) {
           // [last, last + 1) of the cluster it leaves: S starts from q(last), not the key
-          float* s = blends.lane(cluster.joint);
-          s[kAx * kLanes] = cluster.lastRotation.x;
-          s[kAy * kLanes] = cluster.lastRotation.y;
-          s[kAz * kLanes] = cluster.lastRotation.z;
-          s[kAw * kLanes] = cluster.lastRotation.w;
+          const glm::quat& a = cluster.lastRotation;
+          s[kAx * kLanes] = a.x + (s[kBx * kLanes] - a.x) * fraction;
+          s[kAy * kLanes] = a.y + (s[kBy * kLanes] - a.y) * fraction;
+          s[kAz * kLanes] = a.z + (s[kBz * kLanes] - a.z) * fraction;
+          s[kAw * kLanes] = a.w + (s[kBw * kLanes] - a.w) * fraction;
         }
         const float weight = static_cast<float>(std::clamp((f - e) * inverseBlendFrames, 0.0, 1.0));
-        blends.apply(cluster.joint, lerpOffset(cluster.exitOffset, 1.0f - weight));
+        Blends::apply(s, lerpOffset(cluster.exitOffset, 1.0f - weight));
       }
     const int joints = clip.jointCount();
     if (clip.looping() && loop >= 1 && i0 < blendFrames) {
+      // the wrap's offsets depend on the clip and N alone: once per thread and run
+      Scratch& scratch = blends.scratch;
+      if (scratch.wrapClip != &clip || scratch.wrapFrames != blendFrames) {
+        for (int j = 0; j < joints; ++j)
+          scratch.wrapOffsets[static_cast<std::size_t>(j)] =
+              positiveW(clip.rotationAt(j, clip.frameCount() - 1, blendFrames) *
+                        glm::inverse(clip.rotationAt(j, 0.0, blendFrames)));
+        scratch.wrapClip = &clip;
+        scratch.wrapFrames = blendFrames;
+      }
       const float weight = 1.0f - static_cast<float>(std::min(f * inverseBlendFrames, 1.0));
       for (int j = 0; j < joints; ++j) {
-        const glm::quat wrap = positiveW(clip.rotationAt(j, clip.frameCount() - 1, blendFrames) *
-                                         glm::inverse(clip.rotationAt(j, 0.0, blendFrames)));
+        const glm::quat& wrap = scratch.wrapOffsets[static_cast<std::size_t>(j)];
         if (!isIdentity(wrap))
           blends.apply(j, lerpOffset(wrap, weight));
       }
@@ -295,7 +323,8 @@ struct PoseEvaluation {
     }
   }
 
-  template <bool Scaled>
+  // SingleRoot: joint 0 is the only joint without a parent.
+  template <bool Scaled, bool SingleRoot>
   __attribute__((always_inline)) static inline void pose(const PoseEvaluatorJob& job, int c, double t,
                                                          Scratch& scratch) {
     const LodClip& clip = *job.clips[static_cast<std::size_t>(c)];
@@ -307,45 +336,50 @@ struct PoseEvaluation {
     const LodClip::Plan plan = clip.plan(i0);
     const int count = static_cast<int>(plan.samples.size());
 
-    // 1. gather the sampled joints' two rotations, lerp translation (and scale) into their lanes
+    // 1. gather the sampled joints' two rotations, lerp translation (and scale) into their
+    //    lanes; then lerp the rotations, 8 slots at once
     const glm::quat* rotations = clip.rotations().data();
     const glm::vec3* pairs = clip.pairs().data();
     float* __restrict samples = scratch.samples.data();
     float* __restrict locals = scratch.locals.data();
     const LodClip::PlanSample* sample = plan.samples.data();
-    for (int k = 0; k < count; ++k, ++sample) {
-      const std::uint32_t lane = LodClip::laneOffset(static_cast<std::uint32_t>(k));
-      float* s = samples + sampleOffset(lane);
-      float* l = locals + lane;
-      const glm::quat* p = rotations + sample->rotation;
-      s[kAx * kLanes] = p[0].x;
-      s[kAy * kLanes] = p[0].y;
-      s[kAz * kLanes] = p[0].z;
-      s[kAw * kLanes] = p[0].w;
-      s[kBx * kLanes] = p[1].x;
-      s[kBy * kLanes] = p[1].y;
-      s[kBz * kLanes] = p[1].z;
-      s[kBw * kLanes] = p[1].w;
-      const glm::vec3* tr = pairs + sample->translation;
-      l[kTx * kLanes] = tr[0].x + (tr[1].x - tr[0].x) * fraction;
-      l[kTy * kLanes] = tr[0].y + (tr[1].y - tr[0].y) * fraction;
-      l[kTz * kLanes] = tr[0].z + (tr[1].z - tr[0].z) * fraction;
-      if constexpr (Scaled) {
-        const glm::vec3* sc = pairs + sample->scale;
-        s[kSx * kLanes] = sc[0].x + (sc[1].x - sc[0].x) * fraction;
-        s[kSy * kLanes] = sc[0].y + (sc[1].y - sc[0].y) * fraction;
-        s[kSz * kLanes] = sc[0].z + (sc[1].z - sc[0].z) * fraction;
+    const int countBlocks = (count + kLanes - 1) / kLanes;
+    for (int b = 0; b < countBlocks; ++b) {
+      float* s = samples + static_cast<std::size_t>(b) * kSampleBlock;
+      float* l = locals + static_cast<std::size_t>(b) * kLocalBlock;
+      const int lanes = std::min(kLanes, count - b * kLanes);
+      for (int i = 0; i < lanes; ++i, ++sample, ++s, ++l) {
+        const glm::quat* p = rotations + sample->rotation;
+        s[kAx * kLanes] = p[0].x;
+        s[kAy * kLanes] = p[0].y;
+        s[kAz * kLanes] = p[0].z;
+        s[kAw * kLanes] = p[0].w;
+        s[kBx * kLanes] = p[1].x;
+        s[kBy * kLanes] = p[1].y;
+        s[kBz * kLanes] = p[1].z;
+        s[kBw * kLanes] = p[1].w;
+        const glm::vec3* tr = pairs + sample->translation;
+        l[kTx * kLanes] = tr[0].x + (tr[1].x - tr[0].x) * fraction;
+        l[kTy * kLanes] = tr[0].y + (tr[1].y - tr[0].y) * fraction;
+        l[kTz * kLanes] = tr[0].z + (tr[1].z - tr[0].z) * fraction;
+        if constexpr (Scaled) {
+          const glm::vec3* sc = pairs + sample->scale;
+          s[kSx * kLanes] = sc[0].x + (sc[1].x - sc[0].x) * fraction;
+          s[kSy * kLanes] = sc[0].y + (sc[1].y - sc[0].y) * fraction;
+          s[kSz * kLanes] = sc[0].z + (sc[1].z - sc[0].z) * fraction;
+        }
       }
+      lerpBlock(samples + static_cast<std::size_t>(b) * kSampleBlock, fraction);
     }
     // 2. the joints that blend: offsets into their rotations; constant ones become slots
     Blends blends{clip, scratch, plan.locals, count, i0};
     if (job.blendFrames > 0)
-      blend(job, c, t, f, loop, blends);
+      blend(job, c, t, f, fraction, loop, blends);
     // 3. local matrices, 8 slots at once
     const int blocks = (blends.slots + kLanes - 1) / kLanes;
     for (int b = 0; b < blocks; ++b)
       matrixBlock<Scaled>(samples + static_cast<std::size_t>(b) * kSampleBlock,
-                          locals + static_cast<std::size_t>(b) * kLocalBlock, fraction);
+                          locals + static_cast<std::size_t>(b) * kLocalBlock);
     scratch.sampled += blends.slots;
 
     // 4. the hierarchy, parents first: the same two products for every joint, its local
@@ -366,7 +400,7 @@ struct PoseEvaluation {
     mulAffine(models, inverseBinds, palette);
     for (int j = 1; j < joints; ++j) {
       const int p = parents[j];
-      const float* parent = p >= 0 ? models + 16 * p : glm::value_ptr(kIdentity);
+      const float* parent = SingleRoot || p >= 0 ? models + 16 * p : glm::value_ptr(kIdentity);
       float* model = models + 16 * j;
       mulLane(parent, localOf(refs[j]), model);
       mulAffine(model, inverseBinds + 16 * j, palette + 16 * j);
@@ -396,6 +430,8 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
     scratch.locals.assign(kLocalBlock * blocks, 0.0f);
     scratch.models.assign(std::max<std::size_t>(static_cast<std::size_t>(joints), 1), glm::mat4(1.0f));
     scratch.refs.assign(static_cast<std::size_t>(joints), 0);
+    scratch.wrapOffsets.assign(static_cast<std::size_t>(joints), glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+    scratch.wrapClip = nullptr;
   }
 }
 
@@ -463,8 +499,14 @@ bool PoseEvaluatorJob::run() const {
   if (!validate())
     return false;
   PoseEvaluatorContext& ctx = *context;
-  for (PoseEvaluatorContext::Scratch& scratch : ctx.m_scratch)
+  bool singleRoot = true;
+  for (std::size_t j = 1; j < parents.size(); ++j)
+    singleRoot = singleRoot && parents[j] >= 0;
+  for (PoseEvaluatorContext::Scratch& scratch : ctx.m_scratch) {
     scratch.sampled = 0;
+    scratch.singleRoot = singleRoot;
+    scratch.wrapClip = nullptr; // (a clip may be new at an old address)
+  }
   const int characters = static_cast<int>(clips.size());
   const int threads = pool ? pool->threadCount() : 1;
   if (threads > 1) {

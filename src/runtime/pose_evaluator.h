@@ -29,9 +29,9 @@
 //   that differs decays from the old clip's to the new clip's over N frames of the new
 //   clip, starting at the time of the first run with the new clip. This one depends on
 //   the character's history; PoseEvaluatorContext keeps it.
-// A blending joint's two rotations are multiplied by its offsets before the nlerp (the
-// product is linear in the rotation, so nlerp(O a, O b) = O nlerp(a, b)); a constant joint
-// that blends is sampled for that frame. Translations are never blended.
+// A blending joint's lerped rotation is multiplied by its offsets before it becomes a
+// matrix (unnormalised: the matrix divides by the squared length); a constant joint that
+// blends is sampled for that frame. Translations are never blended.
 //
 // Cost: the job never allocates; the context holds every buffer, sized once. Characters
 // are spread over the threads of an optional WorkerPool; the result does not depend on
@@ -88,10 +88,14 @@ private:
     double levelSeconds = 0.0;
   };
   struct alignas(64) Scratch {
-    std::vector<float> samples;      // the sampled joints' rotations (and scales), blocks of 8 lanes
-    std::vector<float> locals;       // their local matrices, lane layout (LodClip::laneOffset())
-    std::vector<glm::mat4> models;   // model matrices when the job has no out_models
-    std::vector<std::uint32_t> refs; // a plan's local offsets, copied when a constant joint blends
+    std::vector<float> samples;         // the sampled joints' rotations (and scales), blocks of 8 lanes
+    std::vector<float> locals;          // their local matrices, lane layout (LodClip::laneOffset())
+    std::vector<glm::mat4> models;      // model matrices when the job has no out_models
+    std::vector<std::uint32_t> refs;    // a plan's local offsets, copied when a constant joint blends
+    std::vector<glm::quat> wrapOffsets; // a looping clip's wrap offsets for wrapFrames
+    const LodClip* wrapClip = nullptr;  // the clip of wrapOffsets (none at the start of a run)
+    int wrapFrames = 0;
+    bool singleRoot = true; // joint 0 is the only root (the job's skeleton)
     std::int64_t sampled = 0;
   };
 
