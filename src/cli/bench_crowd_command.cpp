@@ -1,6 +1,9 @@
 #include "cli/bench_crowd_command.h"
 
+#include "core/crowd/crowd.h"
 #include "core/jpc/jpc.h"
+#include "core/lod/lod_set.h"
+#include "core/mapping/motion_mapping.h"
 #include "core/lod_clip_builder.h"
 #include "runtime/pose_evaluator.h"
 #include "runtime/skinning_job.h"
@@ -23,12 +26,25 @@ void BenchCrowdCommand::attach(CLI::App& app) {
       "bench-crowd",
       "What the motion LOD buys at run time: a crowd evaluated at full detail and at the LOD of one threshold, "
       "in one run (pose evaluation, palette, and skinning where the file has a mesh)");
-  command->add_option("FILE", file, "motion or character file (its first clip plays)")->required();
+  command->add_option("FILE", file, "motion or character file (its first clip plays); with --scene, the character")
+      ->required();
   command->add_option("--characters", characters, "characters in the crowd (default 1000)")
       ->check(CLI::Range(1, 1000000));
   command->add_option("--frames", frames, "frames per repetition, 1/60 s apart (default 100)")
       ->check(CLI::Range(1, 1000000));
-  command->add_option("--threshold", threshold, "the LOD's JPC threshold E, cm·degrees")->required();
+  command->add_option("--threshold", threshold, "the LOD's JPC threshold E, cm·degrees (required without --scene)");
+  command->add_flag("--scene", scene,
+                    "the paper's Figure 12: frame time of a crowd of the character, pose evaluation and CPU skinning, "
+                    "with no simplification, skeletal only, mesh only and both");
+  command->add_option("--motion", motion, "--scene: a clip mapped onto the character (automatic motion mapping)");
+  command->add_option("--agents", agents, "--scene: agents in the crowd (default 1000)")
+      ->check(CLI::Range(1, kMaxCrowdAgents));
+  command->add_option("--budget-px", budgetPixels, "--scene: pixel budget of the generated LOD set (default 1)")
+      ->check(CLI::Range(0.01, 1000.0));
+  command->add_option("--levels", levelCount, "--scene: levels of the generated LOD set, level 0 included (default 4)")
+      ->check(CLI::Range(1, 16));
+  command->add_option("--layout", layout, "--scene: grid or scattered (default grid)")
+      ->check(CLI::IsMember({"grid", "scattered"}));
   command->add_option("--alpha", alpha, "orientation weight alpha, cm (default 5)");
   command->add_option("--threads", threads, "threads to spread characters over (default 1)")->check(CLI::Range(1, 256));
   command->add_option("--blend-frames", blendFrames,
@@ -94,7 +110,14 @@ void skinCharacters(void* data, int begin, int end, int thread) {
 } // namespace
 
 int BenchCrowdCommand::run() const {
-  if (Error error = validateThreshold(threshold, "--threshold " + number(threshold))) {
+  if (scene)
+    return runScene();
+  if (!threshold) {
+    printError(file, "--threshold is required (or --scene)");
+    return kExitBadInput;
+  }
+  const double e = *threshold;
+  if (Error error = validateThreshold(e, "--threshold " + number(e))) {
     printError(file, error.message());
     return kExitBadInput;
   }
@@ -117,7 +140,7 @@ int BenchCrowdCommand::run() const {
   JpcSettings settings;
   settings.alpha = alpha;
   settings.zeroLength = 1e-6 * asset->unitScale;
-  const double thresholds[1] = {threshold};
+  const double thresholds[1] = {e};
   Result<std::vector<JpcLevelResult>> levels = simplifyClip(asset->skeleton, clip, settings, thresholds);
   if (!levels) {
     printError(file, levels.message());
@@ -252,7 +275,7 @@ int BenchCrowdCommand::run() const {
   doc["clip"] = clip.name;
   doc["characters"] = characters;
   doc["frames"] = frames;
-  doc["threshold"] = threshold;
+  doc["threshold"] = e;
   doc["alpha"] = alpha;
   doc["threads"] = threads;
   doc["blend_frames"] = blendFrames;
@@ -298,7 +321,7 @@ int BenchCrowdCommand::run() const {
   std::printf("crowd:      %d characters x %d frames (1/60 s apart), %d thread(s), blend %d frames, %s\n", characters,
               frames, threads, blendFrames, paletteOnly ? "palette only" : "model matrices and palette");
   std::printf("LOD:        E = %g (alpha %g): %.1f%% joint-frames simplified, joint position error up to %.3f cm\n",
-              threshold, alpha, level.simplifiedPercent, level.maxJointPositionErrorCm);
+              e, alpha, level.simplifiedPercent, level.maxJointPositionErrorCm);
   std::printf("median of %d repetitions, alternating full and LOD:\n", repetitions);
   std::printf("  %-6s %12s %18s %16s\n", "", "seconds", "ns/character-frame", "joints sampled/cf");
   for (const Side& side : sides) {
@@ -319,6 +342,232 @@ int BenchCrowdCommand::run() const {
   }
   std::printf("memory:     clip %zu bytes full, %zu bytes LOD; %zu bytes per character\n", full->byteSize(),
               lod->byteSize(), perCharacter);
+  return kExitOk;
+}
+
+
+namespace {
+
+// One configuration of the scene: which levels' motion and mesh the crowd plays.
+struct SceneRun {
+  const char* name = "";
+  Crowd crowd;
+  std::vector<double> frameMs, poseMs, skinMs; // per repetition: mean per frame
+  double joints = 0.0, vertices = 0.0;         // per frame, last repetition
+  std::vector<int> agentsPerLevel;             // last frame
+};
+
+} // namespace
+
+int BenchCrowdCommand::runScene() const {
+  const std::optional<Asset> asset = importForCommand(file, import);
+  if (!asset)
+    return kExitBadInput;
+  const SkinnedMesh* mesh = nullptr;
+  for (const SkinnedMesh& candidate : asset->meshes)
+    if (candidate.skinned() && !mesh)
+      mesh = &candidate;
+  if (!mesh || asset->skeleton.empty()) {
+    printError(file, "has no skinned mesh: --scene needs a character");
+    return kExitBadInput;
+  }
+  // the clip the crowd plays: --motion mapped onto the character, else the character's own
+  Clip clip;
+  std::vector<Clip> mapped;
+  if (!motion.empty()) {
+    ImportArguments motionImport;
+    const std::optional<Asset> source = importForCommand(motion, motionImport);
+    if (!source)
+      return kExitBadInput;
+    if (source->clips.empty() || source->skeleton.empty()) {
+      printError(motion, "has no animation clip to play");
+      return kExitBadInput;
+    }
+    const MotionMapping mapping = MotionMapping::automatic(source->skeleton, asset->skeleton);
+    Result<RestPoseDifferences> differences = restPoseDifferences(mapping, source->skeleton, asset->skeleton);
+    if (!differences) {
+      printError(motion, "cannot be mapped onto " + file + ": " + differences.message());
+      return kExitBadInput;
+    }
+    Result<Clip> retargeted = retargetClip(*differences, source->skeleton, source->clips.front(), asset->skeleton);
+    if (!retargeted) {
+      printError(motion, retargeted.message());
+      return kExitBadInput;
+    }
+    mapped.push_back(std::move(retargeted).value());
+    clip = mapped.front();
+  } else if (!asset->clips.empty()) {
+    clip = asset->clips.front();
+  } else {
+    printError(file, "has no animation clip to play (give one with --motion)");
+    return kExitBadInput;
+  }
+  if (clip.frameCount < 2) {
+    printError(motion.empty() ? file : motion, "clip '" + clip.name + "' has one frame: nothing to play");
+    return kExitBadInput;
+  }
+  LodBudgetOptions budget;
+  budget.clips = mapped;
+  budget.jpc.zeroLength = 1e-6 * asset->unitScale;
+  Result<LodSet> lods = LodSet::fromPixelBudget(*asset, budgetPixels, levelCount, budget);
+  if (!lods) {
+    printError(file, lods.message());
+    return kExitBadInput;
+  }
+  // the four configurations' LOD sets: the same levels and switch distances; skeletal keeps
+  // every mesh whole, mesh keeps the original motion (threshold 0)
+  LodSet skeletalSet = *lods, meshSet = *lods;
+  for (std::size_t i = 1; i < lods->levels.size(); ++i) {
+    skeletalSet.levels[i].meshRatio = 1.0;
+    meshSet.levels[i].motionThreshold = 0.0;
+  }
+  SceneRun runs[4];
+  const LodSet* sets[4] = {&*lods, &skeletalSet, &meshSet, &*lods};
+  const char* names[4] = {"none", "skeletal", "mesh", "both"};
+  CrowdLayout crowdLayout;
+  crowdLayout.kind = layout == "scattered" ? CrowdLayout::Kind::Scattered : CrowdLayout::Kind::Grid;
+  crowdLayout.agents = agents;
+  std::vector<CrowdAgent> placed;
+  for (int r = 0; r < 4; ++r) {
+    SceneRun& run = runs[r];
+    run.name = names[r];
+    if (r == 0) // none plays level 0 everywhere: any set's levels do
+      continue;
+    Result<std::vector<CrowdLevel>> levels = buildCrowdLevels(asset->skeleton, mesh, clip, *sets[r], budget.jpc);
+    if (!levels) {
+      printError(file, levels.message());
+      return kExitBadInput;
+    }
+    if (r == 3) {
+      Result<std::vector<CrowdLevel>> copy = buildCrowdLevels(asset->skeleton, mesh, clip, *sets[r], budget.jpc);
+      if (!copy) {
+        printError(file, copy.message());
+        return kExitBadInput;
+      }
+      runs[0].crowd.setLevels(std::move(copy).value());
+    }
+    run.crowd.setLevels(std::move(levels).value());
+  }
+  float top = 0.0f;
+  for (const glm::vec3& p : mesh->positions)
+    top = std::max(top, p.y);
+  placed = layoutCrowd(crowdLayout, clip.frameCount > 1 ? (clip.frameCount - 1) / clip.fps : 0.0);
+  const glm::vec3 camera = crowdFrontCamera(placed);
+  for (int r = 0; r < 4; ++r) {
+    Crowd& crowd = runs[r].crowd;
+    crowd.setSwitches(lodSwitchesByDistance(*lods), lodSwitchesByScreenSize(*lods));
+    crowd.setCentreHeight(0.5f * top);
+    crowd.setThreads(threads);
+    crowd.setSkinning(true);
+    Crowd::Selection selection;
+    selection.forcedLevel = r == 0 ? 0 : -1;
+    crowd.setSelection(selection);
+  }
+  const auto repetition = [&](SceneRun& run, bool record) -> Error {
+    run.crowd.setAgents(placed); // the same start every repetition: no level kept from the last
+    double pose = 0.0, skin = 0.0, joints = 0.0, vertices = 0.0;
+    for (int frame = 0; frame < frames; ++frame) {
+      if (Error error = run.crowd.update(frame / 60.0, camera))
+        return error;
+      const CrowdFrameStats& stats = run.crowd.stats();
+      pose += stats.poseMs;
+      skin += stats.skinMs;
+      joints += static_cast<double>(stats.jointsEvaluated);
+      vertices += static_cast<double>(stats.verticesSkinned);
+    }
+    if (record) {
+      run.poseMs.push_back(pose / frames);
+      run.skinMs.push_back(skin / frames);
+      run.frameMs.push_back((pose + skin) / frames);
+      run.joints = joints / frames;
+      run.vertices = vertices / frames;
+      run.agentsPerLevel = run.crowd.stats().agentsPerLevel;
+    }
+    return {};
+  };
+  // one warm-up each, then repetitions alternating the configurations
+  for (int r = -1; r < repetitions; ++r)
+    for (SceneRun& run : runs)
+      if (Error error = repetition(run, r >= 0)) {
+        printError(file, error.message());
+        return kExitFailure;
+      }
+
+  const SceneRun& both = runs[3];
+  nlohmann::ordered_json doc;
+  doc["file"] = file;
+  doc["motion"] = motion.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(motion);
+  doc["clip"] = clip.name;
+  doc["agents"] = agents;
+  doc["frames"] = frames;
+  doc["threads"] = threads;
+  doc["repetitions"] = repetitions;
+  doc["layout"] = layout;
+  doc["budget_px"] = budgetPixels;
+  nlohmann::ordered_json levelsJson = nlohmann::ordered_json::array();
+  for (int l = 0; l < both.crowd.levelCount(); ++l) {
+    const LodLevel& spec = lods->levels[static_cast<std::size_t>(l)];
+    const CrowdLevel& level = both.crowd.level(l);
+    nlohmann::ordered_json out;
+    out["name"] = spec.name;
+    out["threshold"] = spec.motionThreshold;
+    out["mesh_ratio"] = spec.meshRatio;
+    out["triangles"] = level.mesh.triangleCount();
+    out["vertices"] = level.mesh.vertexCount();
+    out["joints"] = level.skeleton.jointCount();
+    out["switch_distance_m"] = spec.switchDistanceCm / 100.0;
+    out["agents"] = static_cast<std::size_t>(l) < both.agentsPerLevel.size()
+                        ? both.agentsPerLevel[static_cast<std::size_t>(l)]
+                        : 0;
+    levelsJson.push_back(out);
+  }
+  doc["levels"] = levelsJson;
+  nlohmann::ordered_json configurations;
+  for (const SceneRun& run : runs) {
+    nlohmann::ordered_json out;
+    out["frame_ms"] = median(run.frameMs);
+    out["pose_ms"] = median(run.poseMs);
+    out["skin_ms"] = median(run.skinMs);
+    out["joints_evaluated"] = run.joints;
+    out["vertices_skinned"] = run.vertices;
+    out["repetition_frame_ms"] = run.frameMs;
+    configurations[run.name] = out;
+  }
+  doc["configurations"] = configurations;
+  const double none = median(runs[0].frameMs);
+  nlohmann::ordered_json speedup;
+  for (int r = 1; r < 4; ++r) {
+    const double ms = median(runs[r].frameMs);
+    speedup[runs[r].name] = ms > 0.0 ? none / ms : 0.0;
+  }
+  doc["speedup"] = speedup;
+  if (json) {
+    std::cout << doc.dump(2) << std::endl;
+    return kExitOk;
+  }
+  std::printf("character:  %s (%zu vertices, %d joints)\n", file.c_str(), mesh->vertexCount(),
+              asset->skeleton.jointCount());
+  std::printf("motion:     %s, clip '%s' (%d frames at %g fps, looped)\n", motion.empty() ? file.c_str() : motion.c_str(),
+              clip.name.c_str(), clip.frameCount, clip.fps);
+  std::printf("crowd:      %d agents (%s), %d frames (1/60 s apart), %d thread(s), camera at the front\n", agents,
+              layout.c_str(), frames, threads);
+  std::printf("levels (pixel budget %g px):\n", budgetPixels);
+  std::printf("  %-8s %10s %6s %10s %9s %7s %12s %7s\n", "", "threshold", "mesh", "triangles", "vertices", "joints",
+              "switch (m)", "agents");
+  for (const auto& level : levelsJson)
+    std::printf("  %-8s %10g %6.3f %10d %9d %7d %12.2f %7d\n", level["name"].get<std::string>().c_str(),
+                level["threshold"].get<double>(), level["mesh_ratio"].get<double>(), level["triangles"].get<int>(),
+                level["vertices"].get<int>(), level["joints"].get<int>(), level["switch_distance_m"].get<double>(),
+                level["agents"].get<int>());
+  std::printf("per frame, median of %d repetitions:\n", repetitions);
+  std::printf("  %-9s %10s %10s %10s %14s %16s %9s\n", "", "frame ms", "pose ms", "skin ms", "joints", "vertices",
+              "speedup");
+  for (int r = 0; r < 4; ++r) {
+    const SceneRun& run = runs[r];
+    const double ms = median(run.frameMs);
+    std::printf("  %-9s %10.3f %10.3f %10.3f %14.0f %16.0f %8.2fx\n", run.name, ms, median(run.poseMs),
+                median(run.skinMs), run.joints, run.vertices, ms > 0.0 ? none / ms : 0.0);
+  }
   return kExitOk;
 }
 

@@ -2,6 +2,7 @@
 
 #include "cli/cli_common.h"
 
+#include <optional>
 #include <string>
 
 namespace CLI { class App; }
@@ -20,7 +21,7 @@ struct BenchCrowdCommand {
   std::string file;
   int characters = 1000;
   int frames = 100;
-  double threshold = 50.0; // cm·degrees
+  std::optional<double> threshold; // cm·degrees; required without --scene
   double alpha = 5.0;      // cm
   int threads = 1;
   int blendFrames = 4;     // unfreeze blending, frames (0 = off)
@@ -29,9 +30,23 @@ struct BenchCrowdCommand {
   std::string only;        // "", "full" or "lod": run one side only (for callgrind)
   bool json = false;
   ImportArguments import;
+  // --scene (docs/architecture.md section 6; the paper's Figure 12): FILE is a character with
+  // a skinned mesh; a crowd of `agents` plays its clip (or `motion`, mapped onto it) at the
+  // levels of LodSet::fromPixelBudget(budgetPixels, levelCount), each agent at the level of
+  // its distance to a camera at the crowd's front (with hysteresis), and every frame is
+  // pose evaluation plus CPU skinning of every agent, in four configurations: none (every
+  // agent at level 0), skeletal (the levels' motion, level 0's mesh), mesh (level 0's
+  // motion, the levels' meshes) and both.
+  bool scene = false;
+  std::string motion;
+  int agents = 1000;
+  double budgetPixels = 1.0;
+  int levelCount = 4;
+  std::string layout = "grid";
 
   void attach(CLI::App& app);
   int run() const;
+  int runScene() const;
 };
 
 } // namespace mlod::cli

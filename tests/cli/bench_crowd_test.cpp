@@ -40,8 +40,8 @@ TEST(CliBenchCrowd, JsonOnCmuClip) {
   // full detail samples every animated joint, every character-frame
   EXPECT_EQ(doc["full"]["joints_evaluated"].get<std::int64_t>(), 20 * 10 * doc["animated_joints"].get<std::int64_t>());
   EXPECT_LT(doc["lod"]["joints_evaluated"].get<std::int64_t>(), doc["full"]["joints_evaluated"].get<std::int64_t>());
-  EXPECT_NEAR(doc["speedup"].get<double>(),
-              doc["full"]["seconds"].get<double>() / doc["lod"]["seconds"].get<double>(), 1e-9);
+  EXPECT_NEAR(doc["speedup"].get<double>(), doc["full"]["seconds"].get<double>() / doc["lod"]["seconds"].get<double>(),
+              1e-9);
   EXPECT_GT(doc["memory"]["full_bytes"].get<std::int64_t>(), 0);
   EXPECT_GT(doc["memory"]["lod_bytes"].get<std::int64_t>(), 0);
   EXPECT_GT(doc["memory"]["per_character_bytes"].get<std::int64_t>(), 0);
@@ -50,9 +50,9 @@ TEST(CliBenchCrowd, JsonOnCmuClip) {
 
 // Guards the skinning figures where the file has a skinned mesh, and threads.
 TEST(CliBenchCrowd, SkinningFiguresOnCharacter) {
-  const test::CliRun run = runMotionlod({"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--characters", "8",
-                                         "--frames", "4", "--threshold", "50", "--threads", "2", "--repetitions", "1",
-                                         "--json"});
+  const test::CliRun run =
+      runMotionlod({"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--characters", "8", "--frames", "4",
+                    "--threshold", "50", "--threads", "2", "--repetitions", "1", "--json"});
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json doc = nlohmann::json::parse(run.out);
   EXPECT_EQ(doc["threads"], 2);
@@ -77,9 +77,84 @@ TEST(CliBenchCrowd, BadInputExitsTwo) {
       runMotionlod({"bench-crowd", test::modelPath("OBJ/spider.obj"), "--threshold", "50", "--characters", "2"});
   EXPECT_EQ(noMotion.status, 2);
   EXPECT_NE(noMotion.err.find("no animation clip"), std::string::npos) << noMotion.err;
-  const test::CliRun zero = runMotionlod(
-      {"bench-crowd", test::modelPath("BVH/01_01.bvh"), "--threshold", "50", "--characters", "0"});
+  const test::CliRun zero =
+      runMotionlod({"bench-crowd", test::modelPath("BVH/01_01.bvh"), "--threshold", "50", "--characters", "0"});
   EXPECT_EQ(zero.status, 2);
+}
+
+// Guards the --scene contract (docs/architecture.md section 6, the paper's Figure 12): the
+// JSON keys; four configurations with the same agents and frames, none at level 0 (every
+// agent skins the original mesh), skeletal with level 0's mesh, mesh and both with the
+// levels' meshes; speedup.x = none.frame_ms / x.frame_ms; each level's figures.
+TEST(CliBenchCrowd, SceneJsonOnCharacter) {
+  const test::CliRun run =
+      runMotionlod({"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--scene", "--agents", "12", "--frames", "3",
+                    "--levels", "3", "--repetitions", "1", "--layout", "scattered", "--json"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json doc = nlohmann::json::parse(run.out);
+  for (const char* key : {"agents", "frames", "threads", "levels", "configurations", "speedup"})
+    EXPECT_TRUE(doc.contains(key)) << key;
+  EXPECT_EQ(doc["agents"], 12);
+  EXPECT_EQ(doc["frames"], 3);
+  EXPECT_EQ(doc["threads"], 1);
+  const nlohmann::json& levels = doc["levels"];
+  ASSERT_EQ(levels.size(), 3u);
+  int agents = 0;
+  for (const nlohmann::json& level : levels) {
+    for (const char* key :
+         {"name", "threshold", "mesh_ratio", "triangles", "vertices", "joints", "switch_distance_m", "agents"})
+      EXPECT_TRUE(level.contains(key)) << key;
+    agents += level["agents"].get<int>();
+  }
+  EXPECT_EQ(agents, 12) << "every agent at one level";
+  EXPECT_EQ(levels[0]["vertices"], 3014);
+  EXPECT_EQ(levels[0]["joints"], 54);
+  EXPECT_EQ(levels[0]["mesh_ratio"], 1.0);
+  const nlohmann::json& configurations = doc["configurations"];
+  for (const char* name : {"none", "skeletal", "mesh", "both"}) {
+    ASSERT_TRUE(configurations.contains(name)) << name;
+    const nlohmann::json& c = configurations[name];
+    for (const char* key : {"frame_ms", "pose_ms", "skin_ms", "joints_evaluated", "vertices_skinned"})
+      EXPECT_TRUE(c.contains(key)) << name << " " << key;
+    EXPECT_GT(c["frame_ms"].get<double>(), 0.0) << name;
+    EXPECT_NEAR(c["frame_ms"].get<double>(), c["pose_ms"].get<double>() + c["skin_ms"].get<double>(), 1e-9) << name;
+  }
+  // none and skeletal skin the original mesh on every agent; mesh and both the levels'
+  EXPECT_EQ(configurations["none"]["vertices_skinned"].get<double>(), 12.0 * 3014);
+  EXPECT_EQ(configurations["skeletal"]["vertices_skinned"].get<double>(), 12.0 * 3014);
+  EXPECT_EQ(configurations["mesh"]["vertices_skinned"], configurations["both"]["vertices_skinned"]);
+  double levelVertices = 0.0;
+  for (const nlohmann::json& level : levels)
+    levelVertices += level["agents"].get<double>() * level["vertices"].get<double>();
+  EXPECT_EQ(configurations["both"]["vertices_skinned"].get<double>(), levelVertices);
+  for (const char* name : {"skeletal", "mesh", "both"})
+    EXPECT_NEAR(doc["speedup"][name].get<double>(),
+                configurations["none"]["frame_ms"].get<double>() / configurations[name]["frame_ms"].get<double>(), 1e-9)
+        << name;
+}
+
+// Guards the readable table without --json, and the scene's bad input: a file without a
+// skinned mesh, a motion file that does not exist, a layout that is not one.
+TEST(CliBenchCrowd, SceneTableAndBadInput) {
+  const test::CliRun table = runMotionlod({"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--scene", "--agents",
+                                           "4", "--frames", "2", "--levels", "2", "--repetitions", "1"});
+  ASSERT_EQ(table.status, 0) << table.err;
+  for (const char* word : {"none", "skeletal", "mesh", "both", "frame ms", "speedup"})
+    EXPECT_NE(table.out.find(word), std::string::npos) << word << "\n" << table.out;
+  const test::CliRun bvh = runMotionlod({"bench-crowd", test::modelPath("BVH/01_01.bvh"), "--scene"});
+  EXPECT_EQ(bvh.status, 2);
+  EXPECT_NE(bvh.err.find("error: " + test::modelPath("BVH/01_01.bvh") + ": "), std::string::npos) << bvh.err;
+  EXPECT_TRUE(bvh.out.empty());
+  const test::CliRun motion = runMotionlod(
+      {"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--scene", "--motion", "/nonexistent/walk.bvh"});
+  EXPECT_EQ(motion.status, 2);
+  EXPECT_NE(motion.err.find("error: /nonexistent/walk.bvh: "), std::string::npos) << motion.err;
+  const test::CliRun layout =
+      runMotionlod({"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--scene", "--layout", "ring"});
+  EXPECT_EQ(layout.status, 2);
+  const test::CliRun noThreshold = runMotionlod({"bench-crowd", test::modelPath("BVH/01_01.bvh")});
+  EXPECT_EQ(noThreshold.status, 2);
+  EXPECT_NE(noThreshold.err.find("--threshold"), std::string::npos) << noThreshold.err;
 }
 
 } // namespace

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -193,6 +194,8 @@ void Crowd::setLevels(std::vector<CrowdLevel> levels) {
   const std::size_t n = m_levels.size();
   m_levelAgents.assign(n, {});
   m_palettes.assign(n, {});
+  m_models.assign(n, {});
+  m_skinning.clear();
   m_contexts.assign(n, {});
   m_slotAgent.assign(n, {});
   std::fill(m_selected.begin(), m_selected.end(), -1);
@@ -203,6 +206,17 @@ void Crowd::setAgents(std::vector<CrowdAgent> agents) {
   m_agents = std::move(agents);
   m_selected.assign(m_agents.size(), -1);
   m_agentLevel.assign(m_agents.size(), 0);
+  for (auto& slots : m_slotAgent)
+    slots.clear();
+}
+
+void Crowd::setThreads(int threads) {
+  threads = std::max(threads, 1);
+  if (threads == this->threads())
+    return;
+  m_pool = threads > 1 ? std::make_unique<WorkerPool>(threads) : nullptr;
+  for (PoseEvaluatorContext& context : m_contexts)
+    context = {};
   for (auto& slots : m_slotAgent)
     slots.clear();
 }
@@ -220,7 +234,22 @@ glm::vec3 Crowd::agentCentre(int agent) const {
 Error Crowd::update(double seconds, const glm::vec3& camera) {
   if (m_levels.empty())
     return Error("crowd: no levels");
+  if (m_skin && m_skinning.size() != m_levels.size()) {
+    m_skinning.clear();
+    std::size_t vertices = 0;
+    for (const CrowdLevel& level : m_levels) {
+      Result<SkinningMesh> built = buildSkinningMesh(level.mesh, static_cast<int>(level.parents.size()));
+      if (!built)
+        return Error("crowd: " + built.message());
+      vertices = std::max(vertices, static_cast<std::size_t>(built->vertexCount()));
+      m_skinning.emplace_back(std::move(built).value());
+    }
+    const std::size_t threads = static_cast<std::size_t>(this->threads());
+    m_skinPositions.assign(threads, std::vector<glm::vec3>(vertices));
+    m_skinNormals.assign(threads, std::vector<glm::vec3>(vertices));
+  }
   const double cpuStart = threadCpuSeconds();
+  const auto wallStart = std::chrono::steady_clock::now();
   const std::size_t agents = m_agents.size();
   const int levels = levelCount();
 
@@ -277,9 +306,9 @@ Error Crowd::update(double seconds, const glm::vec3& camera) {
     const std::size_t joints = level.parents.size();
     PoseEvaluatorContext& context = m_contexts[li];
     std::vector<int>& slots = m_slotAgent[li];
-    if (context.characterCount() < static_cast<int>(count)) {
+    if (context.characterCount() < static_cast<int>(count) || context.threadCount() < threads()) {
       // grow with headroom (resizing forgets every slot's state)
-      context.resize(static_cast<int>(std::min(agents, count + count / 2 + 8)), static_cast<int>(joints));
+      context.resize(static_cast<int>(std::min(agents, count + count / 2 + 8)), static_cast<int>(joints), threads());
       slots.assign(static_cast<std::size_t>(context.characterCount()), -1);
     }
     for (std::size_t k = 0; k < count; ++k)
@@ -294,19 +323,69 @@ Error Crowd::update(double seconds, const glm::vec3& camera) {
       m_times[k] = std::isfinite(t) && t > 0.0 ? t : 0.0;
     }
     m_palettes[li].resize(count * joints);
+    m_models[li].resize(m_writeModels ? count * joints : 0);
     PoseEvaluatorJob job;
     job.parents = level.parents;
     job.inverseBinds = level.inverseBinds;
     job.clips = m_clips;
     job.times = m_times;
     job.context = &context;
+    job.pool = m_pool.get();
+    job.out_models = m_models[li];
     job.out_palette = m_palettes[li];
     if (!job.run())
       return Error("crowd: the pose evaluator refused level " + std::to_string(l) + "'s inputs");
     m_stats.jointsEvaluated += context.jointsSampled();
   }
   m_stats.poseCpuMs = 1000.0 * (threadCpuSeconds() - cpuStart);
+  const auto posed = std::chrono::steady_clock::now();
+  m_stats.poseMs = std::chrono::duration<double, std::milli>(posed - wallStart).count();
+  m_stats.skinMs = 0.0;
+  if (m_skin) {
+    for (int l = 0; l < levels; ++l) {
+      const std::size_t li = static_cast<std::size_t>(l);
+      SkinTask task{&*m_skinning[li], m_palettes[li].data(), m_levels[li].parents.size(), this};
+      const int count = static_cast<int>(m_levelAgents[li].size());
+      if (count == 0)
+        continue;
+      if (m_pool)
+        m_pool->run(count, std::max(1, count / (threads() * 8)), &Crowd::skinAgents, &task);
+      else
+        skinAgents(&task, 0, count, 0);
+      if (task.failed)
+        return Error("crowd: the skinning job refused level " + std::to_string(l) + "'s inputs");
+    }
+    m_stats.skinMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - posed).count();
+  }
   return {};
+}
+
+void Crowd::skinAgents(void* data, int begin, int end, int thread) {
+  SkinTask& task = *static_cast<SkinTask*>(data);
+  const std::size_t t = static_cast<std::size_t>(thread);
+  const std::size_t vertices = static_cast<std::size_t>(task.mesh->vertexCount());
+  const std::span<glm::vec3> positions(task.crowd->m_skinPositions[t].data(), vertices);
+  const std::span<glm::vec3> normals(task.crowd->m_skinNormals[t].data(), task.mesh->hasNormals() ? vertices : 0);
+  for (int k = begin; k < end; ++k)
+    if (!task.mesh->skin(std::span<const glm::mat4>(task.palettes + static_cast<std::size_t>(k) * task.joints, task.joints),
+                         positions, normals))
+      task.failed = true;
+}
+
+glm::vec3 crowdFrontCamera(std::span<const CrowdAgent> agents) {
+  if (agents.empty())
+    return glm::vec3(0.0f, 170.0f, -1000.0f);
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const CrowdAgent& agent : agents) {
+    lo = glm::min(lo, agent.position);
+    hi = glm::max(hi, agent.position + glm::vec3(0.0f, 180.0f, 0.0f));
+  }
+  // the dock's orbit camera: target 6 m inside the front row, 9 m away, pitched 0.3 rad
+  // down, looking along +Z
+  const float pitch = -0.3f, distance = 900.0f;
+  const glm::vec3 target(0.5f * (lo.x + hi.x), 0.0f, lo.z + 600.0f);
+  const glm::vec3 forward(0.0f, std::sin(pitch), std::cos(pitch));
+  return target - distance * forward;
 }
 
 SkinnedMesh boneCapsuleMesh(const Skeleton& skeleton, float radiusCm) {

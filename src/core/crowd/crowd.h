@@ -19,11 +19,15 @@
 #include "runtime/lod_clip.h"
 #include "runtime/lod_selection.h"
 #include "runtime/pose_evaluator.h"
+#include "runtime/skinning_job.h"
+#include "runtime/worker_pool.h"
 
 #include <glm/glm.hpp>
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -93,7 +97,14 @@ struct CrowdFrameStats {
   std::int64_t jointsFullDetail = 0; // what every agent at full detail would have computed
   std::int64_t verticesSkinned = 0;  // vertices of each agent's level mesh, summed
   double poseCpuMs = 0.0;            // CPU time of the selection and pose evaluation (this thread), ms
+  double poseMs = 0.0;               // wall-clock time of the selection and pose evaluation, ms
+  double skinMs = 0.0;               // wall-clock time of CPU skinning (setSkinning()), ms; 0 without
 };
+
+// The front of a crowd as the studio's Crowd dock frames it: standing before the agents'
+// nearest row (smallest z), at the middle of its width, raised and looking in along +Z, so
+// that the nearest agents are a few metres away and the farthest at the far edge. cm.
+glm::vec3 crowdFrontCamera(std::span<const CrowdAgent> agents);
 
 // A crowd: levels, agents, and per frame their levels and skinning palettes.
 class Crowd {
@@ -108,6 +119,16 @@ public:
 
   // `levels` (at least one; level 0 the original). Forgets the agents' levels and state.
   void setLevels(std::vector<CrowdLevel> levels);
+  // Threads that pose evaluation and skinning spread agents over (>= 1; 1 = the calling
+  // thread alone). Forgets the agents' state.
+  void setThreads(int threads);
+  int threads() const { return m_pool ? m_pool->threadCount() : 1; }
+  // Skin every agent's level mesh on the CPU in update() with the runtime's SkinningJob, as
+  // a renderer without GPU skinning does (what the paper's Figure 12 times); the skinned
+  // vertices are scratch. (A level mesh that SkinningMesh refuses fails update().)
+  void setSkinning(bool on) { m_skin = on; }
+  // Write each agent's model matrices too (levelModels()), as well as its palette.
+  void setModels(bool on) { m_writeModels = on; }
   void setAgents(std::vector<CrowdAgent> agents);
   void setSelection(const Selection& selection) { m_selection = selection; }
   // Where the LOD set switches (lodSwitchesBy...(): levels as crowd level indices).
@@ -123,8 +144,9 @@ public:
   glm::vec3 agentCentre(int agent) const;
 
   // Selects every agent's level for a camera at `camera` (cm) and evaluates the poses of
-  // all agents at global time `seconds` (each at seconds + its offset). Errors: no levels,
-  // a runtime job that refuses its inputs.
+  // all agents at global time `seconds` (each at seconds + its offset), then skins them
+  // (setSkinning()). Errors: no levels, a runtime job that refuses its inputs, a level mesh
+  // that cannot be skinned.
   Error update(double seconds, const glm::vec3& camera);
 
   // After update(): each agent's level, the agents of a level (ascending), and a level's
@@ -132,9 +154,20 @@ public:
   int agentLevel(int agent) const { return m_agentLevel[static_cast<std::size_t>(agent)]; }
   std::span<const int> levelAgents(int level) const { return m_levelAgents[static_cast<std::size_t>(level)]; }
   std::span<const glm::mat4> levelPalettes(int level) const { return m_palettes[static_cast<std::size_t>(level)]; }
+  // With setModels(true): a level's model matrices, laid out as its palettes.
+  std::span<const glm::mat4> levelModels(int level) const { return m_models[static_cast<std::size_t>(level)]; }
   const CrowdFrameStats& stats() const { return m_stats; }
 
 private:
+  struct SkinTask {
+    const SkinningMesh* mesh = nullptr;
+    const glm::mat4* palettes = nullptr;
+    std::size_t joints = 0;
+    Crowd* crowd = nullptr;
+    std::atomic<bool> failed{false};
+  };
+  static void skinAgents(void* data, int begin, int end, int thread);
+
   std::vector<CrowdLevel> m_levels;
   std::vector<CrowdAgent> m_agents;
   Selection m_selection;
@@ -145,6 +178,13 @@ private:
   std::vector<int> m_agentLevel;          // per agent: crowd level
   std::vector<std::vector<int>> m_levelAgents;
   std::vector<std::vector<glm::mat4>> m_palettes;
+  std::vector<std::vector<glm::mat4>> m_models;
+  bool m_writeModels = false;
+  std::unique_ptr<WorkerPool> m_pool;
+  bool m_skin = false;
+  std::vector<std::optional<SkinningMesh>> m_skinning; // per level, with skinning on
+  std::vector<std::vector<glm::vec3>> m_skinPositions; // per thread
+  std::vector<std::vector<glm::vec3>> m_skinNormals;
   std::vector<PoseEvaluatorContext> m_contexts; // per level, per agent slot
   std::vector<std::vector<int>> m_slotAgent;    // per level: the agent whose state each context slot holds
   std::vector<glm::vec3> m_centres;

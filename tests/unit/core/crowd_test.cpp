@@ -9,6 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <memory>
+
 #include <glm/gtc/quaternion.hpp>
 
 #include <numeric>
@@ -202,6 +205,56 @@ TEST(Crowd, LevelsFollowTheDistancesOfTheLodSet) {
   EXPECT_EQ(crowd.agentLevel(1), 1);
   ASSERT_FALSE(crowd.update(0.2, glm::vec3(260.0f, 0.0f, 0.0f))); // 440 cm away
   EXPECT_EQ(crowd.agentLevel(1), 0);
+}
+
+// Guards the crowd loop the benchmarks drive: skinning every agent's level mesh counts its
+// vertices and takes time; threads and model matrices change no palette; model x inverse
+// bind is the palette.
+TEST(Crowd, SkinningThreadsAndModels) {
+  const SwingingChain chain = swingingChain(6);
+  const LodSet set = setWithDistances({500, 1000}, {1000, 100000});
+  std::vector<CrowdAgent> agents(40);
+  for (std::size_t a = 0; a < agents.size(); ++a) {
+    agents[a].position = {50.0f * static_cast<float>(a), 0.0f, 0.0f};
+    agents[a].timeOffset = 0.01 * static_cast<double>(a);
+  }
+  const auto run = [&](int threads, bool models) {
+    Result<std::vector<CrowdLevel>> levels = buildCrowdLevels(chain.skeleton, nullptr, chain.clip, set);
+    EXPECT_TRUE(levels) << levels.message();
+    auto crowd = std::make_unique<Crowd>();
+    crowd->setLevels(std::move(levels).value());
+    crowd->setSwitches(lodSwitchesByDistance(set), lodSwitchesByScreenSize(set));
+    crowd->setAgents(agents);
+    crowd->setThreads(threads);
+    crowd->setSkinning(true);
+    crowd->setModels(models);
+    for (int frame = 0; frame < 5; ++frame)
+      EXPECT_FALSE(crowd->update(frame / 60.0, glm::vec3(0.0f)));
+    return crowd;
+  };
+  const std::unique_ptr<Crowd> one = run(1, false);
+  const std::unique_ptr<Crowd> two = run(2, true);
+  EXPECT_EQ(two->threads(), 2);
+  std::int64_t vertices = 0;
+  for (int l = 0; l < one->levelCount(); ++l) {
+    vertices += static_cast<std::int64_t>(one->levelAgents(l).size() * one->level(l).mesh.vertexCount());
+    const std::span<const glm::mat4> a = one->levelPalettes(l), b = two->levelPalettes(l);
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size_bytes()), 0) << "level " << l;
+    EXPECT_TRUE(one->levelModels(l).empty());
+    const std::span<const glm::mat4> models = two->levelModels(l);
+    ASSERT_EQ(models.size(), b.size());
+    const std::size_t joints = one->level(l).inverseBinds.size();
+    for (std::size_t i = 0; i < models.size(); ++i) {
+      const glm::mat4 product = models[i] * one->level(l).inverseBinds[i % joints];
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+          EXPECT_NEAR(product[c][r], b[i][c][r], 1e-3f);
+    }
+  }
+  EXPECT_GT(vertices, 0);
+  EXPECT_EQ(one->stats().verticesSkinned, vertices);
+  EXPECT_GT(one->stats().skinMs, 0.0);
 }
 
 TEST(Crowd, LevelsByScreenSize) {
