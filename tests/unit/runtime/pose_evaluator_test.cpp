@@ -7,9 +7,11 @@
 #include "runtime/pose_evaluator.h"
 #include "unit/runtime/runtime_fixtures.h"
 
-#include <gtest/gtest.h>
-
+#include <algorithm>
 #include <cstring>
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+#include <random>
 #include <vector>
 
 namespace mlod {
@@ -291,7 +293,8 @@ TEST(PoseEvaluator, ThreadsAndPaletteOnlyChangeNothing) {
   const Run three = crowd(3, false);
   EXPECT_EQ(std::memcmp(single.palette.data(), three.palette.data(), n * sizeof(glm::mat4)), 0);
   for (std::size_t i = 0; i < n; ++i)
-    ASSERT_TRUE(paletteNear(three.palette[i], one.models[i], rig.inverseBinds[i % static_cast<std::size_t>(rig.joints())]))
+    ASSERT_TRUE(
+        paletteNear(three.palette[i], one.models[i], rig.inverseBinds[i % static_cast<std::size_t>(rig.joints())]))
         << "matrix " << i;
 }
 
@@ -305,7 +308,9 @@ TEST(PoseEvaluator, LodSamplesFewerJoints) {
   const LodClip full = lodClip(clip, nullptr);
   int animated = 0;
   for (int j = 0; j < full.jointCount(); ++j)
-    animated += (full.flags(j) & (LodClip::kRotationAnimated | LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 1 : 0;
+    animated += (full.flags(j) & (LodClip::kRotationAnimated | LodClip::kTranslationAnimated | LodClip::kScaleAnimated))
+                    ? 1
+                    : 0;
   const Playback fullPlay = play(rig, full, times, 0);
   EXPECT_EQ(fullPlay.sampled, static_cast<std::int64_t>(animated) * static_cast<std::int64_t>(times.size()));
   const LodClip lod = lodClip(clip, &levelsOf(kCmu).back().clusters);
@@ -331,7 +336,9 @@ std::vector<std::uint8_t> blendWindows(const Skeleton& skeleton, const ClusterSe
   return out;
 }
 
-float distance(const glm::mat4& a, const glm::mat4& b) { return glm::length(glm::vec3(a[3]) - glm::vec3(b[3])); }
+float distance(const glm::mat4& a, const glm::mat4& b) {
+  return glm::length(glm::vec3(a[3]) - glm::vec3(b[3]));
+}
 
 // Guards unfreeze blending (docs/architecture.md section 5): equal to M'(t) outside blend windows;
 // inside them every joint within the level's joint-position fidelity of M'(t); and no
@@ -502,6 +509,153 @@ TEST(PoseEvaluator, LoopingClipsBlendAtTheWrap) {
   }
   EXPECT_GT(poppedJump, 5.0f) << "01_01 does not loop: its wrap pops";
   EXPECT_LT(blendedJump, 0.5f * poppedJump);
+}
+
+// A straightforward reference of one character (docs/architecture.md section 5): per joint
+// the rotation LodClip::rotationAt() gives (M' with its unfreeze blends), the wrap offset
+// inside a looping clip's wrap window, the level-change offset after a clip change, as
+// normalised quaternions; local = T R S; model = parent's model x local.
+struct ReferenceCharacter {
+  const LodClip* clip = nullptr;
+  bool levelBlend = false;
+  double levelStart = 0.0, levelSeconds = 0.0;
+  std::vector<glm::quat> levelOffset;
+
+  static glm::quat positiveW(const glm::quat& q) { return q.w < 0.0f ? -q : q; }
+  static glm::quat shown(const LodClip& clip, int j, double t, int blendFrames) {
+    std::int64_t loop = 0;
+    const double f = clip.framePosition(t, &loop);
+    glm::quat q = clip.rotationAt(j, f, blendFrames);
+    std::int32_t i0 = 0;
+    float fraction = 0.0f;
+    clip.split(f, i0, fraction);
+    if (blendFrames > 0 && clip.looping() && loop >= 1 && i0 < blendFrames) {
+      const glm::quat wrap = positiveW(clip.rotationAt(j, clip.frameCount() - 1, blendFrames) *
+                                       glm::inverse(clip.rotationAt(j, 0.0, blendFrames)));
+      q = scaleOffset(wrap, static_cast<float>(1.0 - std::min(f / blendFrames, 1.0))) * q;
+    }
+    return q;
+  }
+  double levelWeight(double t) {
+    if (!levelBlend)
+      return -1.0;
+    const double w = (t - levelStart) / levelSeconds;
+    return w >= 0.0 && w < 1.0 ? 1.0 - w : -1.0;
+  }
+  void play(const LodClip& next, double t, int blendFrames) {
+    if (clip && clip != &next && blendFrames > 0) {
+      const double previous = levelWeight(t);
+      levelOffset.resize(static_cast<std::size_t>(next.jointCount()));
+      for (int j = 0; j < next.jointCount(); ++j) {
+        glm::quat before = shown(*clip, j, t, blendFrames);
+        if (previous >= 0.0)
+          before = scaleOffset(levelOffset[static_cast<std::size_t>(j)], static_cast<float>(previous)) * before;
+        levelOffset[static_cast<std::size_t>(j)] = positiveW(before * glm::inverse(shown(next, j, t, blendFrames)));
+      }
+      levelBlend = true;
+      levelStart = t;
+      levelSeconds = blendFrames / next.fps();
+    } else if (clip != &next) {
+      levelBlend = false;
+    }
+    clip = &next;
+  }
+  void models(const Rig& rig, double t, int blendFrames, std::vector<glm::mat4>& out) {
+    const double weight = levelWeight(t);
+    if (weight < 0.0)
+      levelBlend = false;
+    const double f = clip->framePosition(t);
+    out.resize(static_cast<std::size_t>(rig.joints()));
+    for (int j = 0; j < rig.joints(); ++j) {
+      glm::quat q = shown(*clip, j, t, blendFrames);
+      if (weight >= 0.0)
+        q = scaleOffset(levelOffset[static_cast<std::size_t>(j)], static_cast<float>(weight)) * q;
+      const glm::mat4 local = glm::translate(glm::mat4(1.0f), clip->translationAt(j, f)) *
+                              glm::mat4_cast(glm::normalize(q)) * glm::scale(glm::mat4(1.0f), clip->scaleAt(j, f));
+      const int p = rig.parents[static_cast<std::size_t>(j)];
+      out[static_cast<std::size_t>(j)] = p >= 0 ? out[static_cast<std::size_t>(p)] * local : local;
+    }
+  }
+};
+
+// Guards the whole evaluator against the reference above over thousands of random
+// character-frames: a crowd in one job per step (two threads), each character stepping
+// forward, now and then jumping back or several periods ahead (loop wraps) and switching
+// between full detail and two levels (level changes, also during a running blend), with
+// blending off and on.
+TEST(PoseEvaluator, RandomCharacterFramesEqualTheReference) {
+  const Asset& asset = runtimeAsset(kCmu);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const std::size_t joints = static_cast<std::size_t>(rig.joints());
+  const LodClip full = lodClip(clip, nullptr, true);
+  const LodClip fine = lodClip(clip, &levelsOf(kCmu)[2].clusters, true);
+  const LodClip coarse = lodClip(clip, &levelsOf(kCmu).back().clusters, true);
+  const LodClip* choices[3] = {&full, &fine, &coarse};
+  constexpr int kCharacters = 40, kSteps = 60;
+  WorkerPool pool(2);
+  for (const int blendFrames : {0, 5}) {
+    std::mt19937 random(13u + static_cast<unsigned>(blendFrames));
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    PoseEvaluatorContext context(kCharacters, rig.joints(), 2);
+    std::vector<ReferenceCharacter> reference(kCharacters);
+    std::vector<const LodClip*> clips(kCharacters);
+    std::vector<double> times(kCharacters);
+    for (int c = 0; c < kCharacters; ++c) {
+      clips[static_cast<std::size_t>(c)] = choices[c % 3];
+      times[static_cast<std::size_t>(c)] = unit(random) * full.duration();
+    }
+    std::vector<glm::mat4> models(kCharacters * joints), palette(kCharacters * joints), expected;
+    int compared = 0, switches = 0, wraps = 0;
+    for (int step = 0; step < kSteps; ++step) {
+      for (int c = 0; c < kCharacters; ++c) {
+        const std::size_t ci = static_cast<std::size_t>(c);
+        const double roll = unit(random);
+        if (step > 0) {
+          if (roll < 0.05)
+            times[ci] = unit(random) * times[ci]; // back
+          else if (roll < 0.10)
+            times[ci] += (1.0 + 3.0 * unit(random)) * full.duration(); // periods ahead
+          else
+            times[ci] += (0.5 + unit(random)) / 60.0;
+          if (unit(random) < 0.12) {
+            clips[ci] = choices[(std::find(choices, choices + 3, clips[ci]) - choices + 1 + (roll < 0.5)) % 3];
+            ++switches;
+          }
+        }
+        if (std::fmod(times[ci] * full.fps(), full.frameCount() - 1.0) < blendFrames && times[ci] > full.duration())
+          ++wraps;
+      }
+      PoseEvaluatorJob job;
+      job.parents = rig.parents;
+      job.inverseBinds = rig.inverseBinds;
+      job.clips = clips;
+      job.times = times;
+      job.blendFrames = blendFrames;
+      job.pool = &pool;
+      job.context = &context;
+      job.out_models = models;
+      job.out_palette = palette;
+      ASSERT_TRUE(job.run());
+      for (int c = 0; c < kCharacters; ++c) {
+        const std::size_t ci = static_cast<std::size_t>(c);
+        reference[ci].play(*clips[ci], times[ci], blendFrames);
+        reference[ci].models(rig, times[ci], blendFrames, expected);
+        for (std::size_t j = 0; j < joints; ++j) {
+          ASSERT_TRUE(elementsNear(models[ci * joints + j], expected[j], 2e-4f))
+              << "N=" << blendFrames << " step " << step << " character " << c << " joint " << j << " at " << times[ci]
+              << " s";
+          ASSERT_TRUE(paletteNear(palette[ci * joints + j], models[ci * joints + j], rig.inverseBinds[j]));
+        }
+        ++compared;
+      }
+    }
+    EXPECT_EQ(compared, kCharacters * kSteps);
+    EXPECT_GT(switches, 100);
+    if (blendFrames > 0) {
+      EXPECT_GT(wraps, 0) << "some character-frames lie in a wrap window";
+    }
+  }
 }
 
 // Guards validate(): each invalid input in turn fails, and run() then writes nothing.
