@@ -22,6 +22,14 @@ ExporterOptions GltfExporter::options() const {
               {},
               {},
               QStringLiteral("Indent the JSON of a .gltf for people to read (larger file)")});
+  out.append({QStringLiteral("split_levels"),
+              ExporterOption::Bool,
+              false,
+              {},
+              {},
+              {},
+              QStringLiteral("One file per level, OUT_LOD0.glb, OUT_LOD1.glb ...: each a complete character with "
+                             "its level's mesh and animations (for pipelines that take one file per level)")});
   return out;
 }
 
@@ -38,30 +46,72 @@ ExportResult GltfExporter::exportPackage(const LodPackage& package, const QStrin
   write.binary = format == QLatin1String("glb");
   write.pretty = options.value(QStringLiteral("pretty"), false).toBool();
   write.generator = "Motion LOD Studio glTF exporter " MLOD_PLUGIN_VERSION;
-  const Result<std::string> bytes = gltf::writeGltf(package, write, [&](double fraction, std::string_view message) {
-    return progress.step(0.95 * fraction, QString::fromUtf8(message.data(), qsizetype(message.size())));
-  });
-  if (!bytes) {
-    if (bytes.message() == gltf::kWriteCancelled)
-      return cancelledResult();
-    return ExportResult::failure(QString::fromStdString(bytes.message()));
+  const bool split = options.value(QStringLiteral("split_levels"), false).toBool();
+
+  // The files to write: OUT, or with split_levels OUT_LOD<n>.<suffix> per level.
+  QList<QPair<QString, std::vector<std::size_t>>> outputs;
+  if (split) {
+    const QFileInfo info(path);
+    const QString suffix = info.suffix().isEmpty() ? format : info.suffix();
+    const QString stem = info.suffix().isEmpty() ? info.filePath() : info.filePath().chopped(suffix.size() + 1);
+    for (std::size_t i = 0; i < package.levels.size(); ++i)
+      outputs.append({QStringLiteral("%1_LOD%2.%3").arg(stem).arg(i).arg(suffix), {i}});
+  } else {
+    outputs.append({path, {}});
+  }
+  QList<QPair<QString, QByteArray>> files;
+  std::vector<gltf::LevelStats> levels;
+  for (qsizetype k = 0; k < outputs.size(); ++k) {
+    write.levels = outputs[k].second;
+    const double from = double(k) / double(outputs.size());
+    const double span = 1.0 / double(outputs.size());
+    gltf::WriteStats stats;
+    const Result<std::string> bytes = gltf::writeGltf(
+        package, write,
+        [&](double fraction, std::string_view message) {
+          return progress.step(0.95 * (from + span * fraction),
+                               QString::fromUtf8(message.data(), qsizetype(message.size())));
+        },
+        &stats);
+    if (!bytes) {
+      if (bytes.message() == gltf::kWriteCancelled)
+        return cancelledResult();
+      return ExportResult::failure(QString::fromStdString(bytes.message()));
+    }
+    files.append({outputs[k].first, QByteArray(bytes->data(), static_cast<qsizetype>(bytes->size()))});
+    levels.insert(levels.end(), stats.levels.begin(), stats.levels.end());
   }
   if (progress.cancelled())
     return cancelledResult();
-  const ExportResult written =
-      writeFileAtomically(path, QByteArray(bytes->data(), static_cast<qsizetype>(bytes->size())));
+  const ExportResult written = writeFilesAtomically(files);
   if (!written.ok)
     return written;
   progress.report(1.0, QStringLiteral("done"));
   int meshes = 0;
   for (const LodPackageLevel& level : package.levels)
     meshes += level.mesh() ? 1 : 0;
-  return ExportResult::success(QStringLiteral("wrote %1 (%2, %3 bytes): %4 levels, %5 meshes, %6 animations")
-                                   .arg(path, format.toUpper())
-                                   .arg(bytes->size())
-                                   .arg(package.levels.size())
-                                   .arg(meshes)
-                                   .arg(package.levels.size() * (package.skeleton.empty() ? 0 : package.clips.size())));
+  QStringList names;
+  qint64 total = 0;
+  for (const auto& [file, data] : files) {
+    names << file;
+    total += data.size();
+  }
+  QString message = QStringLiteral("wrote %1 (%2, %3 bytes): %4 levels, %5 meshes, %6 animations")
+                        .arg(names.join(QStringLiteral(", ")), format.toUpper())
+                        .arg(total)
+                        .arg(package.levels.size())
+                        .arg(meshes)
+                        .arg(package.levels.size() * (package.skeleton.empty() ? 0 : package.clips.size()));
+  if (!package.skeleton.empty()) {
+    QStringList perLevel;
+    for (const gltf::LevelStats& level : levels)
+      perLevel << QStringLiteral("%1 %2 bytes (%3 rotation keys)")
+                      .arg(QString::fromStdString(level.name))
+                      .arg(level.animationBytes)
+                      .arg(level.rotationKeys);
+    message += QStringLiteral("\nanimation bytes per level: ") + perLevel.join(QStringLiteral(", "));
+  }
+  return ExportResult::success(message);
 }
 
 } // namespace mlod

@@ -17,7 +17,9 @@ class GltfExporter : public QObject, public Exporter {
 public:
   MLOD_EXPORTER_IDENTITY_FROM_METADATA
   // format (auto|glb|gltf: auto follows the output's suffix, .glb when it has neither),
-  // pretty (indent the JSON of a .gltf).
+  // pretty (indent the JSON of a .gltf), split_levels (OUT_LOD0.glb, OUT_LOD1.glb ... instead
+  // of OUT: one complete character per level, written together or not at all). The message
+  // of a success ends with the animation bytes of every level.
   ExporterOptions options() const override;
   ExportResult exportPackage(const LodPackage& package, const QString& path, const QVariantMap& options,
                              const ExportProgress& progress) override;

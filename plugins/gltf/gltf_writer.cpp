@@ -10,6 +10,7 @@
 #include <cstring>
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <span>
 #include <sstream>
 #include <string>
@@ -121,6 +122,12 @@ public:
     return shared(seconds, 1, TINYGLTF_TYPE_SCALAR, true);
   }
 
+  // Bytes of the data behind `accessor` (its buffer view).
+  std::size_t bytesOf(int accessor) const {
+    const tinygltf::Accessor& a = m_model.accessors[static_cast<std::size_t>(accessor)];
+    return m_model.bufferViews[static_cast<std::size_t>(a.bufferView)].byteLength;
+  }
+
 private:
   int push(tinygltf::Accessor a) {
     m_model.accessors.push_back(std::move(a));
@@ -137,8 +144,11 @@ struct RotationTrack {
   std::vector<float> values; // x, y, z, w per key
 };
 
+// `everyFrame`: key every frame, the held rotation repeated through each cluster, instead of
+// the cluster's two ends only. Both play the same (LINEAR between equal keys holds); the
+// caller keeps whichever takes fewer bytes.
 RotationTrack rotationTrack(const Clip& clip, int joint, const std::vector<Cluster>* clusters, bool removed,
-                            const glm::quat& frozen) {
+                            const glm::quat& frozen, bool everyFrame) {
   RotationTrack track;
   const int n = clip.frameCount;
   glm::quat previous(1.0f, 0.0f, 0.0f, 0.0f);
@@ -153,9 +163,8 @@ RotationTrack rotationTrack(const Clip& clip, int joint, const std::vector<Clust
     track.values.insert(track.values.end(), {q.x, q.y, q.z, q.w});
   };
   if (removed) { // bone reduction: the joint holds one pose throughout
-    key(0, frozen);
-    if (n > 1)
-      key(n - 1, frozen);
+    for (int f = 0; f < n; f += everyFrame ? 1 : std::max(n - 1, 1))
+      key(f, frozen);
     return track;
   }
   std::size_t next = 0; // the next cluster of the joint
@@ -163,8 +172,9 @@ RotationTrack rotationTrack(const Clip& clip, int joint, const std::vector<Clust
     if (clusters && next < clusters->size() && (*clusters)[next].first == f) {
       const Cluster& c = (*clusters)[next++];
       const glm::quat& held = clip.rotation(joint, c.key);
-      key(c.first, held); // held keys: the key posture at the cluster's first and last frame
-      key(c.last, held);
+      // held keys: the key posture at the cluster's first and last frame (every frame between)
+      for (int g = c.first; g <= c.last; g += everyFrame ? 1 : std::max(c.last - c.first, 1))
+        key(g, held);
       f = c.last;
       continue;
     }
@@ -193,9 +203,10 @@ void addChannel(tinygltf::Animation& animation, int node, const char* path, int 
   animation.channels.push_back(std::move(channel));
 }
 
-// The level's motion of one clip as an animation of the joint nodes 0 .. J-1.
+// The level's motion of one clip as an animation of the joint nodes 0 .. J-1, named
+// `name`; `extras` describes it (fps, frame count, clip, level).
 Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& package, const LodPackageLevel& level,
-                                           std::size_t clipIndex) {
+                                           std::size_t clipIndex, const std::string& name) {
   const Clip& clip = package.clips[clipIndex];
   const int joints = package.skeleton.jointCount();
   if (clip.jointCount != joints)
@@ -211,15 +222,20 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
     clusters = nullptr;
 
   tinygltf::Animation animation;
-  animation.name = clip.name + "@" + level.settings.name;
+  animation.name = name;
   const std::vector<int> frames = allFrames(clip.frameCount);
   const float s = static_cast<float>(kMetresPerCm);
   for (int j = 0; j < joints; ++j) {
     const std::size_t jj = static_cast<std::size_t>(j);
     if (clip.hasRotation[jj]) {
       const bool removed = reduced && bones.removed[jj];
-      const RotationTrack track = rotationTrack(clip, j, clusters ? &clusters->joints[jj] : nullptr, removed,
-                                                reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+      const std::vector<Cluster>* held = clusters ? &clusters->joints[jj] : nullptr;
+      const glm::quat frozen = reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+      RotationTrack track = rotationTrack(clip, j, held, removed, frozen, false);
+      // A track with its own key times costs 4 + 16 bytes a key; one keyed at every frame
+      // 16 (the times are shared): frozen spans pay for themselves past a fifth of the frames.
+      if (track.frames.size() < frames.size() && 5 * track.frames.size() >= 4 * frames.size())
+        track = rotationTrack(clip, j, held, removed, frozen, true);
       const int output = builder.shared(track.values, 4, TINYGLTF_TYPE_VEC4, false);
       addChannel(animation, j, "rotation", builder.times(track.frames, clip.fps), output);
     }
@@ -245,10 +261,19 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
     }
   }
   if (animation.channels.empty()) { // a clip without channels: the rest pose (an animation needs a channel)
-    const RotationTrack track = rotationTrack(clip, 0, nullptr, true, package.skeleton.joints[0].rest.rotation);
+    const RotationTrack track = rotationTrack(clip, 0, nullptr, true, package.skeleton.joints[0].rest.rotation, false);
     const int output = builder.shared(track.values, 4, TINYGLTF_TYPE_VEC4, false);
     addChannel(animation, 0, "rotation", builder.times(track.frames, clip.fps), output);
   }
+  // glTF keeps no frame rate: the source's, so that readers can key on its frames again.
+  Value::Object extras;
+  extras["fps"] = number(clip.fps);
+  extras["frameCount"] = integer(clip.frameCount);
+  extras["clip"] = Value(clip.name);
+  extras["looping"] = Value(clip.looping);
+  extras["level"] = integer(level.index);
+  extras["levelName"] = Value(level.settings.name);
+  animation.extras = Value(std::move(extras));
   return animation;
 }
 
@@ -452,13 +477,25 @@ bool step(const WriteProgress& progress, double fraction, std::string_view messa
 
 } // namespace
 
-Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& options, const WriteProgress& progress) {
+std::string lodName(const std::string& name, std::size_t level) {
+  return name + "_LOD" + std::to_string(level);
+}
+
+Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& options, const WriteProgress& progress,
+                              WriteStats* out_stats) {
   const Skeleton& skeleton = package.skeleton;
   const int jointCount = skeleton.jointCount();
   if (jointCount == 0 && !package.mesh)
     return Error("the package has neither a skeleton nor a mesh");
   if (package.levels.empty())
     return Error("the package has no level");
+  std::vector<std::size_t> selected = options.levels;
+  if (selected.empty())
+    for (std::size_t i = 0; i < package.levels.size(); ++i)
+      selected.push_back(i);
+  for (std::size_t i : selected)
+    if (i >= package.levels.size())
+      return Error("the package has no level " + std::to_string(i));
   if (!step(progress, 0.0, "skeleton"))
     return Error(kWriteCancelled);
 
@@ -495,13 +532,10 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
   if (jointCount > 0)
     scene.nodes.push_back(0);
 
-  // Meshes: one per level that has one, bound to one skin over every joint.
+  // One skin over every joint, also without a mesh: it is what makes Blender, three.js and
+  // engines import the joints as an armature (bones) rather than as plain nodes.
   int skin = -1;
-  std::vector<int> levelNodes(package.levels.size(), -1);
-  bool anyMesh = false;
-  for (const LodPackageLevel& level : package.levels)
-    anyMesh = anyMesh || level.mesh() != nullptr;
-  if (anyMesh && jointCount > 0) {
+  if (jointCount > 0) {
     std::vector<float> matrices;
     for (const glm::mat4& m : paletteInverseBinds(skeleton)) {
       const glm::mat4 metres = toMetres(m);
@@ -518,14 +552,17 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
     model.skins.push_back(std::move(out));
     skin = 0;
   }
-  for (std::size_t i = 0; i < package.levels.size(); ++i) {
-    const LodPackageLevel& level = package.levels[i];
+  // Meshes: one per level that has one, named <name>_LOD<n> (n: the level's place in the
+  // package), bound to the one skin.
+  std::vector<int> levelNodes(selected.size(), -1);
+  for (std::size_t k = 0; k < selected.size(); ++k) {
+    const LodPackageLevel& level = package.levels[selected[k]];
     std::optional<SkinnedMesh> mesh = levelMeshOnFullSkeleton(level);
     if (!mesh)
       continue;
-    if (!step(progress, 0.05 + 0.25 * double(i) / double(package.levels.size()), "mesh of " + level.settings.name))
+    if (!step(progress, 0.05 + 0.25 * double(k) / double(selected.size()), "mesh of " + level.settings.name))
       return Error(kWriteCancelled);
-    const std::string name = package.name + "_" + level.settings.name;
+    const std::string name = lodName(package.name, selected[k]);
     Result<tinygltf::Mesh> built = levelMesh(builder, *mesh, mesh->skinned() ? jointCount : 0, name);
     if (!built)
       return built.error();
@@ -539,12 +576,12 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
       node.skin = skin;
     }
     model.nodes.push_back(std::move(node));
-    levelNodes[i] = static_cast<int>(model.nodes.size()) - 1;
+    levelNodes[k] = static_cast<int>(model.nodes.size()) - 1;
   }
-  std::vector<std::size_t> meshLevels; // the levels with a mesh node, in order
-  for (std::size_t i = 0; i < levelNodes.size(); ++i)
-    if (levelNodes[i] >= 0)
-      meshLevels.push_back(i);
+  std::vector<std::size_t> meshLevels; // the places in `selected` with a mesh node, in order
+  for (std::size_t k = 0; k < levelNodes.size(); ++k)
+    if (levelNodes[k] >= 0)
+      meshLevels.push_back(k);
   if (!meshLevels.empty()) {
     tinygltf::Node& top = model.nodes[static_cast<std::size_t>(levelNodes[meshLevels[0]])];
     scene.nodes.push_back(levelNodes[meshLevels[0]]);
@@ -555,9 +592,10 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
         ids.push_back(integer(levelNodes[meshLevels[k]]));
       for (std::size_t k = 0; k < meshLevels.size(); ++k) {
         // Level k is shown down to the coverage where level k + 1 switches in; the last to 0.
-        const double c = k + 1 < meshLevels.size()
-                             ? screenCoverage(package.lods, package.levels[meshLevels[k + 1]].settings.switchDistanceCm)
-                             : 0.0;
+        const double c =
+            k + 1 < meshLevels.size()
+                ? screenCoverage(package.lods, package.levels[selected[meshLevels[k + 1]]].settings.switchDistanceCm)
+                : 0.0;
         coverage.push_back(number(c));
       }
       Value::Object lod;
@@ -572,28 +610,50 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
   model.scenes.push_back(std::move(scene));
   model.defaultScene = 0;
 
-  // Animations: per level, per clip; and the cluster tables beside them.
+  // Animations: per level, per clip, named <clip>_LOD<n>; and the cluster tables beside them.
+  // Nodes and animations are referred to by index and by name, so that a tool that renumbers
+  // them leaves a way to find them.
   json levelsJson = json::array();
   const std::size_t clipCount = jointCount > 0 ? package.clips.size() : 0;
   std::size_t done = 0;
-  for (std::size_t i = 0; i < package.levels.size(); ++i) {
-    const LodPackageLevel& level = package.levels[i];
+  WriteStats stats;
+  for (std::size_t k = 0; k < selected.size(); ++k) {
+    const LodPackageLevel& level = package.levels[selected[k]];
     const BoneReduction& bones = level.build.motion.bones;
     json removed = json::array();
+    json removedNames = json::array();
     if (static_cast<int>(bones.removed.size()) == jointCount)
       for (int j = 0; j < jointCount; ++j)
-        if (bones.removed[static_cast<std::size_t>(j)])
+        if (bones.removed[static_cast<std::size_t>(j)]) {
           removed.push_back(j);
+          removedNames.push_back(skeleton.joints[static_cast<std::size_t>(j)].name);
+        }
     json animations = json::array();
+    std::set<int> accessors; // every accessor the level's animations use
+    LevelStats levelStats;
+    levelStats.name = lodName(package.name, selected[k]);
     for (std::size_t c = 0; c < clipCount; ++c, ++done) {
-      if (!step(progress, 0.3 + 0.6 * double(done) / double(clipCount * package.levels.size()),
+      if (!step(progress, 0.3 + 0.6 * double(done) / double(clipCount * selected.size()),
                 "animation " + package.clips[c].name + " at " + level.settings.name))
         return Error(kWriteCancelled);
-      Result<tinygltf::Animation> animation = levelAnimation(builder, package, level, c);
+      const Clip& clip = package.clips[c];
+      const std::string name = lodName(clip.name, selected[k]);
+      Result<tinygltf::Animation> animation = levelAnimation(builder, package, level, c, name);
       if (!animation)
         return animation.error();
+      for (const tinygltf::AnimationSampler& sampler : animation->samplers) {
+        accessors.insert(sampler.input);
+        accessors.insert(sampler.output);
+        if (model.accessors[static_cast<std::size_t>(sampler.input)].count < static_cast<std::size_t>(clip.frameCount))
+          ++levelStats.heldTracks;
+      }
+      for (const tinygltf::AnimationChannel& channel : animation->channels)
+        if (channel.target_path == "rotation")
+          levelStats.rotationKeys += model
+                                         .accessors[static_cast<std::size_t>(
+                                             animation->samplers[static_cast<std::size_t>(channel.sampler)].input)]
+                                         .count;
       model.animations.push_back(std::move(animation).value());
-      const Clip& clip = package.clips[c];
       json jointsJson = json::array();
       if (c < level.build.motion.clusters.size()) {
         const ClusterSet& set = level.build.motion.clusters[c];
@@ -604,23 +664,33 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
           json clusters = json::array();
           for (const Cluster& cluster : list)
             clusters.push_back({cluster.first, cluster.last, cluster.key});
-          jointsJson.push_back({{"node", j}, {"clusters", std::move(clusters)}});
+          jointsJson.push_back({{"node", j},
+                                {"name", skeleton.joints[static_cast<std::size_t>(j)].name},
+                                {"clusters", std::move(clusters)}});
         }
       }
       animations.push_back({{"animation", static_cast<int>(model.animations.size()) - 1},
+                            {"animationName", name},
                             {"clip", clip.name},
                             {"frameCount", clip.frameCount},
                             {"fps", clip.fps},
                             {"looping", clip.looping},
                             {"joints", std::move(jointsJson)}});
     }
-    levelsJson.push_back({{"level", level.index},
-                          {"name", level.settings.name},
-                          {"threshold", level.settings.motionThreshold},
-                          {"switchDistance", level.settings.switchDistanceCm * kMetresPerCm},
-                          {"node", levelNodes[i]},
-                          {"removedJoints", std::move(removed)},
-                          {"animations", std::move(animations)}});
+    for (int accessor : accessors)
+      levelStats.animationBytes += builder.bytesOf(accessor);
+    stats.levels.push_back(std::move(levelStats));
+    json entry = {{"level", level.index},
+                  {"name", level.settings.name},
+                  {"threshold", level.settings.motionThreshold},
+                  {"switchDistance", level.settings.switchDistanceCm * kMetresPerCm},
+                  {"node", levelNodes[k]}};
+    if (levelNodes[k] >= 0)
+      entry["nodeName"] = model.nodes[static_cast<std::size_t>(levelNodes[k])].name;
+    entry["removedJoints"] = std::move(removed);
+    entry["removedJointNames"] = std::move(removedNames);
+    entry["animations"] = std::move(animations);
+    levelsJson.push_back(std::move(entry));
   }
   json extension;
   if (jointCount > 0) {
@@ -647,6 +717,8 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
     bytes = std::move(out).value();
   }
   step(progress, 1.0, "done");
+  if (out_stats)
+    *out_stats = std::move(stats);
   return bytes;
 }
 

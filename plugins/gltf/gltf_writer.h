@@ -2,26 +2,32 @@
 // A LodPackage as one glTF 2.0 asset (docs/architecture.md section 8; docs/gltf-extension.md):
 // - units: metres (core is in cm: every length is scaled by 0.01), +Y up as imported;
 // - the original skeleton as nodes 0 .. J-1 (node j = joint j, its rest transform), one
-//   skin over all of them (inverse bind matrices: paletteInverseBinds()); every level's mesh
-//   is bound to that one skin (levelMeshOnFullSkeleton(): bone reduction moved the
-//   influences of a level's removed joints to their active ancestors and baked the frozen
-//   poses into the vertices), so one skeleton plays every level;
-// - per level and clip one animation "<clip>@<level name>": the level's motion M'(t) on the
-//   full skeleton. A clustered span [first, last] is written as two keys holding the
-//   cluster's key posture at frames first and last (the frames between have no key), joints
-//   removed by bone reduction hold their frozen rotation, everything else is keyed at every
-//   frame; LINEAR, so it plays like the runtime's LodClip (which nlerps where glTF slerps:
-//   the same at every frame, within a hair between frames);
+//   skin over all of them (inverse bind matrices: paletteInverseBinds()), also without a
+//   mesh (clients import a skin's joints as an armature); every level's mesh is bound to
+//   that one skin (levelMeshOnFullSkeleton(): bone reduction moved the influences of a
+//   level's removed joints to their active ancestors and baked the frozen poses into the
+//   vertices), so one skeleton plays every level;
+// - names engines and DCC tools key on: level n (its place in package.levels) is the node
+//   and mesh "<name>_LOD<n>" and the animation "<clip>_LOD<n>" of each clip;
+// - per level and clip one animation: the level's motion M'(t) on the full skeleton, keyed
+//   on the source's frames (frame i at i / fps s), with extras {fps, frameCount, clip,
+//   looping, level, levelName}. A clustered span [first, last] holds the cluster's key
+//   posture: two keys at frames first and last, or, where a track keyed at every frame
+//   takes fewer bytes (its key times are shared), the held posture at every frame of the
+//   span. Joints removed by bone reduction hold their frozen rotation; everything else is
+//   keyed at every frame; LINEAR, so it plays like the runtime's LodClip (which nlerps
+//   where glTF slerps: the same at every frame, within a hair between frames);
 //   animation data that repeats (key times; a track a coarser level leaves as it was) is
 //   stored once and its accessor shared;
 // - a level's mesh: one primitive per part (source mesh), named in the mesh's extras.parts;
-// - mesh levels: one node per level with a mesh; the first selected level's node is in the
+// - mesh levels: one node per level with a mesh; the first written level's node is in the
 //   scene and carries MSFT_lod {"ids": [the other levels' nodes]} and
 //   extras.MSFT_screencoverage (per level, the fraction of the viewport height the
 //   character's bounding sphere spans where the next level takes over; 0 for the last);
 // - the cluster tables and bone reduction of every level in the vendor extension
-//   MLOD_joint_clusters at the asset's top level (docs/gltf-extension.md), never required.
-// A skeleton without a mesh (BVH) gives nodes, the skin-less skeleton and the animations.
+//   MLOD_joint_clusters at the asset's top level (docs/gltf-extension.md), never required;
+//   nodes and animations named there by index and by name.
+// A skeleton without a mesh (BVH) gives the joint nodes, their skin and the animations.
 
 #include "core/error.h"
 #include "core/lod/lod_package.h"
@@ -29,6 +35,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace mlod::gltf {
 
@@ -40,6 +47,20 @@ struct WriteOptions {
   bool binary = true;  // .glb; false: .gltf JSON with the buffer embedded as a data URI
   bool pretty = false; // indent the JSON of a .gltf
   std::string generator = "Motion LOD Studio";
+  // Which of package.levels to write, in order (each at most once); empty = every level. A
+  // level keeps its name <name>_LOD<n> (n: its place in package.levels) whichever are written.
+  std::vector<std::size_t> levels;
+};
+
+// What the animations of one written level hold.
+struct LevelStats {
+  std::string name;               // <name>_LOD<n>
+  std::size_t animationBytes = 0; // bytes of key times and values the level's animations use (shared data counted once)
+  std::size_t rotationKeys = 0;   // rotation keys, all joints and clips
+  std::size_t heldTracks = 0;     // tracks keyed at fewer than every frame (frozen spans held by their ends)
+};
+struct WriteStats {
+  std::vector<LevelStats> levels; // per written level, in order
 };
 
 // Progress: fraction in [0, 1] and what is being done; returns false to cancel. May be empty.
@@ -49,7 +70,8 @@ inline constexpr const char* kWriteCancelled = "cancelled";
 // The bytes of the file. Errors: a package whose parts do not fit together (a clip or
 // cluster set of another skeleton, a mesh joint out of range), cancellation
 // (message kWriteCancelled), a failure of the serializer.
+// `out_stats` (may be null) receives what each level's animations hold.
 Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& options = {},
-                              const WriteProgress& progress = {});
+                              const WriteProgress& progress = {}, WriteStats* out_stats = nullptr);
 
 } // namespace mlod::gltf

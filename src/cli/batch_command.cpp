@@ -1,6 +1,7 @@
 #include "cli/batch_command.h"
 
 #include "cli/export_job.h"
+#include "cli/terminal_progress.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -24,6 +25,7 @@ void BatchCommand::attach(CLI::App& app) {
   command->add_option("--shard", shard, "I/N: the jobs whose index is I mod N (default 0/1: all)");
   command->add_option("--jobs", jobs, "jobs to run at once on this machine")->check(CLI::Range(1, 256));
   command->add_flag("--json", json, "print one JSON document on stdout");
+  command->add_flag("-q,--quiet", quiet, "no progress line on the terminal (stderr)");
 }
 
 namespace {
@@ -162,11 +164,19 @@ int BatchCommand::run() const {
   std::vector<ExportOutcome> outcomes(mine.size());
   std::vector<double> seconds(mine.size(), 0.0);
   std::atomic<std::size_t> next{0};
+  std::atomic<std::size_t> finished{0};
+  TerminalProgress line(!quiet && !json);
   const auto worker = [&] {
     for (std::size_t k = next++; k < mine.size(); k = next++) {
       const auto jobStart = std::chrono::steady_clock::now();
-      outcomes[k] = runExportJob(host, all[mine[k]], cancel);
+      const std::string name = "batch " + std::to_string(finished.load()) + "/" + std::to_string(mine.size()) +
+                               " done; job " + std::to_string(mine[k]) + " ";
+      outcomes[k] = runExportJob(host, all[mine[k]], cancel,
+                                 [&](std::string_view stage, double fraction, std::string_view detail) {
+                                   line.show(name + std::string(stage), fraction, detail);
+                                 });
       seconds[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - jobStart).count();
+      ++finished;
     }
   };
   std::vector<std::thread> threads;
@@ -175,6 +185,7 @@ int BatchCommand::run() const {
   worker();
   for (std::thread& thread : threads)
     thread.join();
+  line.clear();
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   int exitCode = kExitOk, failed = 0;

@@ -17,6 +17,8 @@ namespace mlod::cli {
 // alone (never on the shard or K). Prints what each job did, in job order; JSON:
 // {"manifest","shard":{"index","count"},"jobs":[{"index","input","plugin","output","ok",
 //  "exit","message","bytes","seconds"}],"succeeded","failed","seconds"}.
+// On a terminal, one stderr line says how many jobs are done and where the latest report
+// came from (terminal_progress.h); --quiet or --json silence it.
 // Exit: 2 for a bad manifest or arguments (nothing runs); else 0 when every job of the
 // shard succeeded, or the exit status of the first job that failed (2 bad input, 1 other).
 struct BatchCommand {
@@ -24,6 +26,7 @@ struct BatchCommand {
   std::string shard = "0/1";
   int jobs = 1;
   bool json = false;
+  bool quiet = false; // no progress line on the terminal
 
   void attach(CLI::App& app);
   int run() const;

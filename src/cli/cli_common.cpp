@@ -12,7 +12,7 @@ void addImportOptions(CLI::App& command, ImportArguments& import) {
   command.add_option("--unit-scale", import.unitScale,
                      "cm per file unit, or a preset: cm, m, mm, inch, cmu (5.6444, CMU mocap); "
                      "default: the file's own unit");
-  command.add_option("--fps", import.fps, "resampling rate for formats without a frame time (not BVH)")
+  command.add_option("--fps", import.fps, "resampling rate for formats without a frame rate (not BVH, nor our glTF)")
       ->check(CLI::Range(0.001, 10000.0));
   command.add_option("--import-timeout", import.timeoutSeconds, "seconds before a stuck import is stopped")
       ->check(CLI::Range(1.0, 86400.0));

@@ -1,6 +1,7 @@
 #include "cli/export_command.h"
 
 #include "cli/export_job.h"
+#include "cli/terminal_progress.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -25,6 +26,7 @@ void ExportCommand::attach(CLI::App& app) {
   command->add_option("--import-timeout", job.importTimeoutSeconds, "seconds before a stuck import is stopped")
       ->check(CLI::Range(1.0, 86400.0));
   command->add_flag("--json", json, "print one JSON document on stdout");
+  command->add_flag("-q,--quiet", quiet, "no progress line on the terminal (stderr)");
 }
 
 int ExportCommand::run() const {
@@ -49,7 +51,11 @@ int ExportCommand::run() const {
       return kExitBadInput;
     }
   }
-  const ExportOutcome outcome = runExportJob(host, filled, installInterruptHandler());
+  TerminalProgress line(!quiet && !json);
+  const ExportOutcome outcome =
+      runExportJob(host, filled, installInterruptHandler(),
+                   [&](std::string_view stage, double fraction, std::string_view detail) { line.show(stage, fraction, detail); });
+  line.clear();
   if (!outcome.ok())
     printError(outcome.errorFile, outcome.message);
   if (json) {

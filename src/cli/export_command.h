@@ -17,6 +17,8 @@ namespace mlod::cli {
 // through a temporary file: an error or Ctrl+C leaves nothing at OUT.
 // JSON: {"input","plugin","output","ok","message","bytes","levels","options",
 //        "seconds":{"import","package","export"}}.
+// On a terminal, one stderr line says the stage and its percent while it runs (terminal_progress.h);
+// --quiet or --json silence it, and it never appears when stderr is not a terminal.
 // Exit 2: bad input (file, project, plugin id, option, level); 1: the export failed
 // (unwritable output, cancelled).
 struct ExportCommand {
@@ -24,6 +26,7 @@ struct ExportCommand {
   std::string levels;               // "0,2,3", parsed into job.levels
   std::vector<std::string> options; // key=value, checked against the plugin into job.options
   bool json = false;
+  bool quiet = false; // no progress line on the terminal
 
   void attach(CLI::App& app);
   int run() const;

@@ -85,7 +85,8 @@ bool parseLevelList(const std::string& text, std::vector<int>& out_levels, std::
   return true;
 }
 
-ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const std::atomic<bool>* cancel) {
+ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const std::atomic<bool>* cancel,
+                           const ExportJobProgress& report) {
   const auto cancelled = [cancel] { return cancel && cancel->load(); };
   // What needs no import first: a typo costs nothing.
   Exporter* exporter = host.exporter(QString::fromStdString(job.plugin));
@@ -122,7 +123,15 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
   }
 
   ExportOutcome out;
-  const LodPackageProgress progress = [&](double, std::string_view) { return !cancelled(); };
+  const auto tell = [&](std::string_view stage, double fraction, std::string_view detail) {
+    if (report)
+      report(stage, fraction, detail);
+  };
+  const LodPackageProgress progress = [&](double fraction, std::string_view detail) {
+    tell("LOD package", fraction, detail);
+    return !cancelled();
+  };
+  tell("import", -1.0, job.input);
   Result<LodPackage> package = Error("no package");
   Clock::time_point start = Clock::now();
   if (isProjectFile(job.input)) {
@@ -201,8 +210,13 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
 
   start = Clock::now();
   const QString path = QString::fromStdString(job.output);
-  const ExportResult result =
-      exporter->exportPackage(*package, path, options, ExportProgress({}, [&] { return cancelled(); }));
+  tell("export", 0.0, job.plugin);
+  const ExportResult result = exporter->exportPackage(*package, path, options,
+                                                      ExportProgress(
+                                                          [&](double fraction, const QString& detail) {
+                                                            tell("export", fraction, detail.toStdString());
+                                                          },
+                                                          [&] { return cancelled(); }));
   out.exportSeconds = secondsSince(start);
   if (!result.ok) {
     std::string message = result.message.toStdString();

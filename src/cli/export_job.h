@@ -12,7 +12,9 @@
 #include <QVariantMap>
 
 #include <atomic>
+#include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace mlod::cli {
@@ -43,9 +45,16 @@ struct ExportOutcome {
 // "0,2,3" -> {0, 2, 3}; false (and a reason) on anything else.
 bool parseLevelList(const std::string& text, std::vector<int>& out_levels, std::string& out_reason);
 
+// Where a running job is: stage "import", "LOD package" or "export", the stage's fraction in
+// [0, 1] (< 0 where the stage has no measure: the import) and what the step is doing, as the
+// package build and the exporter plugin report it. Called on the job's thread.
+using ExportJobProgress = std::function<void(std::string_view stage, double fraction, std::string_view detail)>;
+
 // Runs one job with the exporters of `host`. `cancel` (may be null) stops it between steps
-// and inside the package build and the exporter; a cancelled job writes nothing.
-ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const std::atomic<bool>* cancel = nullptr);
+// and inside the package build and the exporter; a cancelled job writes nothing. `progress`
+// may be empty.
+ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const std::atomic<bool>* cancel = nullptr,
+                           const ExportJobProgress& progress = {});
 
 // Makes SIGINT and SIGTERM (Ctrl+C, a farm scheduler stopping the job) set the returned
 // flag instead of killing the process, so that a running export stops and leaves nothing.

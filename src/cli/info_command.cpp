@@ -164,9 +164,14 @@ int InfoCommand::run() const {
   std::printf(")\n");
   printJointTree(skeleton, first);
   std::printf("clips:    %zu\n", asset->clips.size());
-  for (const Clip& clip : asset->clips)
-    std::printf("  %-24s %7d frames  %8.3f fps  %9.3f s\n", clip.name.c_str(), clip.frameCount, clip.fps,
+  for (std::size_t c = 0; c < asset->clips.size(); ++c) {
+    const Clip& clip = asset->clips[c];
+    std::printf("  %-24s %7d frames  %8.3f fps  %9.3f s", clip.name.c_str(), clip.frameCount, clip.fps,
                 clip.durationSeconds());
+    if (c < asset->clusters.size()) // the clusters a glTF's MLOD_joint_clusters carries
+      std::printf("  %6d clusters", asset->clusters[c].clusterCount());
+    std::printf("\n");
+  }
   std::printf("meshes:   %zu\n", asset->meshes.size());
   for (const SkinnedMesh& mesh : asset->meshes)
     std::printf("  %-24s %7zu vertices  %7zu triangles  %4d bones  %zu parts\n", mesh.name.c_str(),

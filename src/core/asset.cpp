@@ -1,6 +1,7 @@
 #include "core/asset.h"
 
 #include <cmath>
+#include <string>
 
 namespace mlod {
 
@@ -16,6 +17,15 @@ Error Asset::validate() const {
   for (const Clip& clip : clips)
     if (Error error = clip.validate(skeleton))
       return error;
+  if (!clusters.empty() && clusters.size() != clips.size())
+    return Error("it carries clusters for " + std::to_string(clusters.size()) + " clips but has " +
+                 std::to_string(clips.size()));
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    if (clusters[c].jointCount() != skeleton.jointCount() || clusters[c].frameCount != clips[c].frameCount)
+      return Error("the clusters of clip '" + clips[c].name + "' are not of its joints and frames");
+    if (Error error = clusters[c].validate())
+      return Error("clip '" + clips[c].name + "': " + error.message());
+  }
   for (const SkinnedMesh& mesh : meshes)
     if (Error error = mesh.validate(skeleton.jointCount()))
       return error;

@@ -3,6 +3,7 @@
 
 #include "core/clip.h"
 #include "core/error.h"
+#include "core/jpc/cluster_set.h"
 #include "core/skeleton.h"
 #include "core/skinned_mesh.h"
 
@@ -20,11 +21,15 @@ public:
   Skeleton skeleton;            // may be empty (a mesh without a skeleton)
   std::vector<Clip> clips;      // each animates every joint of the skeleton
   std::vector<SkinnedMesh> meshes; // the character mesh (skinned) and/or a static mesh
+  // Per clip, the joint clusters the file carries (a glTF's MLOD_joint_clusters,
+  // docs/gltf-extension.md); empty when the file carries none.
+  std::vector<ClusterSet> clusters;
   std::vector<std::string> warnings; // what the importer noticed and worked around
 
   // Rules: unitScale finite and > 0; the skeleton validates; every clip validates
   // against it; every mesh validates against its joint count; a clip needs a
-  // skeleton; the asset holds at least a skeleton or a mesh.
+  // skeleton; the asset holds at least a skeleton or a mesh; clusters is empty or holds one
+  // set per clip, each of the skeleton's joints and the clip's frames, and validates.
   Error validate() const;
 };
 

@@ -19,12 +19,17 @@ std::string describeAssetJson(const Asset& asset, int indent) {
                       {"bound", joint.inverseBind.has_value()}});
   doc["joints"] = std::move(joints);
   json clips = json::array();
-  for (const Clip& clip : asset.clips)
-    clips.push_back({{"name", clip.name},
-                     {"frames", clip.frameCount},
-                     {"fps", clip.fps},
-                     {"duration", clip.durationSeconds()},
-                     {"rotation_channels", clip.rotationChannelCount()}});
+  for (std::size_t c = 0; c < asset.clips.size(); ++c) {
+    const Clip& clip = asset.clips[c];
+    json item = {{"name", clip.name},
+                 {"frames", clip.frameCount},
+                 {"fps", clip.fps},
+                 {"duration", clip.durationSeconds()},
+                 {"rotation_channels", clip.rotationChannelCount()}};
+    if (c < asset.clusters.size()) // the clusters the file carries (a glTF's MLOD_joint_clusters)
+      item["clusters"] = asset.clusters[c].clusterCount();
+    clips.push_back(std::move(item));
+  }
   doc["clips"] = std::move(clips);
   json meshes = json::array();
   for (const SkinnedMesh& mesh : asset.meshes)

@@ -132,6 +132,13 @@ void writeAssetStream(const Asset& asset, std::string& out_bytes) {
   w.pod(static_cast<std::uint64_t>(asset.warnings.size()));
   for (const std::string& warning : asset.warnings)
     w.text(warning);
+  w.pod(static_cast<std::uint64_t>(asset.clusters.size()));
+  for (const ClusterSet& set : asset.clusters) {
+    w.pod(static_cast<std::int32_t>(set.frameCount));
+    w.pod(static_cast<std::uint64_t>(set.joints.size()));
+    for (const std::vector<Cluster>& joint : set.joints)
+      w.array(joint);
+  }
 }
 
 Result<Asset> readAssetStream(std::string_view bytes) {
@@ -192,6 +199,15 @@ Result<Asset> readAssetStream(std::string_view bytes) {
   const auto warnings = r.pod<std::uint64_t>();
   for (std::uint64_t i = 0; i < warnings && !r.failed(); ++i)
     asset.warnings.push_back(r.text());
+  const auto clusterSets = r.pod<std::uint64_t>();
+  for (std::uint64_t i = 0; i < clusterSets && !r.failed(); ++i) {
+    ClusterSet set;
+    set.frameCount = r.pod<std::int32_t>();
+    const auto clusterJoints = r.pod<std::uint64_t>();
+    for (std::uint64_t j = 0; j < clusterJoints && !r.failed(); ++j)
+      set.joints.push_back(r.array<Cluster>());
+    asset.clusters.push_back(std::move(set));
+  }
   if (r.failed())
     return Error("the import worker sent a truncated asset");
   if (Error error = asset.validate())

@@ -4,6 +4,8 @@
 
 #include "io/importer.h"
 
+#include "io/gltf_metadata.h"
+
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
@@ -186,8 +188,9 @@ bool channelAnimates(const aiNodeAnim& channel, const Transform& rest) {
 class SceneConverter {
 public:
   SceneConverter(const aiScene& scene, const ImportOptions& options, std::string sourcePath, std::string extension,
-                 std::optional<double> colladaMetres)
-      : m_scene(scene), m_options(options), m_extension(std::move(extension)), m_colladaMetres(colladaMetres) {
+                 std::optional<double> colladaMetres, std::vector<GltfAnimationInfo> gltf)
+      : m_scene(scene), m_options(options), m_extension(std::move(extension)), m_colladaMetres(colladaMetres),
+        m_gltf(std::move(gltf)) {
     m_asset.sourcePath = std::move(sourcePath);
   }
 
@@ -208,6 +211,7 @@ public:
     for (unsigned a = 0; a < m_scene.mNumAnimations; ++a)
       if (Error error = buildClip(a))
         return error;
+    attachClusters();
     // note: Assimp's BVH loader adds a generated skeleton mesh; it is no character mesh.
     if (!m_isBvh)
       if (Error error = buildMeshes())
@@ -390,6 +394,14 @@ private:
       clip.fps = std::abs(ticksPerSecond - std::round(ticksPerSecond)) < 1e-3 ? std::round(ticksPerSecond)
                                                                               : ticksPerSecond;
       framesExact = animation.mDuration;
+    } else if (const GltfAnimationInfo* info = gltfInfo(animationIndex); info && info->fps) {
+      // A glTF that states its source's frame rate (docs/gltf-extension.md): keyed on those frames.
+      clip.fps = *info->fps;
+      framesExact = animation.mDuration / ticksPerSecond * clip.fps;
+      if (info->frameCount && std::abs(framesExact + 1.0 - *info->frameCount) < 0.5)
+        framesExact = *info->frameCount - 1;
+      if (info->looping)
+        clip.looping = *info->looping;
     } else {
       clip.fps = m_options.fps;
       framesExact = animation.mDuration / ticksPerSecond * clip.fps;
@@ -457,6 +469,48 @@ private:
     }
     m_asset.clips.push_back(std::move(clip));
     return {};
+  }
+
+  // What the glTF says of Assimp's animation `index` (Assimp keeps the file's order and names).
+  const GltfAnimationInfo* gltfInfo(unsigned index) const {
+    if (index >= m_gltf.size() || m_gltf.size() != m_scene.mNumAnimations)
+      return nullptr;
+    const std::string name = m_scene.mAnimations[index]->mName.C_Str();
+    return name.empty() || name == m_gltf[index].name ? &m_gltf[index] : nullptr;
+  }
+
+  // The clusters of a glTF's MLOD_joint_clusters, per clip on the imported skeleton; a clip's
+  // set that does not fit its joints and frames is dropped with a warning.
+  void attachClusters() {
+    bool any = false;
+    for (unsigned a = 0; a < m_scene.mNumAnimations; ++a)
+      if (const GltfAnimationInfo* info = gltfInfo(a))
+        any = any || !info->clusters.empty();
+    if (!any || m_asset.clips.size() != m_scene.mNumAnimations)
+      return;
+    for (unsigned a = 0; a < m_scene.mNumAnimations; ++a) {
+      const Clip& clip = m_asset.clips[a];
+      ClusterSet set;
+      set.frameCount = clip.frameCount;
+      set.joints.resize(static_cast<std::size_t>(m_asset.skeleton.jointCount()));
+      std::string problem;
+      if (const GltfAnimationInfo* info = gltfInfo(a))
+        for (const auto& [name, clusters] : info->clusters) {
+          const int joint = m_asset.skeleton.find(name);
+          if (joint < 0)
+            problem = "no joint '" + name + "'";
+          else
+            set.joints[static_cast<std::size_t>(joint)] = clusters;
+        }
+      if (problem.empty())
+        if (Error error = set.validate())
+          problem = error.message();
+      if (!problem.empty()) {
+        m_asset.warnings.push_back("MLOD_joint_clusters of animation '" + clip.name + "' ignored: " + problem);
+        set.joints.assign(set.joints.size(), {});
+      }
+      m_asset.clusters.push_back(std::move(set));
+    }
   }
 
   // Nearest joint at or above a node, or -1.
@@ -665,6 +719,7 @@ private:
   const ImportOptions& m_options;
   std::string m_extension;
   std::optional<double> m_colladaMetres;
+  std::vector<GltfAnimationInfo> m_gltf; // per animation of a glTF file; empty for other formats
   Asset m_asset;
   bool m_isBvh = false;
   std::vector<FlatNode> m_nodes;
@@ -681,7 +736,8 @@ void configure(Assimp::Importer& importer) {
 }
 
 Result<Asset> convert(Assimp::Importer& importer, const aiScene* scene, const std::string& sourcePath,
-                      const std::string& extension, const ImportOptions& options, std::optional<double> colladaMetres) {
+                      const std::string& extension, const ImportOptions& options, std::optional<double> colladaMetres,
+                      std::string_view gltfBytes) {
   if (!scene) {
     std::string reason = importer.GetErrorString();
     if (reason.empty())
@@ -696,7 +752,12 @@ Result<Asset> convert(Assimp::Importer& importer, const aiScene* scene, const st
   if (!std::isfinite(options.unitScale) || options.unitScale < 0.0)
     return Error("the unit scale must be a positive number of cm per unit");
   try {
-    return SceneConverter(*scene, options, sourcePath, extension, colladaMetres).run();
+    std::vector<std::string> warnings;
+    std::vector<GltfAnimationInfo> gltf = readGltfAnimationInfo(gltfBytes, warnings);
+    Result<Asset> asset = SceneConverter(*scene, options, sourcePath, extension, colladaMetres, std::move(gltf)).run();
+    if (asset)
+      asset->warnings.insert(asset->warnings.end(), warnings.begin(), warnings.end());
+    return asset;
   } catch (const std::bad_alloc&) {
     return Error("it needs more memory than the import may use (the file may be broken)");
   } catch (const std::exception& e) {
@@ -740,7 +801,15 @@ Result<Asset> importAsset(const std::string& path, const ImportOptions& options)
   configure(importer);
   try {
     const aiScene* scene = importer.ReadFile(path, kPostProcess);
-    return convert(importer, scene, path, extension, options, colladaUnitOf(extension, head));
+    std::string gltf; // a glTF's own JSON: what it states beyond what Assimp reads
+    if (scene && (extension == "glb" || extension == "gltf")) {
+      stream.clear();
+      stream.seekg(0);
+      gltf.resize(static_cast<std::size_t>(size));
+      stream.read(gltf.data(), static_cast<std::streamsize>(gltf.size()));
+      gltf.resize(static_cast<std::size_t>(stream.gcount()));
+    }
+    return convert(importer, scene, path, extension, options, colladaUnitOf(extension, head), gltf);
   } catch (const std::bad_alloc&) {
     return Error("it needs more memory than the import may use (the file may be broken)");
   } catch (const std::exception& e) {
@@ -758,7 +827,9 @@ Result<Asset> importAssetFromMemory(const void* data, std::size_t size, const st
   try {
     const aiScene* scene = importer.ReadFileFromMemory(data, size, kPostProcess, ext.c_str());
     const std::string head(static_cast<const char*>(data), std::min<std::size_t>(size, 4096));
-    return convert(importer, scene, "memory." + ext, ext, options, colladaUnitOf(ext, head));
+    const bool gltf = ext == "glb" || ext == "gltf";
+    return convert(importer, scene, "memory." + ext, ext, options, colladaUnitOf(ext, head),
+                   gltf ? std::string_view(static_cast<const char*>(data), size) : std::string_view());
   } catch (const std::bad_alloc&) {
     return Error("it needs more memory than the import may use (the file may be broken)");
   } catch (const std::exception& e) {

@@ -12,7 +12,8 @@ struct ImportOptions {
   // UnitScaleFactor, Collada its <unit meter> x100, everything else (BVH included) 1.
   double unitScale = 0.0;
   // Resampling rate for formats without a frame time of their own (every format but BVH,
-  // which keeps its "Frame Time"), frames per second.
+  // which keeps its "Frame Time", and a glTF whose animations state their source's fps in
+  // their extras, docs/gltf-extension.md), frames per second.
   double fps = 30.0;
 };
 

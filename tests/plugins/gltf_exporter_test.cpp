@@ -4,9 +4,16 @@
 // joints and frames; weights sum to 1 exactly; MSFT_lod links the level meshes; the
 // MLOD_joint_clusters extension holds the package's cluster tables; each level's animation
 // plays like the runtime's LodClip; unwritable output and cancel leave nothing behind.
+// What clients key on: a skin (armature) also without a mesh, <name>_LOD<n> names, the
+// source fps and frame count in the animations' extras (read back by the importer, with the
+// clusters), animation bytes that fall with each level, one valid file per level on request.
 
 #include "exporter_test_support.h"
 #include "io/importer.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
 
 #include <QDir>
 #include <QFile>
@@ -259,6 +266,9 @@ void expectClusterTablesRoundTrip(const LodPackage& package, const json& documen
     const LodPackageLevel& level = package.levels[i];
     const json& l = levels[i];
     EXPECT_EQ(l.at("level").get<int>(), level.index);
+    if (l.at("node").get<int>() >= 0) { // referred to by name as well as by index
+      EXPECT_EQ(l.at("nodeName"), document["nodes"][l["node"].get<std::size_t>()]["name"]);
+    }
     EXPECT_EQ(l.at("name").get<std::string>(), level.settings.name);
     EXPECT_DOUBLE_EQ(l.at("threshold").get<double>(), level.settings.motionThreshold);
     std::vector<int> removed;
@@ -266,10 +276,20 @@ void expectClusterTablesRoundTrip(const LodPackage& package, const json& documen
       if (level.build.motion.bones.removed[j])
         removed.push_back(int(j));
     EXPECT_EQ(l.at("removedJoints").get<std::vector<int>>(), removed);
+    ASSERT_EQ(l.at("removedJointNames").size(), removed.size());
+    for (std::size_t r = 0; r < removed.size(); ++r)
+      EXPECT_EQ(l["removedJointNames"][r], document["nodes"][std::size_t(removed[r])]["name"]);
     ASSERT_EQ(l.at("animations").size(), package.clips.size());
     for (std::size_t c = 0; c < package.clips.size(); ++c) {
       const json& a = l["animations"][c];
       EXPECT_EQ(a.at("animation").get<std::size_t>(), i * package.clips.size() + c);
+      const json& animation = document["animations"][a["animation"].get<std::size_t>()];
+      EXPECT_EQ(a.at("animationName"), animation.at("name"));
+      EXPECT_EQ(animation.at("name").get<std::string>(), package.clips[c].name + "_LOD" + std::to_string(i));
+      // glTF keeps no frame rate: the animation's extras say the source's
+      EXPECT_EQ(animation.at("extras").at("fps").get<double>(), package.clips[c].fps);
+      EXPECT_EQ(animation.at("extras").at("frameCount").get<int>(), package.clips[c].frameCount);
+      EXPECT_EQ(animation.at("extras").at("level").get<int>(), level.index);
       EXPECT_EQ(a.at("frameCount").get<int>(), package.clips[c].frameCount);
       EXPECT_EQ(a.at("fps").get<double>(), package.clips[c].fps);
       EXPECT_EQ(a.at("looping").get<bool>(), package.clips[c].looping);
@@ -279,6 +299,7 @@ void expectClusterTablesRoundTrip(const LodPackage& package, const json& documen
       for (const json& joint : a.at("joints")) {
         const std::size_t node = joint.at("node").get<std::size_t>();
         ASSERT_LT(node, parsed.size());
+        EXPECT_EQ(joint.at("name"), document["nodes"][node]["name"]);
         for (const json& cluster : joint.at("clusters"))
           parsed[node].push_back({cluster.at(0).get<int>(), cluster.at(1).get<int>(), cluster.at(2).get<int>()});
         EXPECT_FALSE(parsed[node].empty()); // only joints with clusters are listed
@@ -288,6 +309,54 @@ void expectClusterTablesRoundTrip(const LodPackage& package, const json& documen
   }
 }
 
+// Every level's animation of every clip came back through the project's importer at the
+// source's fps and frame count, named <clip>_LOD<n>, with the level's clusters (joints
+// matched by name: the importer may order them differently).
+void expectReadBack(const LodPackage& package, const Asset& back) {
+  ASSERT_EQ(back.clips.size(), package.levels.size() * package.clips.size());
+  ASSERT_EQ(back.clusters.size(), back.clips.size());
+  for (std::size_t l = 0; l < package.levels.size(); ++l)
+    for (std::size_t c = 0; c < package.clips.size(); ++c) {
+      const std::size_t a = l * package.clips.size() + c;
+      const Clip& clip = back.clips[a];
+      const Clip& source = package.clips[c];
+      EXPECT_EQ(clip.name, source.name + "_LOD" + std::to_string(l));
+      EXPECT_EQ(clip.fps, source.fps) << clip.name;
+      EXPECT_EQ(clip.frameCount, source.frameCount) << clip.name;
+      const ClusterSet& expected = package.levels[l].build.motion.clusters[c];
+      const ClusterSet& got = back.clusters[a];
+      EXPECT_EQ(got.frameCount, source.frameCount);
+      int compared = 0;
+      for (int j = 0; j < package.skeleton.jointCount(); ++j) {
+        const int k = back.skeleton.find(package.skeleton.joints[std::size_t(j)].name);
+        ASSERT_GE(k, 0);
+        EXPECT_EQ(got.joints[std::size_t(k)], expected.joints[std::size_t(j)]) << clip.name << " joint " << j;
+        compared += expected.joints[std::size_t(j)].empty() ? 0 : 1;
+      }
+      if (l > 0) {
+        EXPECT_GT(compared, 0) << clip.name; // a coarser level has clusters to compare
+      }
+    }
+}
+
+// The bytes of the key times and values that each animation uses (data shared between
+// channels counted once), per level: what a file of that level alone holds.
+std::vector<std::size_t> animationBytesPerLevel(const tinygltf::Model& model, std::size_t levels) {
+  std::vector<std::size_t> out;
+  const std::size_t clips = model.animations.size() / levels;
+  for (std::size_t l = 0; l < levels; ++l) {
+    std::set<int> accessors;
+    for (std::size_t c = 0; c < clips; ++c)
+      for (const tinygltf::AnimationSampler& sampler : model.animations[l * clips + c].samplers)
+        accessors.insert({sampler.input, sampler.output});
+    std::size_t bytes = 0;
+    for (int a : accessors)
+      bytes += model.bufferViews[std::size_t(model.accessors[std::size_t(a)].bufferView)].byteLength;
+    out.push_back(bytes);
+  }
+  return out;
+}
+
 TEST(GltfExporter, DescribesItselfAndItsOptions) {
   Exporter& exporter = gltfExporter();
   EXPECT_EQ(exporter.id(), "gltf");
@@ -295,6 +364,7 @@ TEST(GltfExporter, DescribesItselfAndItsOptions) {
   const QVariantMap defaults = test::exporterOptions(exporter);
   EXPECT_EQ(defaults.value("format").toString(), "auto");
   EXPECT_EQ(defaults.value("pretty").toBool(), false);
+  EXPECT_EQ(defaults.value("split_levels").toBool(), false);
   QVariantMap values;
   QString error;
   EXPECT_FALSE(parseExporterOptions(exporter.options(), {"format=fbx"}, &values, &error));
@@ -352,7 +422,8 @@ TEST(GltfExporter, SkinnedCharacterPassesTheValidatorAndReadsBack) {
       const json& node = document["nodes"][std::size_t(ids[k])];
       EXPECT_EQ(node.at("mesh").get<std::size_t>(), k + 1);
       EXPECT_EQ(node.at("skin").get<int>(), 0);
-      EXPECT_EQ(node.at("name").get<std::string>(), "BCN_Epileptic_" + package.levels[k + 1].settings.name);
+      EXPECT_EQ(node.at("name").get<std::string>(), "BCN_Epileptic_LOD" + std::to_string(k + 1));
+      EXPECT_EQ(document["meshes"][k + 1].at("name").get<std::string>(), "BCN_Epileptic_LOD" + std::to_string(k + 1));
     }
     const std::vector<double> coverage = top.at("extras").at("MSFT_screencoverage").get<std::vector<double>>();
     ASSERT_EQ(coverage.size(), package.levels.size());
@@ -367,15 +438,12 @@ TEST(GltfExporter, SkinnedCharacterPassesTheValidatorAndReadsBack) {
     expectPlaysLikeTheRuntime(package, model, 1, 1e-5);
     expectSkinsLikeTheRuntime(package, model, 1e-5); // 10 um: float rounding is ~1.5 um
 
-    // Assimp reads it back through the project's importer: the same joints and frames
-    ImportOptions options;
-    options.fps = package.clips.at(0).fps;
-    const Result<Asset> back = importAsset(out.path.toStdString(), options);
+    // Assimp reads it back through the project's importer: the same joints, frames, fps
+    // (from the animations' extras) and clusters
+    const Result<Asset> back = importAsset(out.path.toStdString());
     ASSERT_TRUE(back) << back.message();
     EXPECT_EQ(back->skeleton.jointCount(), joints);
-    ASSERT_EQ(back->clips.size(), package.levels.size() * package.clips.size());
-    for (const Clip& clip : back->clips)
-      EXPECT_EQ(clip.frameCount, package.clips[0].frameCount) << clip.name;
+    expectReadBack(package, *back);
     ASSERT_FALSE(back->meshes.empty());
     const SkinnedMesh* finest = package.levels[0].mesh();
     ASSERT_TRUE(finest != nullptr);
@@ -398,7 +466,10 @@ TEST(GltfExporter, SkeletonAlonePassesTheValidatorAndReadsBack) {
 
   const tinygltf::Model model = parseModel(out.bytes);
   EXPECT_TRUE(model.meshes.empty());
-  EXPECT_TRUE(model.skins.empty());
+  // a skin over every joint, though no mesh uses it: clients import an armature, not empties
+  ASSERT_EQ(model.skins.size(), 1u);
+  EXPECT_EQ(int(model.skins[0].joints.size()), package.skeleton.jointCount());
+  EXPECT_EQ(model.skins[0].skeleton, 0);
   EXPECT_EQ(int(model.nodes.size()), package.skeleton.jointCount());
   const json document = documentOf(out.bytes);
   expectClusterTablesRoundTrip(package, document);
@@ -423,14 +494,10 @@ TEST(GltfExporter, SkeletonAlonePassesTheValidatorAndReadsBack) {
   EXPECT_EQ(rootTranslation.size(), 1u);
   EXPECT_LT(rotationKeys(1), rotationKeys(0) + 1);
 
-  ImportOptions options;
-  options.fps = package.clips[0].fps;
-  const Result<Asset> back = importAsset(out.path.toStdString(), options);
+  const Result<Asset> back = importAsset(out.path.toStdString()); // at the file's fps, not the default 30
   ASSERT_TRUE(back) << back.message();
   EXPECT_EQ(back->skeleton.jointCount(), package.skeleton.jointCount());
-  ASSERT_EQ(back->clips.size(), package.levels.size());
-  for (const Clip& clip : back->clips)
-    EXPECT_EQ(clip.frameCount, package.clips[0].frameCount) << clip.name;
+  expectReadBack(package, *back);
   // lengths come back in cm: metres in the file
   const std::vector<glm::mat4> restIn = package.skeleton.restModelMatrices();
   const std::vector<glm::mat4> restBack = back->skeleton.restModelMatrices();
@@ -527,6 +594,137 @@ TEST(GltfExporter, CancelLeavesNothingBehindAndKeepsAnOldFile) {
   EXPECT_FALSE(gltfExporter().exportPackage(package, path, test::exporterOptions(gltfExporter()), cancel).ok);
   EXPECT_EQ(readAll(path), before);
   EXPECT_EQ(test::filesIn(dir.path()), QStringList{"cancelled.glb"});
+}
+
+// Frozen spans are held by their ends (or, where cheaper, by the shared every-frame times), so
+// a coarser level's animations take fewer bytes; the summary says how many per level.
+TEST(GltfExporter, AnimationBytesFallWithEachLevel) {
+  for (const LodPackage* package : {&test::cmuPackage(), &test::bcnPackage()}) {
+    SCOPED_TRACE(package->name);
+    QTemporaryDir dir;
+    const Exported out = exportTo(*package, dir.filePath("out.glb"));
+    ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+    const std::vector<std::size_t> bytes = animationBytesPerLevel(parseModel(out.bytes), package->levels.size());
+    std::cout << "[ animation bytes ] " << package->name << ":";
+    for (std::size_t l = 0; l < bytes.size(); ++l)
+      std::cout << " LOD" << l << " " << bytes[l];
+    std::cout << "\n";
+    for (std::size_t l = 1; l < bytes.size(); ++l)
+      EXPECT_LT(bytes[l], bytes[l - 1]) << "LOD" << l;
+    // the summary reports the same figures
+    const std::string message = out.result.message.toStdString();
+    for (std::size_t l = 0; l < bytes.size(); ++l)
+      EXPECT_NE(message.find(package->name + "_LOD" + std::to_string(l) + " " + std::to_string(bytes[l]) + " bytes"),
+                std::string::npos)
+          << message;
+  }
+}
+
+// split_levels=true: OUT_LOD0.glb ... one complete character per level, each valid, each
+// with its level's mesh, skin, animations and cluster table; OUT itself is not written.
+TEST(GltfExporter, SplitLevelsWriteOneValidCharacterPerLevel) {
+  const LodPackage& package = test::bcnPackage();
+  QTemporaryDir dir;
+  const Exported whole = exportTo(package, dir.filePath("whole.glb"));
+  ASSERT_TRUE(whole.result.ok);
+  const std::vector<std::size_t> wholeBytes = animationBytesPerLevel(parseModel(whole.bytes), package.levels.size());
+  QDir(dir.path()).mkdir("split");
+  const Exported out = exportTo(package, dir.filePath("split/BCN.glb"), {"split_levels=true"});
+  ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+  EXPECT_TRUE(out.bytes.isEmpty()); // no OUT, only OUT_LOD<n>
+  EXPECT_EQ(test::filesIn(dir.filePath("split")),
+            QStringList({"BCN_LOD0.glb", "BCN_LOD1.glb", "BCN_LOD2.glb", "BCN_LOD3.glb"}));
+  for (std::size_t l = 0; l < package.levels.size(); ++l) {
+    const std::string lod = "_LOD" + std::to_string(l);
+    SCOPED_TRACE(lod);
+    const QString path = dir.filePath(QString::fromStdString("split/BCN" + lod + ".glb"));
+    const test::ValidatorReport report = test::runValidator(path);
+    EXPECT_EQ(report.exitCode, 0) << report.output;
+    EXPECT_EQ(report.errors, 0) << report.output;
+    const QByteArray bytes = readAll(path);
+    const tinygltf::Model model = parseModel(bytes);
+    ASSERT_EQ(model.meshes.size(), 1u);
+    EXPECT_EQ(model.meshes[0].name, "BCN_Epileptic" + lod);
+    ASSERT_EQ(model.skins.size(), 1u);
+    ASSERT_EQ(model.animations.size(), package.clips.size());
+    EXPECT_EQ(model.animations[0].name, package.clips[0].name + lod);
+    EXPECT_EQ(animationBytesPerLevel(model, 1), std::vector<std::size_t>{wholeBytes[l]});
+    const json document = documentOf(bytes);
+    EXPECT_FALSE(document["nodes"].back().contains("extensions")); // one mesh: no MSFT_lod
+    const json& levels = document.at("extensions").at("MLOD_joint_clusters").at("levels");
+    ASSERT_EQ(levels.size(), 1u);
+    EXPECT_EQ(levels[0].at("level").get<int>(), package.levels[l].index);
+    EXPECT_EQ(levels[0].at("nodeName").get<std::string>(), "BCN_Epileptic" + lod);
+    const Result<Asset> back = importAsset(path.toStdString());
+    ASSERT_TRUE(back) << back.message();
+    ASSERT_EQ(back->clips.size(), package.clips.size());
+    EXPECT_EQ(back->clips[0].fps, package.clips[0].fps);
+    EXPECT_EQ(back->clips[0].frameCount, package.clips[0].frameCount);
+  }
+}
+
+// Assimp itself (not only the project's importer, which builds the skeleton from nodes)
+// sees what engines that import through it get: the mesh named <name>_LOD<n> with its bones,
+// and one animation per level. From one file it takes the scene's level only (it ignores
+// MSFT_lod, through which alone the coarser levels are reached); from split files each level.
+std::set<std::string> assimpMeshes(const QString& path, std::size_t animations) {
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path.toStdString(), aiProcess_ValidateDataStructure);
+  EXPECT_TRUE(scene) << importer.GetErrorString();
+  std::set<std::string> names; // Assimp names a primitive's mesh <glTF mesh>-<primitive>
+  if (!scene)
+    return names;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const std::string name = scene->mMeshes[m]->mName.C_Str();
+    names.insert(name.substr(0, name.rfind('-')));
+    EXPECT_GT(scene->mMeshes[m]->mNumBones, 0u) << name;
+  }
+  EXPECT_EQ(scene->mNumAnimations, animations);
+  return names;
+}
+
+TEST(GltfExporter, AssimpSeesBonesLevelNamesAndAnimations) {
+  const LodPackage& package = test::bcnPackage();
+  QTemporaryDir dir;
+  const Exported out = exportTo(package, dir.filePath("BCN.glb"));
+  ASSERT_TRUE(out.result.ok);
+  EXPECT_EQ(assimpMeshes(out.path, package.levels.size() * package.clips.size()),
+            std::set<std::string>{"BCN_Epileptic_LOD0"});
+  const Exported split = exportTo(package, dir.filePath("BCN.glb"), {"split_levels=true"});
+  ASSERT_TRUE(split.result.ok);
+  for (std::size_t l = 0; l < package.levels.size(); ++l)
+    EXPECT_EQ(assimpMeshes(dir.filePath(QStringLiteral("BCN_LOD%1.glb").arg(l)), package.clips.size()),
+              std::set<std::string>{"BCN_Epileptic_LOD" + std::to_string(l)});
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(out.path.toStdString(), aiProcess_ValidateDataStructure);
+  ASSERT_TRUE(scene);
+  for (std::size_t l = 0; l < package.levels.size(); ++l)
+    EXPECT_EQ(std::string(scene->mAnimations[l]->mName.C_Str()), package.clips[0].name + "_LOD" + std::to_string(l));
+}
+
+// MLOD_joint_clusters names its animations and joints as well as numbering them: a tool that
+// reorders the animations leaves the importer able to find each animation's clusters.
+TEST(GltfExporter, ClusterTablesSurviveRenumberedAnimations) {
+  const LodPackage& package = test::cmuPackage();
+  QTemporaryDir dir;
+  const Exported out = exportTo(package, dir.filePath("01_01.gltf"));
+  ASSERT_TRUE(out.result.ok);
+  json document = documentOf(out.bytes);
+  json& animations = document["animations"];
+  ASSERT_EQ(animations.size(), 4u);
+  std::swap(animations[0], animations[3]); // LOD3 first, LOD0 last: the indices now lie
+  std::swap(animations[1], animations[2]);
+  const std::string renumbered = document.dump();
+  const Result<Asset> back = importAssetFromMemory(renumbered.data(), renumbered.size(), "gltf");
+  ASSERT_TRUE(back) << back.message();
+  ASSERT_EQ(back->clips.size(), 4u);
+  ASSERT_EQ(back->clusters.size(), 4u);
+  for (std::size_t a = 0; a < 4; ++a) {
+    const std::size_t level = 3 - a;
+    EXPECT_EQ(back->clips[a].name, package.clips[0].name + "_LOD" + std::to_string(level));
+    EXPECT_EQ(back->clusters[a].clusterCount(), package.levels[level].build.motion.clusters[0].clusterCount())
+        << back->clips[a].name;
+  }
 }
 
 } // namespace

@@ -1,0 +1,32 @@
+#pragma once
+// What a glTF that Motion LOD Studio wrote says beyond what Assimp reads
+// (docs/gltf-extension.md): each animation's source frame rate and frame count (its extras,
+// or the MLOD_joint_clusters extension) and the joint clusters of MLOD_joint_clusters.
+// Read from the JSON alone; any other glTF simply states nothing.
+
+#include "core/jpc/cluster_set.h"
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace mlod {
+
+struct GltfAnimationInfo {
+  std::string name;              // the glTF animation's name
+  std::optional<double> fps;     // frames per second, > 0
+  std::optional<int> frameCount; // frames of the source clip, >= 1
+  std::optional<bool> looping;
+  // The joints with clusters, by node name, each with its clusters as written (unchecked).
+  std::vector<std::pair<std::string, std::vector<Cluster>>> clusters;
+};
+
+// Per animation of the glTF `bytes` (a .glb, or the JSON of a .gltf), in the file's order.
+// Empty when the bytes are neither, or state nothing about any animation. References of
+// MLOD_joint_clusters are resolved by name where the name and the index disagree (a tool
+// renumbered the file); what cannot be resolved is skipped and said in `out_warnings`.
+std::vector<GltfAnimationInfo> readGltfAnimationInfo(std::string_view bytes, std::vector<std::string>& out_warnings);
+
+} // namespace mlod
