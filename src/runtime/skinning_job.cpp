@@ -1,9 +1,8 @@
 #include "runtime/skinning_job.h"
 
-#include <glm/gtc/type_ptr.hpp>
-
 #include <cmath>
 #include <cstring>
+#include <glm/gtc/type_ptr.hpp>
 
 // The hot loops are also compiled for x86-64-v3 (AVX2, FMA) and picked at load time.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(MLOD_NO_TARGET_CLONES)
@@ -23,15 +22,25 @@ inline v4 load4(const float* p) {
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-inline void store3(glm::vec3& out, v4 v) { std::memcpy(&out, &v, sizeof(glm::vec3)); }
+inline void store3(glm::vec3& out, v4 v) {
+  out.x = v[0];
+  out.y = v[1];
+  out.z = v[2];
+}
+// 16 bytes at `out`: its 3 floats and the next vector's x, which the next vertex rewrites
+// (one store instead of a spill and two).
+inline void store3Over(glm::vec3& out, v4 v) {
+  std::memcpy(&out, &v, sizeof v);
+}
 
-// One influence count: the blended matrix's columns c0..c3, then p' and n'.
+// One influence count: the blended matrix's columns c0..c3, then p' and n'. Every vertex
+// but the last of the batch is stored 16 bytes wide (see store3Over()).
 template <int K, bool Normals>
-inline void skinLoop(const glm::mat4* __restrict palette, const std::uint16_t* __restrict joints,
-                     const float* __restrict weights, const glm::vec3* __restrict positions,
-                     const glm::vec3* __restrict normals, glm::vec3* __restrict outPositions,
-                     glm::vec3* __restrict outNormals, std::size_t count) {
-  for (std::size_t v = 0; v < count; ++v) {
+__attribute__((always_inline)) inline void
+skinLoop(const glm::mat4* __restrict palette, const std::uint16_t* __restrict joints, const float* __restrict weights,
+         const glm::vec3* __restrict positions, const glm::vec3* __restrict normals, glm::vec3* __restrict outPositions,
+         glm::vec3* __restrict outNormals, std::size_t count) {
+  const auto vertex = [&](std::size_t v, auto store) {
     const float* m = glm::value_ptr(palette[joints[0]]);
     v4 c0 = load4(m), c1 = load4(m + 4), c2 = load4(m + 8), c3 = load4(m + 12);
     if constexpr (K > 1) {
@@ -52,16 +61,21 @@ inline void skinLoop(const glm::mat4* __restrict palette, const std::uint16_t* _
     }
     joints += K;
     const glm::vec3 p = positions[v];
-    store3(outPositions[v], c0 * p.x + c1 * p.y + c2 * p.z + c3);
+    // (c3 first: three multiply-adds)
+    store(outPositions[v], c3 + c0 * p.x + c1 * p.y + c2 * p.z);
     if constexpr (Normals) {
       const glm::vec3 n = normals[v];
-      store3(outNormals[v], c0 * n.x + c1 * n.y + c2 * n.z);
+      store(outNormals[v], c0 * n.x + c1 * n.y + c2 * n.z);
     }
-  }
+  };
+  if (count == 0)
+    return;
+  for (std::size_t v = 0; v + 1 < count; ++v)
+    vertex(v, [](glm::vec3& out, v4 value) { store3Over(out, value); });
+  vertex(count - 1, [](glm::vec3& out, v4 value) { store3(out, value); });
 }
 
-template <int K>
-inline void skinGroup(const SkinningJob& job) {
+template <int K> __attribute__((always_inline)) inline void skinGroup(const SkinningJob& job) {
   const std::size_t count = job.positions.size();
   if (job.normals.empty())
     skinLoop<K, false>(job.palette.data(), job.joints.data(), job.weights.data(), job.positions.data(), nullptr,
@@ -153,8 +167,8 @@ std::optional<SkinningMesh> SkinningMesh::build(std::span<const glm::vec3> posit
       }
       if (w > 0.0f) {
         if (joints[v][i] >= jointCount) {
-          fail(out_error, "vertex " + std::to_string(v) + " names joint " + std::to_string(joints[v][i]) +
-                              " of " + std::to_string(jointCount));
+          fail(out_error, "vertex " + std::to_string(v) + " names joint " + std::to_string(joints[v][i]) + " of " +
+                              std::to_string(jointCount));
           return std::nullopt;
         }
         ++count;
