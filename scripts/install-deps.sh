@@ -10,7 +10,7 @@ packages=(
   libassimp-dev assimp-utils assimp-testmodels libopenmesh-dev libglm-dev libmeshoptimizer-dev
   libtinygltf-dev nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
   libgl-dev libgl1-mesa-dri xvfb xauth clang libclang-rt-14-dev
-  appstream desktop-file-utils jq man-db
+  appstream desktop-file-utils jq man-db valgrind
 )
 
 missing=()
