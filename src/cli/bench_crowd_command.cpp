@@ -7,7 +7,6 @@
 #include "core/lod_clip_builder.h"
 #include "runtime/pose_evaluator.h"
 #include "runtime/skinning_job.h"
-#include "runtime/worker_pool.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -61,8 +60,6 @@ void BenchCrowdCommand::attach(CLI::App& app) {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 double median(std::vector<double> values) {
   if (values.empty())
     return 0.0;
@@ -77,35 +74,14 @@ std::string number(double value) {
   return out.str();
 }
 
-// One side of the comparison: full detail or the LOD.
+// One side of the comparison: full detail or the LOD, each a crowd of one level.
 struct Side {
   const char* name = "";
-  const LodClip* clip = nullptr;
-  PoseEvaluatorContext context;
-  std::vector<const LodClip*> clips;
+  Crowd crowd;
   std::vector<double> poseSeconds;
   std::vector<double> skinSeconds;
-  std::int64_t sampled = 0;  // joints evaluated in the last repetition
+  std::int64_t sampled = 0; // joints evaluated in the last repetition
 };
-
-struct SkinTask {
-  const SkinningMesh* mesh = nullptr;
-  const glm::mat4* palette = nullptr;
-  std::size_t joints = 0;
-  std::vector<std::vector<glm::vec3>>* positions = nullptr; // per thread
-  std::vector<std::vector<glm::vec3>>* normals = nullptr;
-  bool failed = false;
-};
-
-void skinCharacters(void* data, int begin, int end, int thread) {
-  SkinTask& task = *static_cast<SkinTask*>(data);
-  std::vector<glm::vec3>& positions = (*task.positions)[static_cast<std::size_t>(thread)];
-  std::vector<glm::vec3>& normals = (*task.normals)[static_cast<std::size_t>(thread)];
-  for (int c = begin; c < end; ++c)
-    if (!task.mesh->skin(std::span<const glm::mat4>(task.palette + static_cast<std::size_t>(c) * task.joints, task.joints),
-                         positions, normals))
-      task.failed = true;
-}
 
 } // namespace
 
@@ -147,21 +123,20 @@ int BenchCrowdCommand::run() const {
     return kExitBadInput;
   }
   const JpcLevelResult& level = levels->front();
-  // the crowd loops its clip
-  Result<LodClip> full = buildLodClip(clip, nullptr, true);
-  Result<LodClip> lod = buildLodClip(clip, &level.clusters, true);
-  if (!full || !lod) {
-    printError(file, (!full ? full : lod).message());
-    return kExitBadInput;
-  }
-  const std::vector<std::int16_t> parents = asset->skeleton.parentIndices();
-  const std::vector<glm::mat4> inverseBinds = paletteInverseBinds(asset->skeleton);
-  const std::size_t joints = parents.size();
   const SkinnedMesh* skinned = nullptr;
   for (const SkinnedMesh& mesh : asset->meshes)
     if (mesh.skinned() && !skinned)
       skinned = &mesh;
-  std::optional<SkinningMesh> skinning;
+  // one level each, the original skeleton and mesh: full detail (no clusters) and the LOD,
+  // played by core's Crowd (the loop the studio's Crowd dock runs), looping
+  Result<CrowdLevel> fullLevel = buildCrowdLevel(asset->skeleton, skinned, clip, nullptr);
+  Result<CrowdLevel> lodLevel = buildCrowdLevel(asset->skeleton, skinned, clip, &level.clusters);
+  if (!fullLevel || !lodLevel) {
+    printError(file, (!fullLevel ? fullLevel : lodLevel).message());
+    return kExitBadInput;
+  }
+  const std::size_t joints = fullLevel->parents.size();
+  std::optional<SkinningMesh> skinning; // for its figures (the crowd skins its own)
   if (skinned) {
     Result<SkinningMesh> built = buildSkinningMesh(*skinned, asset->skeleton.jointCount());
     if (!built) {
@@ -170,66 +145,53 @@ int BenchCrowdCommand::run() const {
     }
     skinning = std::move(built).value();
   }
+  const LodClip& full = fullLevel->clip;
+  const LodClip& lod = lodLevel->clip;
+  const std::size_t fullBytes = full.byteSize(), lodBytes = lod.byteSize();
+  const std::size_t fullPlanBytes = full.planByteSize(), lodPlanBytes = lod.planByteSize();
+  const int planFrames = full.planFrames();
 
   // the crowd: starts spread over the clip (golden-ratio steps), 1/60 s per frame
   const std::size_t n = static_cast<std::size_t>(characters);
-  std::vector<double> starts(n), times(n);
+  std::vector<CrowdAgent> crowdAgents(n);
   for (std::size_t c = 0; c < n; ++c)
-    starts[c] = std::fmod(static_cast<double>(c) * 0.6180339887498949, 1.0) * full->duration();
-  WorkerPool pool(threads);
-  std::vector<glm::mat4> palette(n * joints), models(paletteOnly ? 0 : n * joints);
-  std::vector<std::vector<glm::vec3>> skinPositions(static_cast<std::size_t>(threads)),
-      skinNormals(static_cast<std::size_t>(threads));
-  if (skinning)
-    for (int t = 0; t < threads; ++t) {
-      skinPositions[static_cast<std::size_t>(t)].resize(static_cast<std::size_t>(skinning->vertexCount()));
-      skinNormals[static_cast<std::size_t>(t)].resize(skinning->hasNormals() ? skinPositions[0].size() : 0);
-    }
+    crowdAgents[c].timeOffset = std::fmod(static_cast<double>(c) * 0.6180339887498949, 1.0) * full.duration();
   Side sides[2];
   sides[0].name = "full";
-  sides[0].clip = &*full;
   sides[1].name = "lod";
-  sides[1].clip = &*lod;
-  for (Side& side : sides) {
-    side.context.resize(characters, static_cast<int>(joints), threads);
-    side.clips.assign(n, side.clip);
+  std::vector<CrowdLevel> sideLevels[2];
+  sideLevels[0].push_back(std::move(fullLevel).value());
+  sideLevels[1].push_back(std::move(lodLevel).value());
+  int animated = 0;
+  for (int j = 0; j < static_cast<int>(joints); ++j)
+    animated += (sideLevels[0].front().clip.flags(j) &
+                 (LodClip::kRotationAnimated | LodClip::kTranslationAnimated | LodClip::kScaleAnimated))
+                    ? 1
+                    : 0;
+  for (int s = 0; s < 2; ++s) {
+    Crowd& crowd = sides[s].crowd;
+    crowd.setLevels(std::move(sideLevels[s]));
+    Crowd::Selection selection;
+    selection.forcedLevel = 0;
+    crowd.setSelection(selection);
+    crowd.setThreads(threads);
+    crowd.setModels(!paletteOnly);
+    crowd.setBlendFrames(blendFrames);
+    crowd.setSkinning(skinned != nullptr);
   }
 
-  bool failed = false;
+  std::string failure;
   const auto repetition = [&](Side& side, bool record) {
-    side.context.reset();
+    side.crowd.setAgents(crowdAgents); // every repetition from the same start
     double pose = 0.0, skin = 0.0;
     std::int64_t sampled = 0;
     for (int frame = 0; frame < frames; ++frame) {
-      for (std::size_t c = 0; c < n; ++c)
-        times[c] = starts[c] + frame / 60.0;
-      PoseEvaluatorJob job;
-      job.parents = parents;
-      job.inverseBinds = inverseBinds;
-      job.clips = side.clips;
-      job.times = times;
-      job.blendFrames = blendFrames;
-      job.pool = &pool;
-      job.context = &side.context;
-      job.out_models = models;
-      job.out_palette = palette;
-      const Clock::time_point start = Clock::now();
-      failed = !job.run() || failed;
-      const Clock::time_point posed = Clock::now();
-      if (skinning) {
-        SkinTask task;
-        task.mesh = &*skinning;
-        task.palette = palette.data();
-        task.joints = joints;
-        task.positions = &skinPositions;
-        task.normals = &skinNormals;
-        pool.run(characters, std::max(1, characters / (threads * 16)), &skinCharacters, &task);
-        failed = task.failed || failed;
-      }
-      const Clock::time_point done = Clock::now();
-      pose += std::chrono::duration<double>(posed - start).count();
-      skin += std::chrono::duration<double>(done - posed).count();
-      sampled += side.context.jointsSampled();
+      if (Error error = side.crowd.update(frame / 60.0, glm::vec3(0.0f)))
+        failure = error.message();
+      const CrowdFrameStats& stats = side.crowd.stats();
+      pose += stats.poseMs / 1000.0;
+      skin += stats.skinMs / 1000.0;
+      sampled += stats.jointsEvaluated;
     }
     if (record) {
       side.poseSeconds.push_back(pose);
@@ -249,16 +211,14 @@ int BenchCrowdCommand::run() const {
     if (runLod)
       repetition(sides[1], true);
   }
-  if (failed) {
-    printError(file, "a runtime job did not validate (a bug: please report it)");
+  if (!failure.empty()) {
+    printError(file, failure + " (a bug: please report it)");
     return kExitFailure;
   }
 
   const double charFrames = static_cast<double>(characters) * frames;
-  int animated = 0;
-  for (std::size_t j = 0; j < joints; ++j)
-    animated += (full->flags(static_cast<int>(j)) & (LodClip::kRotationAnimated | LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 1 : 0;
-  const std::size_t perCharacter = sides[0].context.bytesPerCharacter() + (paletteOnly ? 1 : 2) * joints * sizeof(glm::mat4);
+  const std::size_t perCharacter = PoseEvaluatorContext(1, static_cast<int>(joints)).bytesPerCharacter() +
+                                   (paletteOnly ? 1 : 2) * joints * sizeof(glm::mat4);
   const auto sideJson = [&](const Side& side) {
     nlohmann::ordered_json out;
     const double seconds = median(side.poseSeconds);
@@ -290,7 +250,12 @@ int BenchCrowdCommand::run() const {
   const double fullSeconds = median(sides[0].poseSeconds), lodSeconds = median(sides[1].poseSeconds);
   doc["speedup"] = runFull && runLod && lodSeconds > 0.0 ? nlohmann::ordered_json(fullSeconds / lodSeconds)
                                                           : nlohmann::ordered_json();
-  doc["memory"] = {{"full_bytes", full->byteSize()}, {"lod_bytes", lod->byteSize()}, {"per_character_bytes", perCharacter}};
+  doc["memory"] = {{"full_bytes", fullBytes},
+                   {"lod_bytes", lodBytes},
+                   {"full_plan_bytes", fullPlanBytes},
+                   {"lod_plan_bytes", lodPlanBytes},
+                   {"plan_frames", planFrames},
+                   {"per_character_bytes", perCharacter}};
   double fullSkin = 0.0, lodSkin = 0.0;
   if (skinning) {
     fullSkin = median(sides[0].skinSeconds);
@@ -340,8 +305,9 @@ int BenchCrowdCommand::run() const {
       std::printf("; pose + skinning speedup %.3fx", (fullSeconds + fullSkin) / (lodSeconds + lodSkin));
     std::printf("\n");
   }
-  std::printf("memory:     clip %zu bytes full, %zu bytes LOD; %zu bytes per character\n", full->byteSize(),
-              lod->byteSize(), perCharacter);
+  std::printf("memory:     clip %zu bytes full, %zu bytes LOD (plans %zu and %zu bytes, %d frames); %zu bytes per "
+              "character\n",
+              fullBytes, lodBytes, fullPlanBytes, lodPlanBytes, planFrames, perCharacter);
   return kExitOk;
 }
 

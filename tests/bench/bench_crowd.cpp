@@ -1,11 +1,13 @@
-// Runtime LOD speed (issue 4): the crowd pose evaluator at full detail and at the LOD of
-// the paper's thresholds on CMU 01_01 (5.6444 cm per unit, alpha 5), and skinning of
+// Runtime LOD speed (issues 4, 13): core's crowd loop (the pose evaluator through Crowd, as
+// `motionlod bench-crowd` and the Crowd dock run it) at full detail and at the LOD of the
+// paper's thresholds on CMU 01_01 (5.6444 cm per unit, alpha 5), and skinning of
 // BCN_Epileptic. One iteration = one frame of the whole crowd; items = character-frames
 // (or vertices for skinning).
 //   bench_crowd --benchmark_filter=Pose
 // Figures go in the issue note; nothing here asserts a time. `motionlod bench-crowd` runs
 // full detail and LOD alternately in one process, which is the comparison to quote.
 
+#include "core/crowd/crowd.h"
 #include "core/jpc/jpc.h"
 #include "core/lod_clip_builder.h"
 #include "io/importer.h"
@@ -13,7 +15,6 @@
 #include "runtime/skinning_job.h"
 
 #include <benchmark/benchmark.h>
-
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -39,9 +40,10 @@ const Asset& asset(const std::string& relative) {
   return found->second;
 }
 
-// The looping LodClip of CMU 01_01 at `threshold` (< 0: full detail, no clusters).
-const LodClip& cmuClip(double threshold) {
-  static std::map<double, LodClip> cache;
+// The crowd level of CMU 01_01 at `threshold` (< 0: full detail, no clusters): the original
+// skeleton, no bone removed, the clip looping.
+const CrowdLevel& cmuLevel(double threshold) {
+  static std::map<double, CrowdLevel> cache;
   auto found = cache.find(threshold);
   if (found == cache.end()) {
     const Asset& cmu = asset("BVH/01_01.bvh");
@@ -55,7 +57,8 @@ const LodClip& cmuClip(double threshold) {
         throw std::runtime_error(levels.message());
       clusters = levels->front().clusters;
     }
-    Result<LodClip> built = buildLodClip(cmu.clips.front(), &clusters, true);
+    Result<CrowdLevel> built =
+        buildCrowdLevel(cmu.skeleton, nullptr, cmu.clips.front(), threshold >= 0.0 ? &clusters : nullptr);
     if (!built)
       throw std::runtime_error(built.message());
     found = cache.emplace(threshold, std::move(built).value()).first;
@@ -64,39 +67,28 @@ const LodClip& cmuClip(double threshold) {
 }
 
 // Args: threshold (-1 = full detail), blend frames, 1 = model matrices and palette / 0 = palette only.
+// The crowd loop of core's Crowd (one level, every agent at it), as `motionlod bench-crowd`
+// and the studio's Crowd dock run it.
 void BM_Pose(benchmark::State& state) {
   const double threshold = static_cast<double>(state.range(0));
-  const int blendFrames = static_cast<int>(state.range(1));
-  const bool models = state.range(2) != 0;
-  const Asset& cmu = asset("BVH/01_01.bvh");
-  const LodClip& clip = cmuClip(threshold);
-  const std::vector<std::int16_t> parents = cmu.skeleton.parentIndices();
-  const std::vector<glm::mat4> inverseBinds = paletteInverseBinds(cmu.skeleton);
-  const std::size_t joints = parents.size();
-  std::vector<const LodClip*> clips(kCharacters, &clip);
-  std::vector<double> starts(kCharacters), times(kCharacters);
+  Crowd crowd;
+  crowd.setLevels({cmuLevel(threshold)});
+  Crowd::Selection selection;
+  selection.forcedLevel = 0;
+  crowd.setSelection(selection);
+  crowd.setBlendFrames(static_cast<int>(state.range(1)));
+  crowd.setModels(state.range(2) != 0);
+  std::vector<CrowdAgent> agents(kCharacters);
+  const double duration = crowd.level(0).clip.duration();
   for (int c = 0; c < kCharacters; ++c)
-    starts[static_cast<std::size_t>(c)] = std::fmod(c * 0.6180339887498949, 1.0) * clip.duration();
-  std::vector<glm::mat4> outModels(models ? kCharacters * joints : 0), palette(kCharacters * joints);
-  PoseEvaluatorContext context(kCharacters, static_cast<int>(joints));
-  PoseEvaluatorJob job;
-  job.parents = parents;
-  job.inverseBinds = inverseBinds;
-  job.clips = clips;
-  job.times = times;
-  job.blendFrames = blendFrames;
-  job.context = &context;
-  job.out_models = outModels;
-  job.out_palette = palette;
+    agents[static_cast<std::size_t>(c)].timeOffset = std::fmod(c * 0.6180339887498949, 1.0) * duration;
+  crowd.setAgents(agents);
   std::int64_t frame = 0, sampled = 0;
   for (auto _ : state) {
-    for (std::size_t c = 0; c < times.size(); ++c)
-      times[c] = starts[c] + static_cast<double>(frame) / 60.0;
-    ++frame;
-    if (!job.run())
-      state.SkipWithError("the job did not validate");
-    sampled += context.jointsSampled();
-    benchmark::DoNotOptimize(palette.data());
+    if (Error error = crowd.update(static_cast<double>(frame++) / 60.0, glm::vec3(0.0f)))
+      state.SkipWithError(error.message().c_str());
+    sampled += crowd.stats().jointsEvaluated;
+    benchmark::DoNotOptimize(crowd.levelPalettes(0).data());
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(state.iterations() * kCharacters);

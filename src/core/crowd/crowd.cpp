@@ -84,6 +84,14 @@ Result<CrowdLevel> buildOriginalCrowdLevel(const Skeleton& skeleton, const Skinn
   return finishLevel(skeleton, mesh, clip, nullptr, -1);
 }
 
+Result<CrowdLevel> buildCrowdLevel(const Skeleton& skeleton, const SkinnedMesh* mesh, const Clip& clip,
+                                   const ClusterSet* clusters) {
+  Result<CrowdLevel> original = buildOriginalCrowdLevel(skeleton, mesh, clip);
+  if (!original || !clusters)
+    return original;
+  return finishLevel(skeleton, mesh, clip, clusters, original->fullDetailSampled);
+}
+
 Result<std::vector<CrowdLevel>> buildCrowdLevels(const Skeleton& skeleton, const SkinnedMesh* mesh, const Clip& clip,
                                                  const LodSet& lods, const JpcSettings& jpc,
                                                  const std::atomic<bool>* cancel) {
@@ -221,6 +229,14 @@ void Crowd::setThreads(int threads) {
     slots.clear();
 }
 
+void Crowd::setBlendFrames(int frames) {
+  m_blendFrames = std::clamp(frames, 0, 10000);
+  for (auto& slots : m_slotAgent)
+    slots.clear();
+  for (PoseEvaluatorContext& context : m_contexts)
+    context.reset();
+}
+
 void Crowd::setSwitches(LodSwitches distance, LodSwitches screenSize) {
   m_distance = std::move(distance);
   m_size = std::move(screenSize);
@@ -311,6 +327,8 @@ Error Crowd::update(double seconds, const glm::vec3& camera) {
       context.resize(static_cast<int>(std::min(agents, count + count / 2 + 8)), static_cast<int>(joints), threads());
       slots.assign(static_cast<std::size_t>(context.characterCount()), -1);
     }
+    if (slots.size() != static_cast<std::size_t>(context.characterCount())) // forgotten (setAgents() and the like)
+      slots.assign(static_cast<std::size_t>(context.characterCount()), -1);
     for (std::size_t k = 0; k < count; ++k)
       if (slots[k] != list[k]) { // another agent in this slot: its plan is not this one's
         context.reset(static_cast<int>(k));
@@ -331,6 +349,7 @@ Error Crowd::update(double seconds, const glm::vec3& camera) {
     job.times = m_times;
     job.context = &context;
     job.pool = m_pool.get();
+    job.blendFrames = m_blendFrames;
     job.out_models = m_models[li];
     job.out_palette = m_palettes[li];
     if (!job.run())

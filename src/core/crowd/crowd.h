@@ -56,6 +56,11 @@ Result<std::vector<CrowdLevel>> buildCrowdLevels(const Skeleton& skeleton, const
 
 // A level at full detail alone (the original skeleton, clip and mesh, nothing simplified).
 Result<CrowdLevel> buildOriginalCrowdLevel(const Skeleton& skeleton, const SkinnedMesh* mesh, const Clip& clip);
+// A level of the original skeleton and mesh playing `clip` with `clusters` (null: full
+// detail), no bone removed: what `motionlod bench-crowd FILE --threshold E` compares.
+// Errors: as buildOriginalCrowdLevel(), clusters that do not fit the clip.
+Result<CrowdLevel> buildCrowdLevel(const Skeleton& skeleton, const SkinnedMesh* mesh, const Clip& clip,
+                                   const ClusterSet* clusters);
 
 // Where the agents stand.
 struct CrowdLayout {
@@ -129,6 +134,9 @@ public:
   void setSkinning(bool on) { m_skin = on; }
   // Write each agent's model matrices too (levelModels()), as well as its palette.
   void setModels(bool on) { m_writeModels = on; }
+  // Frames over which resuming joints blend back (PoseEvaluatorJob::blendFrames; 0 = off,
+  // the default). Forgets the agents' state.
+  void setBlendFrames(int frames);
   void setAgents(std::vector<CrowdAgent> agents);
   void setSelection(const Selection& selection) { m_selection = selection; }
   // Where the LOD set switches (lodSwitchesBy...(): levels as crowd level indices).
@@ -180,6 +188,7 @@ private:
   std::vector<std::vector<glm::mat4>> m_palettes;
   std::vector<std::vector<glm::mat4>> m_models;
   bool m_writeModels = false;
+  int m_blendFrames = 0;
   std::unique_ptr<WorkerPool> m_pool;
   bool m_skin = false;
   std::vector<std::optional<SkinningMesh>> m_skinning; // per level, with skinning on
