@@ -1,6 +1,7 @@
 #include "gltf_writer.h"
 
 #include "core/lod/error_budget.h"
+#include "core/lod/held_keys.h"
 #include "core/lod_clip_builder.h"
 
 #include <algorithm>
@@ -138,49 +139,13 @@ private:
   std::unordered_map<std::string, int> m_shared;
 };
 
-// One joint's rotation track at a level: the frames that get a key and their rotations.
-struct RotationTrack {
-  std::vector<int> frames;
-  std::vector<float> values; // x, y, z, w per key
-};
-
-// `everyFrame`: key every frame, the held rotation repeated through each cluster, instead of
-// the cluster's two ends only. Both play the same (LINEAR between equal keys holds); the
-// caller keeps whichever takes fewer bytes.
-RotationTrack rotationTrack(const Clip& clip, int joint, const std::vector<Cluster>* clusters, bool removed,
-                            const glm::quat& frozen, bool everyFrame) {
-  RotationTrack track;
-  const int n = clip.frameCount;
-  glm::quat previous(1.0f, 0.0f, 0.0f, 0.0f);
-  bool first = true;
-  const auto key = [&](int frame, glm::quat q) {
-    q = unit(q);
-    if (!first && glm::dot(previous, q) < 0.0f) // the shorter way between keys, as the runtime aligns them
-      q = -q;
-    first = false;
-    previous = q;
-    track.frames.push_back(frame);
-    track.values.insert(track.values.end(), {q.x, q.y, q.z, q.w});
-  };
-  if (removed) { // bone reduction: the joint holds one pose throughout
-    for (int f = 0; f < n; f += everyFrame ? 1 : std::max(n - 1, 1))
-      key(f, frozen);
-    return track;
-  }
-  std::size_t next = 0; // the next cluster of the joint
-  for (int f = 0; f < n; ++f) {
-    if (clusters && next < clusters->size() && (*clusters)[next].first == f) {
-      const Cluster& c = (*clusters)[next++];
-      const glm::quat& held = clip.rotation(joint, c.key);
-      // held keys: the key posture at the cluster's first and last frame (every frame between)
-      for (int g = c.first; g <= c.last; g += everyFrame ? 1 : std::max(c.last - c.first, 1))
-        key(g, held);
-      f = c.last;
-      continue;
-    }
-    key(f, clip.rotation(joint, f));
-  }
-  return track;
+// A held rotation track (core/lod/held_keys.h) as glTF's x, y, z, w floats.
+std::vector<float> rotationValues(const HeldRotationTrack& track) {
+  std::vector<float> values;
+  values.reserve(track.values.size() * 4);
+  for (const glm::quat& q : track.values)
+    values.insert(values.end(), {q.x, q.y, q.z, q.w});
+  return values;
 }
 
 std::vector<int> allFrames(int n) {
@@ -228,15 +193,10 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
   for (int j = 0; j < joints; ++j) {
     const std::size_t jj = static_cast<std::size_t>(j);
     if (clip.hasRotation[jj]) {
-      const bool removed = reduced && bones.removed[jj];
-      const std::vector<Cluster>* held = clusters ? &clusters->joints[jj] : nullptr;
-      const glm::quat frozen = reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
-      RotationTrack track = rotationTrack(clip, j, held, removed, frozen, false);
-      // A track with its own key times costs 4 + 16 bytes a key; one keyed at every frame
-      // 16 (the times are shared): frozen spans pay for themselves past a fifth of the frames.
-      if (track.frames.size() < frames.size() && 5 * track.frames.size() >= 4 * frames.size())
-        track = rotationTrack(clip, j, held, removed, frozen, true);
-      const int output = builder.shared(track.values, 4, TINYGLTF_TYPE_VEC4, false);
+      const HeldRotationTrack track = heldRotationTrack(
+          clip, j, clusters ? std::span<const Cluster>(clusters->joints[jj]) : std::span<const Cluster>(),
+          reduced && bones.removed[jj], reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+      const int output = builder.shared(rotationValues(track), 4, TINYGLTF_TYPE_VEC4, false);
       addChannel(animation, j, "rotation", builder.times(track.frames, clip.fps), output);
     }
     if (clip.hasTranslation[jj]) {
@@ -261,8 +221,8 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
     }
   }
   if (animation.channels.empty()) { // a clip without channels: the rest pose (an animation needs a channel)
-    const RotationTrack track = rotationTrack(clip, 0, nullptr, true, package.skeleton.joints[0].rest.rotation, false);
-    const int output = builder.shared(track.values, 4, TINYGLTF_TYPE_VEC4, false);
+    const HeldRotationTrack track = heldRotationTrack(clip, 0, {}, true, package.skeleton.joints[0].rest.rotation);
+    const int output = builder.shared(rotationValues(track), 4, TINYGLTF_TYPE_VEC4, false);
     addChannel(animation, 0, "rotation", builder.times(track.frames, clip.fps), output);
   }
   // glTF keeps no frame rate: the source's, so that readers can key on its frames again.

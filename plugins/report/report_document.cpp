@@ -1,5 +1,7 @@
 #include "report_document.h"
 
+#include "core/lod/held_keys.h"
+
 #include "svg_chart.h"
 
 #include <cmath>
@@ -115,6 +117,10 @@ json reportJson(const LodPackage& package) {
                   {"motion_error_cm", level.build.motion.motionErrorCm},
                   {"mesh_error_cm", level.build.meshErrorCm()},
                   {"deviation_cm", level.build.deviationCm()}};
+    // the level's animations as held keys (core/lod/held_keys.h), as the glTF exporter writes them
+    const LevelKeyBytes keys = levelKeyBytes(package, level);
+    entry["animation_keys"] = keys.rotationKeys;
+    entry["animation_bytes"] = keys.bytes;
     json perClip = json::array();
     for (std::size_t c = 0; c < level.metrics.size() && c < package.clips.size(); ++c) {
       const JpcLevelResult& m = level.metrics[c];
@@ -140,7 +146,7 @@ std::string reportCsv(const json& report, CsvTable table) {
     out += csvRow({"clip", "level", "name", "threshold", "simplified_joint_percent", "clusters", "max_error",
                    "max_joint_position_error_cm", "mean_joint_position_error_cm", "mesh_ratio", "triangles",
                    "active_joints", "motion_error_cm", "mesh_error_cm", "deviation_cm", "switch_distance_cm",
-                   "screen_size_pixels"});
+                   "screen_size_pixels", "animation_keys", "animation_bytes"});
     const json& clips = report.at("clips");
     // One row per clip and level; a package without clips gets one row per level, its Table 1 columns empty.
     const std::size_t rows = std::max<std::size_t>(clips.size(), 1);
@@ -157,7 +163,8 @@ std::string reportCsv(const json& report, CsvTable table) {
                     csvNumber(level.at("mesh_ratio")), csvNumber(level.at("triangles")),
                     csvNumber(level.at("active_joints")), csvNumber(level.at("motion_error_cm")),
                     csvNumber(level.at("mesh_error_cm")), csvNumber(level.at("deviation_cm")),
-                    csvNumber(level.at("switch_distance_cm")), csvNumber(level.at("screen_size_pixels"))});
+                    csvNumber(level.at("switch_distance_cm")), csvNumber(level.at("screen_size_pixels")),
+                    csvNumber(level.at("animation_keys")), csvNumber(level.at("animation_bytes"))});
       }
     }
     return out;
@@ -210,7 +217,8 @@ std::string reportHtml(const json& report) {
   out += "<h2>LOD levels</h2>\n<table class=\"levels\">\n<tr><th>Level</th><th>Name</th><th>Threshold E "
          "(cm&middot;&deg;)</th>"
          "<th>Mesh ratio</th><th>Triangles</th><th>Active joints</th><th>Motion error (cm)</th><th>Mesh error (cm)</th>"
-         "<th>Deviation (cm)</th><th>Switch distance (m)</th><th>Screen size (px)</th></tr>\n";
+         "<th>Deviation (cm)</th><th>Switch distance (m)</th><th>Screen size (px)</th><th>Animation keys</th>"
+         "<th>Animation bytes</th></tr>\n";
   for (const json& level : levels)
     out += "<tr class=\"level\">" + td(level.at("level").dump()) +
            td(escapeXml(level.at("name").get<std::string>()), "") + td(fixed(level.at("threshold"), 1)) +
@@ -218,10 +226,12 @@ std::string reportHtml(const json& report) {
            td(level.at("active_joints").dump()) + td(fixed(level.at("motion_error_cm"), 3)) +
            td(fixed(level.at("mesh_error_cm"), 3)) + td(fixed(level.at("deviation_cm"), 3)) +
            td(fixed(json(level.at("switch_distance_cm").get<double>() / 100.0), 2)) +
-           td(fixed(level.at("screen_size_pixels"), 1)) + "</tr>\n";
+           td(fixed(level.at("screen_size_pixels"), 1)) + td(level.at("animation_keys").dump()) +
+           td(level.at("animation_bytes").dump()) + "</tr>\n";
   out += "</table>\n<p class=\"note\">Deviation = motion error + mesh error: a bound of how far the level's skin "
          "strays from the original in every measured pose. Switch distance: the camera distance from which the level "
-         "is used.</p>\n";
+         "is used. Animation keys and bytes: the level's rotation keys and the bytes of its key times and values as "
+         "the glTF exporter writes them (frozen spans held by their ends).</p>\n";
   {
     LineSeries deviation{"deviation (cm)", {}}, motion{"motion error (cm)", {}}, mesh{"mesh error (cm)", {}};
     for (const json& level : levels) {

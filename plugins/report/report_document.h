@@ -25,7 +25,7 @@ enum class CsvTable {
   Levels, // one row per clip and level: Table 1 and the level's cost and errors
   Joints, // one row per clip, level and clusterable joint
 };
-inline constexpr int kLevelColumns = 17;
+inline constexpr int kLevelColumns = 19;
 inline constexpr int kJointColumns = 12;
 
 // RFC 4180 CSV (comma separated, CRLF line ends, a header row) of a reportJson() document.

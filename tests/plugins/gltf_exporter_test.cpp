@@ -9,6 +9,7 @@
 // clusters), animation bytes that fall with each level, one valid file per level on request.
 
 #include "exporter_test_support.h"
+#include "core/lod/held_keys.h"
 #include "io/importer.h"
 
 #include <assimp/Importer.hpp>
@@ -611,6 +612,9 @@ TEST(GltfExporter, AnimationBytesFallWithEachLevel) {
     std::cout << "\n";
     for (std::size_t l = 1; l < bytes.size(); ++l)
       EXPECT_LT(bytes[l], bytes[l - 1]) << "LOD" << l;
+    // core's figure (the report's) is the file's
+    for (std::size_t l = 0; l < bytes.size(); ++l)
+      EXPECT_EQ(levelKeyBytes(*package, package->levels[l]).bytes, bytes[l]) << "LOD" << l;
     // the summary reports the same figures
     const std::string message = out.result.message.toStdString();
     for (std::size_t l = 0; l < bytes.size(); ++l)

@@ -5,6 +5,8 @@
 
 #include "exporter_test_support.h"
 
+#include "core/lod/held_keys.h"
+
 #include <QFile>
 #include <QFileInfo>
 #include <QTemporaryDir>
@@ -128,6 +130,11 @@ TEST_P(ReportOnRealData, JsonHoldsThePackagesFigures) {
     EXPECT_EQ(l.at("motion_error_cm").get<double>(), level.build.motion.motionErrorCm);
     EXPECT_EQ(l.at("mesh_error_cm").get<double>(), level.build.meshErrorCm());
     EXPECT_EQ(l.at("deviation_cm").get<double>(), level.build.deviationCm());
+    EXPECT_EQ(l.at("animation_bytes").get<std::size_t>(), levelKeyBytes(p, level).bytes);
+    EXPECT_EQ(l.at("animation_keys").get<std::size_t>(), levelKeyBytes(p, level).rotationKeys);
+    if (i > 0 && !p.clips.empty()) { // frozen spans held by their ends: each level takes fewer bytes
+      EXPECT_LT(l["animation_bytes"].get<std::size_t>(), doc["levels"][i - 1]["animation_bytes"].get<std::size_t>());
+    }
     ASSERT_EQ(l.at("clips").size(), level.metrics.size());
     for (std::size_t c = 0; c < level.metrics.size(); ++c) {
       const JpcLevelResult& m = level.metrics[c];
@@ -164,7 +171,7 @@ TEST_P(ReportOnRealData, CsvTablesParseWithTheirColumns) {
   const auto levels = parseCsv(exportText(p, dir.filePath("levels.csv")));
   ASSERT_EQ(levels.size(), 1 + p.clips.size() * p.levels.size()); // header + a row per clip and level
   for (const auto& row : levels)
-    ASSERT_EQ(row.size(), 17u);
+    ASSERT_EQ(row.size(), 19u);
   EXPECT_EQ(levels[0][0], "clip");
   EXPECT_EQ(levels[0][4], "simplified_joint_percent");
   for (std::size_t c = 0; c < p.clips.size(); ++c)
@@ -228,7 +235,7 @@ TEST(ReportExporter, MeshWithoutClipsHasItsLevelsAndNoTable1) {
   const auto rows = parseCsv(exportText(*p, dir.filePath("spider.csv")));
   ASSERT_EQ(rows.size(), 1 + p->levels.size()); // one row per level, the Table 1 columns empty
   for (std::size_t i = 1; i < rows.size(); ++i) {
-    ASSERT_EQ(rows[i].size(), 17u);
+    ASSERT_EQ(rows[i].size(), 19u);
     EXPECT_EQ(rows[i][4], "");
     const SkinnedMesh* mesh = p->levels[i - 1].mesh();
     ASSERT_TRUE(mesh != nullptr);

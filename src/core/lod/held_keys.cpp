@@ -1,0 +1,145 @@
+#include "core/lod/held_keys.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+
+namespace mlod {
+
+namespace {
+
+// A unit quaternion; a zero or non-finite one becomes the identity.
+glm::quat unit(const glm::quat& q) {
+  const float length = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+  return length > 0.0f && std::isfinite(length) ? q * (1.0f / length) : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+}
+
+HeldRotationTrack track(const Clip& clip, int joint, std::span<const Cluster> clusters, bool removed,
+                        const glm::quat& frozen, bool everyFrame) {
+  HeldRotationTrack out;
+  const int n = clip.frameCount;
+  const auto key = [&](int frame, glm::quat q) {
+    q = unit(q);
+    if (!out.values.empty() && glm::dot(out.values.back(), q) < 0.0f) // the shorter way, as the runtime aligns keys
+      q = -q;
+    out.frames.push_back(frame);
+    out.values.push_back(q);
+  };
+  if (removed) {
+    for (int f = 0; f < n; f += everyFrame ? 1 : std::max(n - 1, 1))
+      key(f, frozen);
+    return out;
+  }
+  std::size_t next = 0; // the joint's next cluster
+  for (int f = 0; f < n; ++f) {
+    if (next < clusters.size() && clusters[next].first == f) {
+      const Cluster& c = clusters[next++];
+      const glm::quat& held = clip.rotation(joint, c.key);
+      for (int g = c.first; g <= c.last; g += everyFrame ? 1 : std::max(c.last - c.first, 1))
+        key(g, held);
+      f = c.last;
+      continue;
+    }
+    key(f, clip.rotation(joint, f));
+  }
+  return out;
+}
+
+// The distinct float arrays of a level's animations, by content and element type (the glTF
+// writer shares an accessor between equal arrays of one type).
+class DistinctArrays {
+public:
+  void add(const std::vector<float>& values, char type) {
+    std::string key(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
+    key += type;
+    if (m_seen.insert(std::move(key)).second)
+      m_bytes += values.size() * sizeof(float);
+  }
+  void times(const std::vector<int>& frames, double fps) {
+    std::vector<float> seconds(frames.size());
+    for (std::size_t i = 0; i < frames.size(); ++i)
+      seconds[i] = static_cast<float>(frames[i] / fps);
+    add(seconds, 's');
+  }
+  std::size_t bytes() const { return m_bytes; }
+
+private:
+  std::set<std::string> m_seen;
+  std::size_t m_bytes = 0;
+};
+
+} // namespace
+
+HeldRotationTrack heldRotationTrack(const Clip& clip, int joint, std::span<const Cluster> clusters, bool removed,
+                                    const glm::quat& frozen) {
+  HeldRotationTrack held = track(clip, joint, clusters, removed, frozen, false);
+  const std::size_t frames = static_cast<std::size_t>(std::max(clip.frameCount, 0));
+  // 20 bytes a key with times of its own against 16 a frame with shared times
+  if (held.frames.size() < frames && 5 * held.frames.size() >= 4 * frames)
+    held = track(clip, joint, clusters, removed, frozen, true);
+  return held;
+}
+
+LevelKeyBytes levelKeyBytes(const LodPackage& package, const LodPackageLevel& level) {
+  LevelKeyBytes out;
+  const int joints = package.skeleton.jointCount();
+  if (joints == 0)
+    return out;
+  const BoneReduction& bones = level.build.motion.bones;
+  const bool reduced = static_cast<int>(bones.removed.size()) == joints;
+  DistinctArrays arrays;
+  constexpr float kMetresPerCm = 0.01f; // glTF's unit
+  for (std::size_t c = 0; c < package.clips.size(); ++c) {
+    const Clip& clip = package.clips[c];
+    if (clip.jointCount != joints)
+      continue;
+    const ClusterSet* clusters = c < level.build.motion.clusters.size() ? &level.build.motion.clusters[c] : nullptr;
+    if (clusters && clusters->jointCount() != joints)
+      clusters = nullptr;
+    std::vector<int> every(static_cast<std::size_t>(std::max(clip.frameCount, 0)));
+    for (std::size_t f = 0; f < every.size(); ++f)
+      every[f] = static_cast<int>(f);
+    bool any = false;
+    for (int j = 0; j < joints; ++j) {
+      const std::size_t jj = static_cast<std::size_t>(j);
+      if (clip.hasRotation[jj]) {
+        const HeldRotationTrack held = heldRotationTrack(
+            clip, j, clusters ? std::span<const Cluster>(clusters->joints[jj]) : std::span<const Cluster>(),
+            reduced && bones.removed[jj], reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+        std::vector<float> values;
+        for (const glm::quat& q : held.values)
+          values.insert(values.end(), {q.x, q.y, q.z, q.w});
+        arrays.add(values, '4');
+        arrays.times(held.frames, clip.fps);
+        out.rotationKeys += held.frames.size();
+        any = true;
+      }
+      for (const bool translation : {true, false}) {
+        if (!(translation ? clip.hasTranslation[jj] : clip.hasScale[jj]))
+          continue;
+        std::vector<float> values;
+        for (int f : every) {
+          const glm::vec3 v = translation ? clip.translation(j, f) * kMetresPerCm : clip.scale(j, f);
+          values.insert(values.end(), {v.x, v.y, v.z});
+        }
+        arrays.add(values, '3');
+        arrays.times(every, clip.fps);
+        any = true;
+      }
+    }
+    if (!any) { // a clip without channels: the writer keys the root's rest rotation
+      const HeldRotationTrack held = heldRotationTrack(clip, 0, {}, true, package.skeleton.joints[0].rest.rotation);
+      std::vector<float> values;
+      for (const glm::quat& q : held.values)
+        values.insert(values.end(), {q.x, q.y, q.z, q.w});
+      arrays.add(values, '4');
+      arrays.times(held.frames, clip.fps);
+      out.rotationKeys += held.frames.size();
+    }
+  }
+  out.bytes = arrays.bytes();
+  return out;
+}
+
+} // namespace mlod
