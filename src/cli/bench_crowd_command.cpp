@@ -3,19 +3,18 @@
 #include "core/crowd/crowd.h"
 #include "core/jpc/jpc.h"
 #include "core/lod/lod_set.h"
-#include "core/mapping/motion_mapping.h"
 #include "core/lod_clip_builder.h"
+#include "core/mapping/motion_mapping.h"
 #include "runtime/pose_evaluator.h"
 #include "runtime/skinning_job.h"
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace mlod::cli {
@@ -46,8 +45,8 @@ void BenchCrowdCommand::attach(CLI::App& app) {
       ->check(CLI::IsMember({"grid", "scattered"}));
   command->add_option("--alpha", alpha, "orientation weight alpha, cm (default 5)");
   command->add_option("--threads", threads, "threads to spread characters over (default 1)")->check(CLI::Range(1, 256));
-  command->add_option("--blend-frames", blendFrames,
-                      "frames over which resuming joints blend back (default 4; 0 = off)")
+  command
+      ->add_option("--blend-frames", blendFrames, "frames over which resuming joints blend back (default 4; 0 = off)")
       ->check(CLI::Range(0, 10000));
   command->add_option("--repetitions", repetitions, "timed repetitions of each side (default 5; median)")
       ->check(CLI::Range(1, 1000));
@@ -249,23 +248,19 @@ int BenchCrowdCommand::run() const {
   doc["lod"] = runLod ? sideJson(sides[1]) : nlohmann::ordered_json();
   const double fullSeconds = median(sides[0].poseSeconds), lodSeconds = median(sides[1].poseSeconds);
   doc["speedup"] = runFull && runLod && lodSeconds > 0.0 ? nlohmann::ordered_json(fullSeconds / lodSeconds)
-                                                          : nlohmann::ordered_json();
-  doc["memory"] = {{"full_bytes", fullBytes},
-                   {"lod_bytes", lodBytes},
-                   {"full_plan_bytes", fullPlanBytes},
-                   {"lod_plan_bytes", lodPlanBytes},
-                   {"plan_frames", planFrames},
-                   {"per_character_bytes", perCharacter}};
+                                                         : nlohmann::ordered_json();
+  doc["memory"] = {{"full_bytes", fullBytes},          {"lod_bytes", lodBytes},
+                   {"full_plan_bytes", fullPlanBytes}, {"lod_plan_bytes", lodPlanBytes},
+                   {"plan_frames", planFrames},        {"per_character_bytes", perCharacter}};
   double fullSkin = 0.0, lodSkin = 0.0;
   if (skinning) {
     fullSkin = median(sides[0].skinSeconds);
     lodSkin = median(sides[1].skinSeconds);
     nlohmann::ordered_json skin;
     skin["vertices"] = skinning->vertexCount();
-    skin["vertices_by_influences"] = {skinning->groupBegin(2) - skinning->groupBegin(1),
-                                      skinning->groupBegin(3) - skinning->groupBegin(2),
-                                      skinning->groupBegin(4) - skinning->groupBegin(3),
-                                      skinning->groupBegin(5) - skinning->groupBegin(4)};
+    skin["vertices_by_influences"] = {
+        skinning->groupBegin(2) - skinning->groupBegin(1), skinning->groupBegin(3) - skinning->groupBegin(2),
+        skinning->groupBegin(4) - skinning->groupBegin(3), skinning->groupBegin(5) - skinning->groupBegin(4)};
     skin["full_seconds"] = runFull ? nlohmann::ordered_json(fullSkin) : nlohmann::ordered_json();
     skin["lod_seconds"] = runLod ? nlohmann::ordered_json(lodSkin) : nlohmann::ordered_json();
     skin["ns_per_character_frame"] = 1e9 * (runFull ? fullSkin : lodSkin) / charFrames;
@@ -285,8 +280,8 @@ int BenchCrowdCommand::run() const {
               clip.name.c_str(), clip.frameCount, clip.fps, joints, animated);
   std::printf("crowd:      %d characters x %d frames (1/60 s apart), %d thread(s), blend %d frames, %s\n", characters,
               frames, threads, blendFrames, paletteOnly ? "palette only" : "model matrices and palette");
-  std::printf("LOD:        E = %g (alpha %g): %.1f%% joint-frames simplified, joint position error up to %.3f cm\n",
-              e, alpha, level.simplifiedPercent, level.maxJointPositionErrorCm);
+  std::printf("LOD:        E = %g (alpha %g): %.1f%% joint-frames simplified, joint position error up to %.3f cm\n", e,
+              alpha, level.simplifiedPercent, level.maxJointPositionErrorCm);
   std::printf("median of %d repetitions, alternating full and LOD:\n", repetitions);
   std::printf("  %-6s %12s %18s %16s\n", "", "seconds", "ns/character-frame", "joints sampled/cf");
   for (const Side& side : sides) {
@@ -310,20 +305,6 @@ int BenchCrowdCommand::run() const {
               fullBytes, lodBytes, fullPlanBytes, lodPlanBytes, planFrames, perCharacter);
   return kExitOk;
 }
-
-
-namespace {
-
-// One configuration of the scene: which levels' motion and mesh the crowd plays.
-struct SceneRun {
-  const char* name = "";
-  Crowd crowd;
-  std::vector<double> frameMs, poseMs, skinMs; // per repetition: mean per frame
-  double joints = 0.0, vertices = 0.0;         // per frame, last repetition
-  std::vector<int> agentsPerLevel;             // last frame
-};
-
-} // namespace
 
 int BenchCrowdCommand::runScene() const {
   const std::optional<Asset> asset = importForCommand(file, import);
@@ -380,86 +361,28 @@ int BenchCrowdCommand::runScene() const {
     printError(file, lods.message());
     return kExitBadInput;
   }
-  // the four configurations' LOD sets: the same levels and switch distances; skeletal keeps
-  // every mesh whole, mesh keeps the original motion (threshold 0)
-  LodSet skeletalSet = *lods, meshSet = *lods;
-  for (std::size_t i = 1; i < lods->levels.size(); ++i) {
-    skeletalSet.levels[i].meshRatio = 1.0;
-    meshSet.levels[i].motionThreshold = 0.0;
-  }
-  SceneRun runs[4];
-  const LodSet* sets[4] = {&*lods, &skeletalSet, &meshSet, &*lods};
-  const char* names[4] = {"none", "skeletal", "mesh", "both"};
   CrowdLayout crowdLayout;
   crowdLayout.kind = layout == "scattered" ? CrowdLayout::Kind::Scattered : CrowdLayout::Kind::Grid;
   crowdLayout.agents = agents;
-  std::vector<CrowdAgent> placed;
-  for (int r = 0; r < 4; ++r) {
-    SceneRun& run = runs[r];
-    run.name = names[r];
-    if (r == 0) // none plays level 0 everywhere: any set's levels do
-      continue;
-    Result<std::vector<CrowdLevel>> levels = buildCrowdLevels(asset->skeleton, mesh, clip, *sets[r], budget.jpc);
-    if (!levels) {
-      printError(file, levels.message());
-      return kExitBadInput;
-    }
-    if (r == 3) {
-      Result<std::vector<CrowdLevel>> copy = buildCrowdLevels(asset->skeleton, mesh, clip, *sets[r], budget.jpc);
-      if (!copy) {
-        printError(file, copy.message());
-        return kExitBadInput;
-      }
-      runs[0].crowd.setLevels(std::move(copy).value());
-    }
-    run.crowd.setLevels(std::move(levels).value());
-  }
   float top = 0.0f;
   for (const glm::vec3& p : mesh->positions)
     top = std::max(top, p.y);
-  placed = layoutCrowd(crowdLayout, clip.frameCount > 1 ? (clip.frameCount - 1) / clip.fps : 0.0);
-  const glm::vec3 camera = crowdFrontCamera(placed);
-  for (int r = 0; r < 4; ++r) {
-    Crowd& crowd = runs[r].crowd;
-    crowd.setSwitches(lodSwitchesByDistance(*lods), lodSwitchesByScreenSize(*lods));
-    crowd.setCentreHeight(0.5f * top);
-    crowd.setThreads(threads);
-    crowd.setSkinning(true);
-    Crowd::Selection selection;
-    selection.forcedLevel = r == 0 ? 0 : -1;
-    crowd.setSelection(selection);
+  const std::vector<CrowdAgent> placed =
+      layoutCrowd(crowdLayout, clip.frameCount > 1 ? (clip.frameCount - 1) / clip.fps : 0.0);
+  CrowdComparisonSettings settings;
+  settings.frames = frames;
+  settings.repetitions = repetitions;
+  settings.threads = threads;
+  settings.centreHeightCm = 0.5f * top;
+  settings.jpc = budget.jpc;
+  Result<CrowdComparison> compared =
+      compareCrowdConfigurations(asset->skeleton, mesh, clip, *lods, placed, crowdFrontCamera(placed), settings);
+  if (!compared) {
+    printError(file, compared.message());
+    return kExitBadInput;
   }
-  const auto repetition = [&](SceneRun& run, bool record) -> Error {
-    run.crowd.setAgents(placed); // the same start every repetition: no level kept from the last
-    double pose = 0.0, skin = 0.0, joints = 0.0, vertices = 0.0;
-    for (int frame = 0; frame < frames; ++frame) {
-      if (Error error = run.crowd.update(frame / 60.0, camera))
-        return error;
-      const CrowdFrameStats& stats = run.crowd.stats();
-      pose += stats.poseMs;
-      skin += stats.skinMs;
-      joints += static_cast<double>(stats.jointsEvaluated);
-      vertices += static_cast<double>(stats.verticesSkinned);
-    }
-    if (record) {
-      run.poseMs.push_back(pose / frames);
-      run.skinMs.push_back(skin / frames);
-      run.frameMs.push_back((pose + skin) / frames);
-      run.joints = joints / frames;
-      run.vertices = vertices / frames;
-      run.agentsPerLevel = run.crowd.stats().agentsPerLevel;
-    }
-    return {};
-  };
-  // one warm-up each, then repetitions alternating the configurations
-  for (int r = -1; r < repetitions; ++r)
-    for (SceneRun& run : runs)
-      if (Error error = repetition(run, r >= 0)) {
-        printError(file, error.message());
-        return kExitFailure;
-      }
-
-  const SceneRun& both = runs[3];
+  const CrowdConfigurationFigures* runs = compared->configurations;
+  const CrowdConfigurationFigures& both = runs[3];
   nlohmann::ordered_json doc;
   doc["file"] = file;
   doc["motion"] = motion.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(motion);
@@ -471,41 +394,37 @@ int BenchCrowdCommand::runScene() const {
   doc["layout"] = layout;
   doc["budget_px"] = budgetPixels;
   nlohmann::ordered_json levelsJson = nlohmann::ordered_json::array();
-  for (int l = 0; l < both.crowd.levelCount(); ++l) {
-    const LodLevel& spec = lods->levels[static_cast<std::size_t>(l)];
-    const CrowdLevel& level = both.crowd.level(l);
+  for (std::size_t l = 0; l < compared->levels.size(); ++l) {
+    const LodLevel& spec = lods->levels[l];
+    const CrowdComparison::Level& level = compared->levels[l];
     nlohmann::ordered_json out;
     out["name"] = spec.name;
     out["threshold"] = spec.motionThreshold;
     out["mesh_ratio"] = spec.meshRatio;
-    out["triangles"] = level.mesh.triangleCount();
-    out["vertices"] = level.mesh.vertexCount();
-    out["joints"] = level.skeleton.jointCount();
+    out["triangles"] = level.triangles;
+    out["vertices"] = level.vertices;
+    out["joints"] = level.joints;
     out["switch_distance_m"] = spec.switchDistanceCm / 100.0;
-    out["agents"] = static_cast<std::size_t>(l) < both.agentsPerLevel.size()
-                        ? both.agentsPerLevel[static_cast<std::size_t>(l)]
-                        : 0;
+    out["agents"] = l < both.agentsPerLevel.size() ? both.agentsPerLevel[l] : 0;
     levelsJson.push_back(out);
   }
   doc["levels"] = levelsJson;
   nlohmann::ordered_json configurations;
-  for (const SceneRun& run : runs) {
+  for (int r = 0; r < 4; ++r) {
+    const CrowdConfigurationFigures& run = runs[r];
     nlohmann::ordered_json out;
-    out["frame_ms"] = median(run.frameMs);
-    out["pose_ms"] = median(run.poseMs);
-    out["skin_ms"] = median(run.skinMs);
-    out["joints_evaluated"] = run.joints;
-    out["vertices_skinned"] = run.vertices;
-    out["repetition_frame_ms"] = run.frameMs;
+    out["frame_ms"] = run.frameMs;
+    out["pose_ms"] = run.poseMs;
+    out["skin_ms"] = run.skinMs;
+    out["joints_evaluated"] = run.jointsEvaluated;
+    out["vertices_skinned"] = run.verticesSkinned;
+    out["repetition_frame_ms"] = run.repetitionFrameMs;
     configurations[run.name] = out;
   }
   doc["configurations"] = configurations;
-  const double none = median(runs[0].frameMs);
   nlohmann::ordered_json speedup;
-  for (int r = 1; r < 4; ++r) {
-    const double ms = median(runs[r].frameMs);
-    speedup[runs[r].name] = ms > 0.0 ? none / ms : 0.0;
-  }
+  for (int r = 1; r < 4; ++r)
+    speedup[runs[r].name] = compared->speedup(r);
   doc["speedup"] = speedup;
   if (json) {
     std::cout << doc.dump(2) << std::endl;
@@ -513,8 +432,8 @@ int BenchCrowdCommand::runScene() const {
   }
   std::printf("character:  %s (%zu vertices, %d joints)\n", file.c_str(), mesh->vertexCount(),
               asset->skeleton.jointCount());
-  std::printf("motion:     %s, clip '%s' (%d frames at %g fps, looped)\n", motion.empty() ? file.c_str() : motion.c_str(),
-              clip.name.c_str(), clip.frameCount, clip.fps);
+  std::printf("motion:     %s, clip '%s' (%d frames at %g fps, looped)\n",
+              motion.empty() ? file.c_str() : motion.c_str(), clip.name.c_str(), clip.frameCount, clip.fps);
   std::printf("crowd:      %d agents (%s), %d frames (1/60 s apart), %d thread(s), camera at the front\n", agents,
               layout.c_str(), frames, threads);
   std::printf("levels (pixel budget %g px):\n", budgetPixels);
@@ -529,10 +448,9 @@ int BenchCrowdCommand::runScene() const {
   std::printf("  %-9s %10s %10s %10s %14s %16s %9s\n", "", "frame ms", "pose ms", "skin ms", "joints", "vertices",
               "speedup");
   for (int r = 0; r < 4; ++r) {
-    const SceneRun& run = runs[r];
-    const double ms = median(run.frameMs);
-    std::printf("  %-9s %10.3f %10.3f %10.3f %14.0f %16.0f %8.2fx\n", run.name, ms, median(run.poseMs),
-                median(run.skinMs), run.joints, run.vertices, ms > 0.0 ? none / ms : 0.0);
+    const CrowdConfigurationFigures& run = runs[r];
+    std::printf("  %-9s %10.3f %10.3f %10.3f %14.0f %16.0f %8.2fx\n", run.name, run.frameMs, run.poseMs, run.skinMs,
+                run.jointsEvaluated, run.verticesSkinned, compared->speedup(r));
   }
   return kExitOk;
 }

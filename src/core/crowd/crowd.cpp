@@ -407,6 +407,86 @@ glm::vec3 crowdFrontCamera(std::span<const CrowdAgent> agents) {
   return target - distance * forward;
 }
 
+Result<CrowdComparison> compareCrowdConfigurations(const Skeleton& skeleton, const SkinnedMesh* mesh, const Clip& clip,
+                                                   const LodSet& lods, std::span<const CrowdAgent> agents,
+                                                   const glm::vec3& camera, const CrowdComparisonSettings& settings) {
+  // the four configurations' LOD sets: the same levels and switch distances; skeletal keeps
+  // every mesh whole, mesh keeps the original motion (threshold 0)
+  LodSet skeletalSet = lods, meshSet = lods;
+  for (std::size_t i = 1; i < lods.levels.size(); ++i) {
+    skeletalSet.levels[i].meshRatio = 1.0;
+    meshSet.levels[i].motionThreshold = 0.0;
+  }
+  const LodSet* sets[4] = {nullptr, &skeletalSet, &meshSet, &lods};
+  static const char* const kNames[4] = {"none", "skeletal", "mesh", "both"};
+  Crowd crowds[4];
+  CrowdComparison out;
+  const std::vector<CrowdAgent> placed(agents.begin(), agents.end());
+  for (int c = 3; c >= 1; --c) {
+    Result<std::vector<CrowdLevel>> levels = buildCrowdLevels(skeleton, mesh, clip, *sets[c], settings.jpc, settings.cancel);
+    if (!levels)
+      return levels.error();
+    if (c == 3) { // none plays level 0 of these everywhere
+      for (const CrowdLevel& level : *levels)
+        out.levels.push_back({level.mesh.triangleCount(), level.mesh.vertexCount(), level.skeleton.jointCount()});
+      crowds[0].setLevels(*levels);
+    }
+    crowds[c].setLevels(std::move(levels).value());
+  }
+  for (int c = 0; c < 4; ++c) {
+    Crowd& crowd = crowds[c];
+    out.configurations[c].name = kNames[c];
+    crowd.setSwitches(lodSwitchesByDistance(lods), lodSwitchesByScreenSize(lods));
+    crowd.setCentreHeight(settings.centreHeightCm);
+    crowd.setThreads(settings.threads);
+    crowd.setSkinning(true);
+    Crowd::Selection selection;
+    selection.forcedLevel = c == 0 ? 0 : -1;
+    crowd.setSelection(selection);
+  }
+  const int frames = std::max(settings.frames, 1);
+  std::vector<double> poseMs[4], skinMs[4];
+  // one warm-up each, then the repetitions, alternating the configurations
+  for (int r = -1; r < std::max(settings.repetitions, 1); ++r)
+    for (int c = 0; c < 4; ++c) {
+      if (settings.cancel && settings.cancel->load())
+        return Error("cancelled");
+      Crowd& crowd = crowds[c];
+      crowd.setAgents(placed); // the same start every repetition: no level kept from the last
+      double pose = 0.0, skin = 0.0, joints = 0.0, vertices = 0.0;
+      for (int frame = 0; frame < frames; ++frame) {
+        if (Error error = crowd.update(settings.startSeconds + frame * settings.frameSeconds, camera))
+          return error;
+        const CrowdFrameStats& stats = crowd.stats();
+        pose += stats.poseMs;
+        skin += stats.skinMs;
+        joints += static_cast<double>(stats.jointsEvaluated);
+        vertices += static_cast<double>(stats.verticesSkinned);
+      }
+      if (r < 0)
+        continue;
+      CrowdConfigurationFigures& figures = out.configurations[c];
+      poseMs[c].push_back(pose / frames);
+      skinMs[c].push_back(skin / frames);
+      figures.repetitionFrameMs.push_back((pose + skin) / frames);
+      figures.jointsEvaluated = joints / frames;
+      figures.verticesSkinned = vertices / frames;
+      figures.agentsPerLevel = crowd.stats().agentsPerLevel;
+    }
+  const auto median = [](std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    const std::size_t mid = values.size() / 2;
+    return values.empty() ? 0.0 : (values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]));
+  };
+  for (int c = 0; c < 4; ++c) {
+    CrowdConfigurationFigures& figures = out.configurations[c];
+    figures.poseMs = median(poseMs[c]);
+    figures.skinMs = median(skinMs[c]);
+    figures.frameMs = median(figures.repetitionFrameMs);
+  }
+  return out;
+}
+
 SkinnedMesh boneCapsuleMesh(const Skeleton& skeleton, float radiusCm) {
   SkinnedMesh mesh;
   mesh.name = "bone capsules";

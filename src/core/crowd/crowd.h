@@ -203,6 +203,50 @@ private:
   CrowdFrameStats m_stats;
 };
 
+// The paper's Figure 12 on one crowd (docs/architecture.md sections 5 and 6): the same agents,
+// camera and frames played in four configurations, each frame pose evaluation plus CPU
+// skinning of every agent (Crowd::setSkinning()): "none" (every agent at level 0),
+// "skeletal" (the levels' motion with level 0's mesh: every mesh ratio 1), "mesh" (level
+// 0's motion with the levels' meshes: every threshold 0) and "both" (the LOD set as it is).
+// Levels are picked by distance with hysteresis from the LOD set's switch distances.
+struct CrowdComparisonSettings {
+  int frames = 60;                 // per repetition, >= 1
+  double frameSeconds = 1.0 / 60.0; // clip time between frames
+  double startSeconds = 0.0;       // clip time of the first frame
+  int repetitions = 3;             // >= 1; figures are medians
+  int threads = 1;                 // >= 1
+  float centreHeightCm = 0.0f;     // Crowd::setCentreHeight()
+  JpcSettings jpc;                 // for the levels' motion
+  const std::atomic<bool>* cancel = nullptr; // polled between builds and repetitions
+};
+struct CrowdConfigurationFigures {
+  const char* name = "";           // none, skeletal, mesh, both
+  double frameMs = 0.0;            // pose + skin per frame, median of the repetitions
+  double poseMs = 0.0;             // medians of each
+  double skinMs = 0.0;
+  double jointsEvaluated = 0.0;    // per frame
+  double verticesSkinned = 0.0;    // per frame
+  std::vector<double> repetitionFrameMs;
+  std::vector<int> agentsPerLevel; // at the last frame
+};
+struct CrowdComparison {
+  CrowdConfigurationFigures configurations[4]; // none, skeletal, mesh, both
+  // The levels of "both": triangles, vertices and joints of each.
+  struct Level {
+    std::size_t triangles = 0, vertices = 0;
+    int joints = 0;
+  };
+  std::vector<Level> levels;
+  // none.frameMs / configuration i's frameMs (1 for none itself).
+  double speedup(int i) const {
+    return configurations[i].frameMs > 0.0 ? configurations[0].frameMs / configurations[i].frameMs : 0.0;
+  }
+};
+// Errors: what buildCrowdLevels() and Crowd::update() report; "cancelled".
+Result<CrowdComparison> compareCrowdConfigurations(const Skeleton& skeleton, const SkinnedMesh* mesh, const Clip& clip,
+                                                   const LodSet& lods, std::span<const CrowdAgent> agents,
+                                                   const glm::vec3& camera, const CrowdComparisonSettings& settings);
+
 // A low-poly capsule along every bone (joint to parent, `radiusCm` thick, at most a fifth
 // of the bone's length), rigidly skinned to the parent joint, in the skeleton's rest pose:
 // what the views draw for a skeleton without a mesh. Bones shorter than 1e-3 cm are left
