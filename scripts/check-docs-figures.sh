@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# Re-measures the figures README.md and docs/ state and prints each beside today's value, so
+# a stale figure is caught before a release. Every measured number in the docs has a row
+# here with the command that reproduces it (on the bundled sample or Debian's
+# assimp-testmodels).
+#
+#   scripts/check-docs-figures.sh [--cheap] [--build DIR]
+#
+# --cheap  only the figures that take seconds and do not depend on the machine (CI runs
+#          these: ctest docs.figures).
+# Exit status: 1 when a figure of an exact kind no longer matches, or a documented text is
+# no longer in its file (the docs changed: update the row); timings are printed beside the
+# documented value and flagged when they differ by more than 2x, but never fail the run
+# (they depend on the machine).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+
+cheap=0
+build=build
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --cheap) cheap=1 ;;
+    --build) build=$2; shift ;;
+    *) echo "usage: $0 [--cheap] [--build DIR]" >&2; exit 2 ;;
+  esac
+  shift
+done
+motionlod=$build/bin/motionlod
+[ -x "$motionlod" ] || { echo "error: $motionlod: not built (cmake --build $build)" >&2; exit 2; }
+models=${MLOD_ASSIMP_MODELS:-/usr/share/assimp/models}
+sample=resources/sample/cmu_01_01_excerpt.bvh
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+stale=0
+
+# exact FILE TEXT TODAY [WHAT]: TEXT (the figure as the docs write it) must be in FILE and
+# equal TODAY (today's value, formatted the same way).
+exact() {
+  local file=$1 text=$2 today=$3 what=${4:-}
+  local state=ok
+  if ! grep -qF -- "$text" "$file"; then
+    state="NOT IN FILE"
+    stale=1
+  elif [ "$text" != "$today" ]; then
+    state=STALE
+    stale=1
+  fi
+  printf '%-12s %-24s documented %-14s today %-14s %s\n' "$state" "$file" "$text" "$today" "$what"
+}
+
+# timing FILE TEXT SECONDS_DOCUMENTED SECONDS_TODAY [WHAT]: informational.
+timing() {
+  local file=$1 text=$2 documented=$3 today=$4 what=${5:-}
+  local state=timing
+  grep -qF -- "$text" "$file" || { state="NOT IN FILE"; stale=1; }
+  if [ "$state" = timing ] && awk -v a="$documented" -v b="$today" 'BEGIN { exit !(b > 2 * a || 2 * b < a) }'; then
+    state="timing x2"
+  fi
+  printf '%-12s %-24s documented %-14s today %-14s %s\n' "$state" "$file" "$documented" "$today" "$what"
+}
+
+fmt() { # printf format, value
+  LC_ALL=C printf "$1" "$2"
+}
+thousands() { # 3014 -> 3,014
+  echo "$1" | sed ':a;s/\B[0-9]\{3\}\>/,&/;ta'
+}
+
+echo "== Table 1 of the sample (docs/user-guide.md): motionlod simplify $sample --unit-scale cmu --threshold 5,50,100,300 --json"
+"$motionlod" simplify "$sample" --unit-scale cmu --threshold 5,50,100,300 --json >"$work/table1.json" || exit 1
+row_percent="| Simplified joints % | 0.0"
+row_error="| Max joint position error (cm) | 0"
+for i in 0 1 2 3; do
+  row_percent="$row_percent | $(fmt %.1f "$(jq ".thresholds[$i].simplified_joint_percent" "$work/table1.json")")"
+  row_error="$row_error | $(fmt %.3f "$(jq ".thresholds[$i].max_joint_position_error_cm" "$work/table1.json")")"
+done
+exact docs/user-guide.md "$row_percent |" "$row_percent |" "Table 1, simplified %"
+grep -qF -- "$row_percent |" docs/user-guide.md || grep -F "| Simplified joints % |" docs/user-guide.md | head -1 | sed 's/^/             documented: /'
+exact docs/user-guide.md "$row_error |" "$row_error |" "Table 1, max joint position error"
+grep -qF -- "$row_error |" docs/user-guide.md || grep -F "| Max joint position error (cm) |" docs/user-guide.md | head -1 | sed 's/^/             documented: /'
+frames=$(jq .frames "$work/table1.json")
+exact docs/user-guide.md "$(fmt %d "$frames") frames at 120 fps" "$frames frames at $(fmt %.0f "$(jq .fps "$work/table1.json")") fps" "the sample's length"
+
+echo "== BCN_Epileptic re-imported from its glTF export (docs/gltf-extension.md): motionlod export X/BCN_Epileptic.X --plugin gltf; motionlod info --json"
+if "$motionlod" export "$models/X/BCN_Epileptic.X" --plugin gltf -o "$work/bcn.glb" --quiet >/dev/null 2>"$work/export.err" &&
+   "$motionlod" info "$work/bcn.glb" --json >"$work/bcn.json" 2>/dev/null; then
+  mesh='[.meshes[]] | sort_by(-.vertices) | .[0]'
+  vertices=$(thousands "$(jq "$mesh | .vertices" "$work/bcn.json")")
+  triangles=$(thousands "$(jq "$mesh | .triangles" "$work/bcn.json")")
+  bones=$(jq "$mesh | .bones" "$work/bcn.json")
+  parts=$(jq "$mesh | .parts" "$work/bcn.json")
+  exact docs/gltf-extension.md "its $vertices vertices," "its $vertices vertices," "finest level's vertices"
+  exact docs/gltf-extension.md "$triangles triangles, $bones bones and $parts parts" \
+    "$triangles triangles, $bones bones and $parts parts" "finest level's triangles, bones, parts"
+else
+  echo "FAILED       export or info of BCN_Epileptic: $(cat "$work/export.err")"
+  stale=1
+fi
+
+if [ "$cheap" -eq 0 ]; then
+  echo "== Export times (docs/farm.md): /usr/bin/time motionlod export ... (one job at a time)"
+  t() { # seconds of one export
+    local start end
+    start=$(date +%s.%N)
+    "$motionlod" export "$@" --quiet >/dev/null 2>&1 || { echo "failed"; return; }
+    end=$(date +%s.%N)
+    awk -v a="$start" -v b="$end" 'BEGIN { printf "%.2f", b - a }'
+  }
+  doc_time() { # the seconds documented in the farm.md row that contains TEXT
+    grep -F -- "$1" docs/farm.md | head -1 | sed -n 's/.*| \([0-9.]*\) s |$/\1/p'
+  }
+  for row in "CMU \`BVH/01_01.bvh\` (2,752 frames, 38 joints, no mesh) → \`bundle\`|$models/BVH/01_01.bvh --unit-scale cmu --plugin bundle -o $work/a.mlodb" \
+             "CMU \`BVH/01_03.bvh\` → \`gltf\`|$models/BVH/01_03.bvh --unit-scale cmu --plugin gltf -o $work/b.glb" \
+             "\`X/BCN_Epileptic.X\` (54 joints, 5,126 triangles, 100 frames) → \`gltf\`|$models/X/BCN_Epileptic.X --plugin gltf -o $work/c.glb" \
+             "\`X/BCN_Epileptic.X\` → \`bundle\`|$models/X/BCN_Epileptic.X --plugin bundle -o $work/d.mlodb"; do
+    text=${row%%|*}
+    # shellcheck disable=SC2086
+    timing docs/farm.md "$text" "$(doc_time "$text")" "$(t ${row#*|})" "${text:0:40}"
+  done
+fi
+
+echo
+if [ "$stale" -ne 0 ]; then
+  echo "check-docs-figures: some documented figures are stale or missing (see above)"
+  exit 1
+fi
+echo "check-docs-figures: every exact figure matches"
