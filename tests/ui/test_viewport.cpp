@@ -573,6 +573,46 @@ private slots:
     QCOMPARE(coloured, 0);
   }
 
+  // The Crowd dock's comparison (the paper's Figure 12 on the crowd on screen): Compare runs
+  // none / skeletal / mesh / both on the same agents off the UI thread and shows ms and x;
+  // none and skeletal skin the original mesh on every agent.
+  void crowdComparesTheFourConfigurations() {
+    Document document;
+    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    document.setCurrentAsset(0);
+    Playback playback;
+    CrowdPanel panel(&document, &playback);
+    panel.resize(900, 600);
+    QSignalSpy ready(&panel, &CrowdPanel::levelsReady);
+    panel.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&panel));
+    QVERIFY(ready.wait(120000));
+    QVERIFY2(ready.first()[0].toBool(), qPrintable(ready.first()[1].toString()));
+    panel.setAgentCount(24);
+    QSignalSpy compared(&panel, &CrowdPanel::compared);
+    auto* button = panel.findChild<QToolButton*>("crowdCompareButton");
+    QVERIFY(button);
+    button->click();
+    QVERIFY(panel.isComparing());
+    QVERIFY(compared.wait(180000));
+    QVERIFY2(compared.first()[0].toBool(), qPrintable(compared.first()[1].toString()));
+    const CrowdComparison& comparison = panel.comparison();
+    const double original = 24.0 * double(panel.crowd().level(0).mesh.vertexCount());
+    const char* names[] = {"none", "skeletal", "mesh", "both"};
+    for (int c = 0; c < 4; ++c) {
+      QCOMPARE(QString::fromLatin1(comparison.configurations[c].name), QString::fromLatin1(names[c]));
+      QVERIFY(comparison.configurations[c].frameMs > 0.0);
+      QVERIFY(panel.comparisonText().contains(QString::fromLatin1(names[c])));
+    }
+    QCOMPARE(comparison.configurations[0].verticesSkinned, original);
+    QCOMPARE(comparison.configurations[1].verticesSkinned, original);
+    QVERIFY(comparison.configurations[3].verticesSkinned <= original);
+    QVERIFY(comparison.configurations[3].jointsEvaluated <= comparison.configurations[0].jointsEvaluated);
+    QCOMPARE(comparison.speedup(3), comparison.configurations[0].frameMs / comparison.configurations[3].frameMs);
+    QVERIFY(panel.comparisonText().contains(QStringLiteral("×")));
+    QVERIFY(panel.findChild<QLabel*>("crowdComparison")->isVisible());
+  }
+
   // The main window holds the Viewport and Crowd docks; the status bar shows the current frame.
   void mainWindowHasTheDocks() {
     MainWindow window;

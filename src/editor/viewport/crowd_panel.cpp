@@ -79,12 +79,19 @@ CrowdPanel::CrowdPanel(Document* document, Playback* playback, QWidget* parent)
   auto* frame = new QToolButton;
   frame->setText(tr("Frame"));
   frame->setToolTip(tr("Look at the whole crowd (F)"));
+  auto* compareButton = new QToolButton;
+  compareButton->setObjectName("crowdCompareButton");
+  compareButton->setText(tr("Compare"));
+  compareButton->setToolTip(tr("What the LOD set buys on this crowd (the paper's Figure 12): the frame time of pose "
+                               "evaluation and CPU skinning with no simplification, skeletal only, mesh only and both, "
+                               "same agents, camera and time"));
   for (QWidget* w : std::initializer_list<QWidget*>{m_agents, m_layout, m_spacing, m_selectionMode})
     bar->addWidget(w);
   bar->addWidget(new QLabel(tr("hysteresis")));
   bar->addWidget(m_hysteresis);
   bar->addWidget(m_tint);
   bar->addWidget(frame);
+  bar->addWidget(compareButton);
   bar->addStretch(1);
   layout->addLayout(bar);
 
@@ -112,6 +119,14 @@ CrowdPanel::CrowdPanel(Document* document, Playback* playback, QWidget* parent)
                            "full-detail crowd; vertices skinned (each agent's level mesh); CPU time of level selection "
                            "and pose evaluation; frames per second while the view changes"));
   layout->addWidget(m_figures);
+  m_comparisonLabel = new QLabel;
+  m_comparisonLabel->setObjectName("crowdComparison");
+  m_comparisonLabel->setWordWrap(true);
+  m_comparisonLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  m_comparisonLabel->setVisible(false);
+  layout->addWidget(m_comparisonLabel);
+  connect(compareButton, &QToolButton::clicked, this, [this] { compare(); });
+  connect(&m_compareWatcher, &QFutureWatcher<Compared>::finished, this, &CrowdPanel::onCompared);
 
   m_rebuildTimer.setSingleShot(true);
   m_rebuildTimer.setInterval(250);
@@ -136,7 +151,62 @@ CrowdPanel::CrowdPanel(Document* document, Playback* playback, QWidget* parent)
 CrowdPanel::~CrowdPanel() {
   if (m_cancel)
     m_cancel->store(true);
+  if (m_compareCancel)
+    m_compareCancel->store(true);
   m_watcher.waitForFinished();
+  m_compareWatcher.waitForFinished();
+}
+
+void CrowdPanel::compare(int frames) {
+  if (!hasLevels() || m_compareWatcher.isRunning() || !m_source.skeleton)
+    return;
+  const Source source = m_source;
+  const std::vector<CrowdAgent> agents = m_crowd.agents();
+  const glm::vec3 camera = m_view ? m_view->camera().eye() : crowdFrontCamera(agents);
+  float top = 0.0f;
+  for (const glm::vec3& p : m_crowd.level(0).mesh.positions)
+    top = std::max(top, p.y);
+  CrowdComparisonSettings settings;
+  settings.frames = std::max(frames, 1);
+  settings.repetitions = 1;
+  settings.startSeconds = m_playback ? m_playback->seconds() : 0.0;
+  settings.centreHeightCm = 0.5f * top;
+  settings.jpc = source.jpc;
+  m_compareCancel = std::make_shared<std::atomic<bool>>(false);
+  std::shared_ptr<std::atomic<bool>> cancel = m_compareCancel;
+  m_comparisonLabel->setVisible(true);
+  m_comparisonLabel->setText(tr("Comparing none / skeletal / mesh / both on %1 agents …").arg(agents.size()));
+  m_compareWatcher.setFuture(QtConcurrent::run([source, agents, camera, settings, cancel]() -> Compared {
+    CrowdComparisonSettings withCancel = settings;
+    withCancel.cancel = cancel.get();
+    return std::make_shared<Result<CrowdComparison>>(compareCrowdConfigurations(
+        *source.skeleton, source.mesh, *source.clip, source.lods, agents, camera, withCancel));
+  }));
+}
+
+QString CrowdPanel::comparisonText() const { return m_comparisonLabel->text(); }
+
+void CrowdPanel::onCompared() {
+  const Compared result = m_compareWatcher.result();
+  if (!result || !*result) {
+    const QString message = result ? QString::fromStdString(result->message()) : tr("no result");
+    m_comparisonLabel->setText(tr("Cannot compare: %1").arg(message));
+    emit compared(false, message);
+    return;
+  }
+  m_comparison = **result;
+  QStringList parts;
+  for (int c = 0; c < 4; ++c) {
+    const CrowdConfigurationFigures& figures = m_comparison.configurations[c];
+    QString part = tr("%1 %2 ms").arg(QString::fromLatin1(figures.name)).arg(figures.frameMs, 0, 'f', 2);
+    if (c > 0)
+      part += tr(" (%1×)").arg(m_comparison.speedup(c), 0, 'f', 2);
+    parts << part;
+  }
+  m_comparisonLabel->setText(tr("Per frame, pose + CPU skinning of %1 agents: %2")
+                                 .arg(m_crowd.agentCount())
+                                 .arg(parts.join(QStringLiteral(" · "))));
+  emit compared(true, {});
 }
 
 void CrowdPanel::setAgentCount(int agents) { m_agents->setValue(agents); }
@@ -215,6 +285,7 @@ void CrowdPanel::startBuild() {
   m_figures->setText(tr("Building %1 LOD levels of %2 …").arg(lods.levels.size()).arg(source.description));
   if (m_view)
     m_view->setMessage(tr("Building the LOD levels …"));
+  m_pendingSource = {skeleton, clip, asset, mesh, lods, jpc};
   m_watcher.setFuture(QtConcurrent::run([skeleton, clip, asset, mesh, lods, jpc, cancel]() -> Built {
     return std::make_shared<Result<std::vector<CrowdLevel>>>(
         buildCrowdLevels(*skeleton, mesh, *clip, lods, jpc, cancel.get()));
@@ -238,6 +309,7 @@ void CrowdPanel::onBuilt() {
     return;
   }
   m_error.clear();
+  m_source = m_pendingSource;
   m_crowd.setLevels(std::move(**built));
   m_crowd.setSwitches(lodSwitchesByDistance(m_document->project().lods),
                       lodSwitchesByScreenSize(m_document->project().lods));

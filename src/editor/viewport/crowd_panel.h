@@ -5,7 +5,11 @@
 // instanced per level; a toggle tints agents by level; an overlay gives the agents per
 // level, joints evaluated against full detail, vertices skinned, the CPU time of pose
 // evaluation and the frame rate. The work is core's Crowd (core/crowd/crowd.h); the levels
-// are built off the UI thread (cancelled when the inputs change again).
+// are built off the UI thread (cancelled when the inputs change again). "Compare" runs the
+// paper's Figure 12 on the crowd on screen (core's compareCrowdConfigurations(): the same
+// agents, camera and clip time with no simplification, skeletal only, mesh only and both,
+// pose evaluation plus CPU skinning) off the UI thread and shows what the LOD set buys, in ms
+// per frame and x.
 
 #include "core/asset.h"
 #include "core/crowd/crowd.h"
@@ -65,10 +69,19 @@ public:
   // Renders `frames` frames as fast as they come, 1/60 s of clip time apart, then emits
   // measured() with the mean pose-evaluation CPU time (ms) and the frame rate.
   void measure(int frames);
+  // The four-way comparison on the crowd on screen, `frames` frames from the playback time
+  // (one repetition after a warm-up); emits compared() when done. Nothing without levels or
+  // while one runs.
+  void compare(int frames = 30);
+  bool isComparing() const { return m_compareWatcher.isRunning(); }
+  // The last comparison (empty configurations before the first) and its text.
+  const CrowdComparison& comparison() const { return m_comparison; }
+  QString comparisonText() const;
 
 signals:
   void levelsReady(bool ok, const QString& message);
   void measured(double poseCpuMs, double framesPerSecond);
+  void compared(bool ok, const QString& message);
 
 protected:
   void showEvent(QShowEvent* event) override;
@@ -80,6 +93,7 @@ private:
   void placeAgents();
   void frameCrowd();
   void onFrameSwapped();
+  void onCompared();
 
   Document* m_document = nullptr;
   Playback* m_playback = nullptr;
@@ -91,6 +105,22 @@ private:
   QComboBox* m_selectionMode = nullptr;
   QDoubleSpinBox* m_hysteresis = nullptr;
   QCheckBox* m_tint = nullptr;
+  QLabel* m_comparisonLabel = nullptr;
+  // what the levels were built from (compare() builds the other configurations' levels)
+  struct Source {
+    std::shared_ptr<const Skeleton> skeleton;
+    std::shared_ptr<const Clip> clip;
+    std::shared_ptr<const Asset> asset; // owns the mesh
+    const SkinnedMesh* mesh = nullptr;
+    LodSet lods;
+    JpcSettings jpc;
+  };
+  Source m_source;        // of the levels on screen
+  Source m_pendingSource; // of the levels being built
+  CrowdComparison m_comparison;
+  using Compared = std::shared_ptr<Result<CrowdComparison>>;
+  QFutureWatcher<Compared> m_compareWatcher;
+  std::shared_ptr<std::atomic<bool>> m_compareCancel;
 
   struct Inputs {
     std::shared_ptr<const Asset> asset;
