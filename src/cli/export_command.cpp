@@ -52,9 +52,9 @@ int ExportCommand::run() const {
     }
   }
   TerminalProgress line(!quiet && !json);
-  const ExportOutcome outcome =
-      runExportJob(host, filled, installInterruptHandler(),
-                   [&](std::string_view stage, double fraction, std::string_view detail) { line.show(stage, fraction, detail); });
+  const ExportOutcome outcome = runExportJob(
+      host, filled, installInterruptHandler(),
+      [&](std::string_view stage, double fraction, std::string_view detail) { line.show(stage, fraction, detail); });
   line.clear();
   if (!outcome.ok())
     printError(outcome.errorFile, outcome.message);

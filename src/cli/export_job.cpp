@@ -211,12 +211,10 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
   start = Clock::now();
   const QString path = QString::fromStdString(job.output);
   tell("export", 0.0, job.plugin);
-  const ExportResult result = exporter->exportPackage(*package, path, options,
-                                                      ExportProgress(
-                                                          [&](double fraction, const QString& detail) {
-                                                            tell("export", fraction, detail.toStdString());
-                                                          },
-                                                          [&] { return cancelled(); }));
+  const ExportResult result = exporter->exportPackage(
+      *package, path, options,
+      ExportProgress([&](double fraction, const QString& detail) { tell("export", fraction, detail.toStdString()); },
+                     [&] { return cancelled(); }));
   out.exportSeconds = secondsSince(start);
   if (!result.ok) {
     std::string message = result.message.toStdString();
