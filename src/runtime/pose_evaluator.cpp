@@ -9,6 +9,10 @@
 #include <cstring>
 #include <glm/gtc/type_ptr.hpp>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 // The hot path is also compiled for x86-64-v3 (AVX2, FMA) and picked at load time.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(MLOD_NO_TARGET_CLONES)
 #define MLOD_RUNTIME_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
@@ -133,6 +137,80 @@ glm::quat shownRotation(const LodClip& clip, int joint, double seconds, int blen
 
 const glm::mat4 kIdentity(1.0f);
 
+// The hierarchy pass of one character, parents first: the same two products for every joint
+// (model = parent's model x local, palette = model x inverse bind), its local matrix read from
+// its slot or where the clip keeps it (a select, not a branch). `refs`: the plan's local
+// offsets (LodClip::Plan::locals); joint 0 is a root.
+struct Hierarchy {
+  const float* constants; // the clip's constant locals, lane layout
+  const float* slots;     // the character's computed locals, lane layout
+  const std::uint32_t* refs;
+  const std::int16_t* parents;
+  const float* inverseBinds; // column-major 4x4 per joint
+  const float* splat;        // inverse binds as AVX operands (PoseEvaluatorContext::m_splat)
+  float* models;
+  float* palette;
+  int joints;
+
+  const float* local(int j) const {
+    const std::uint32_t ref = refs[j];
+    return ((ref & LodClip::kPlanSlot) ? slots : constants) + (ref & ~LodClip::kPlanSlot);
+  }
+  const float* parent(int j, bool singleRoot) const {
+    const int p = parents[j];
+    return j > 0 && (singleRoot || p >= 0) ? models + 16 * p : glm::value_ptr(kIdentity);
+  }
+};
+
+template <bool SingleRoot> void hierarchyBase(const Hierarchy& h) {
+  mulLane(glm::value_ptr(kIdentity), h.local(0), h.models);
+  mulAffine(h.models, h.inverseBinds, h.palette);
+  for (int j = 1; j < h.joints; ++j) {
+    float* model = h.models + 16 * j;
+    mulLane(h.parent(j, SingleRoot), h.local(j), model);
+    mulAffine(model, h.inverseBinds + 16 * j, h.palette + 16 * j);
+  }
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(MLOD_NO_TARGET_CLONES)
+#define MLOD_HIERARCHY_V3 1
+// x86-64-v3 (AVX2, FMA): the palette product two columns at a time, model columns
+// broadcast to both halves, the inverse bind's elements pre-splatted (m_splat).
+template <bool SingleRoot> __attribute__((target("arch=x86-64-v3"))) void hierarchyV3(const Hierarchy& h) {
+  const float* __restrict constants = h.constants;
+  const float* __restrict slots = h.slots;
+  const std::uint32_t* __restrict refs = h.refs;
+  const std::int16_t* __restrict parents = h.parents;
+  const float* __restrict splat = h.splat;
+  float* models = h.models;
+  float* __restrict palette = h.palette;
+  const int joints = h.joints;
+  for (int j = 0; j < joints; ++j) {
+    float* model = models + 16 * j;
+    const std::uint32_t ref = refs[j];
+    const float* local = ((ref & LodClip::kPlanSlot) ? slots : constants) + (ref & ~LodClip::kPlanSlot);
+    const int p = parents[j];
+    const float* parent = j > 0 && (SingleRoot || p >= 0) ? models + 16 * p : glm::value_ptr(kIdentity);
+    mulLane(parent, local, model);
+    const __m256 m0 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model));
+    const __m256 m1 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model + 4));
+    const __m256 m2 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model + 8));
+    const __m256 m3 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model + 12));
+    const float* s = splat + 48 * j;
+    __m256 c01 = _mm256_mul_ps(m0, _mm256_loadu_ps(s));
+    c01 = _mm256_fmadd_ps(m1, _mm256_loadu_ps(s + 8), c01);
+    c01 = _mm256_fmadd_ps(m2, _mm256_loadu_ps(s + 16), c01);
+    __m256 c23 = _mm256_blend_ps(_mm256_setzero_ps(), m3, 0xf0); // column 3 adds the model's translation
+    c23 = _mm256_fmadd_ps(m0, _mm256_loadu_ps(s + 24), c23);
+    c23 = _mm256_fmadd_ps(m1, _mm256_loadu_ps(s + 32), c23);
+    c23 = _mm256_fmadd_ps(m2, _mm256_loadu_ps(s + 40), c23);
+    _mm256_storeu_ps(palette + 16 * j, c01);
+    _mm256_storeu_ps(palette + 16 * j + 8, c23);
+  }
+}
+const bool kHasV3 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#endif
+
 } // namespace
 
 struct PoseEvaluation {
@@ -159,37 +237,40 @@ struct PoseEvaluation {
     // translation and scale) when the plan has it constant. `keyPair`: where its rotation
     // is in rotations() when that is known (else looked up).
     float* lane(int j, std::int32_t keyPair = -1) {
-      std::uint32_t ref = refs[j];
-      if (!(ref & LodClip::kPlanSlot)) {
-        if (refs != scratch.refs.data()) {
-          std::copy_n(refs, clip.jointCount(), scratch.refs.data());
-          refs = scratch.refs.data();
-        }
-        ref = LodClip::kPlanSlot | LodClip::laneOffset(static_cast<std::uint32_t>(slots++));
-        scratch.refs[static_cast<std::size_t>(j)] = ref;
-        if (keyPair < 0) {
-          keyPair = clip.staticRotationPair(j);
-          if (clip.flags(j) & LodClip::kRotationAnimated) // frozen: its cluster's key
-            keyPair = clip.segments(j)[static_cast<std::size_t>(clip.findSegment(j, i0))].base;
-        }
-        const glm::quat& q = clip.rotations()[static_cast<std::size_t>(keyPair)];
-        const std::uint32_t offset = ref & ~LodClip::kPlanSlot;
-        float* s = scratch.samples.data() + sampleOffset(offset);
-        s[kAx * kLanes] = q.x;
-        s[kAy * kLanes] = q.y;
-        s[kAz * kLanes] = q.z;
-        s[kAw * kLanes] = q.w;
-        const glm::vec3& scale = clip.staticScale(j);
-        s[kSx * kLanes] = scale.x;
-        s[kSy * kLanes] = scale.y;
-        s[kSz * kLanes] = scale.z;
-        float* l = scratch.locals.data() + offset;
-        const glm::vec3& translation = clip.staticTranslation(j);
-        l[kTx * kLanes] = translation.x;
-        l[kTy * kLanes] = translation.y;
-        l[kTz * kLanes] = translation.z;
+      const std::uint32_t ref = refs[j];
+      if (ref & LodClip::kPlanSlot)
+        return scratch.samples.data() + sampleOffset(ref & ~LodClip::kPlanSlot);
+      return newSlot(j, keyPair);
+    }
+    __attribute__((noinline)) float* newSlot(int j, std::int32_t keyPair) {
+      if (refs != scratch.refs.data()) {
+        std::copy_n(refs, clip.jointCount(), scratch.refs.data());
+        refs = scratch.refs.data();
       }
-      return scratch.samples.data() + sampleOffset(ref & ~LodClip::kPlanSlot);
+      const std::uint32_t ref = LodClip::kPlanSlot | LodClip::laneOffset(static_cast<std::uint32_t>(slots++));
+      scratch.refs[static_cast<std::size_t>(j)] = ref;
+      if (keyPair < 0) {
+        keyPair = clip.staticRotationPair(j);
+        if (clip.flags(j) & LodClip::kRotationAnimated) // frozen: its cluster's key
+          keyPair = clip.segments(j)[static_cast<std::size_t>(clip.findSegment(j, i0))].base;
+      }
+      const glm::quat& q = clip.rotations()[static_cast<std::size_t>(keyPair)];
+      const std::uint32_t offset = ref & ~LodClip::kPlanSlot;
+      float* s = scratch.samples.data() + sampleOffset(offset);
+      s[kAx * kLanes] = q.x;
+      s[kAy * kLanes] = q.y;
+      s[kAz * kLanes] = q.z;
+      s[kAw * kLanes] = q.w;
+      const glm::vec3& scale = clip.staticScale(j);
+      s[kSx * kLanes] = scale.x;
+      s[kSy * kLanes] = scale.y;
+      s[kSz * kLanes] = scale.z;
+      float* l = scratch.locals.data() + offset;
+      const glm::vec3& translation = clip.staticTranslation(j);
+      l[kTx * kLanes] = translation.x;
+      l[kTy * kLanes] = translation.y;
+      l[kTz * kLanes] = translation.z;
+      return s;
     }
 
     // Joint j's (lerped) rotation premultiplied by `offset` (unnormalised).
@@ -260,26 +341,22 @@ struct PoseEvaluation {
     st.levelSeconds = blendFrames / after.fps();
   }
 
-  // The offsets of the joints that blend at frame position f (older offsets outermost:
-  // unfreeze windows, newest first, then the wrap, then a level change).
-  static void blend(const PoseEvaluatorJob& job, int c, double t, double f, float fraction, std::int64_t loop,
-                    Blends& blends) {
-    PoseEvaluatorContext& ctx = *job.context;
-    State& st = ctx.m_states[static_cast<std::size_t>(c)];
-    const LodClip& clip = blends.clip;
+  // The offsets of the joints inside unfreeze windows at frame i0 + fraction, newest first
+  // (every frame of most characters: inlined into the pose clones).
+  __attribute__((always_inline)) static inline void unfreeze(const LodClip& clip, int blendFrames, float fraction,
+                                                             Blends& blends) {
     const std::int32_t i0 = blends.i0;
-    const int blendFrames = job.blendFrames;
-    const double inverseBlendFrames = 1.0 / blendFrames;
-    const std::span<const LodClip::Cluster> clusters = clip.allClusters();
+    const float inverseBlendFrames = 1.0f / static_cast<float>(blendFrames);
+    const LodClip::Cluster* clusters = clip.allClusters().data();
+    const std::size_t clusterCount = clip.allClusters().size();
     for (std::int32_t e = i0; e >= 0 && e > i0 - blendFrames; --e)
       for (const std::int32_t index : clip.clusterEnds(e)) {
-        const LodClip::Cluster& cluster = clusters[static_cast<std::size_t>(index)];
+        const LodClip::Cluster& cluster = clusters[index];
         // a joint constant in the plan inside the window is frozen in its next cluster
         // (entries come newest first, so this is the first entry that reaches it)
         const std::size_t next = static_cast<std::size_t>(index) + 1;
-        float* s =
-            blends.lane(cluster.joint,
-                        next < clusters.size() && clusters[next].joint == cluster.joint ? clusters[next].keyPair : -1);
+        float* s = blends.lane(
+            cluster.joint, next < clusterCount && clusters[next].joint == cluster.joint ? clusters[next].keyPair : -1);
         if (e == i0) {
           // [last, last + 1) of the cluster it leaves: S starts from q(last), not the key
           const glm::quat& a = cluster.lastRotation;
@@ -288,9 +365,21 @@ struct PoseEvaluation {
           s[kAz * kLanes] = a.z + (s[kBz * kLanes] - a.z) * fraction;
           s[kAw * kLanes] = a.w + (s[kBw * kLanes] - a.w) * fraction;
         }
-        const float weight = static_cast<float>(std::clamp((f - e) * inverseBlendFrames, 0.0, 1.0));
+        // f - last = fraction + (i0 - e), in frames
+        const float weight = std::clamp((fraction + static_cast<float>(i0 - e)) * inverseBlendFrames, 0.0f, 1.0f);
         Blends::apply(s, lerpOffset(cluster.exitOffset, 1.0f - weight));
       }
+  }
+
+  // The wrap's and a level change's offsets (a few frames per period or switch).
+  static void blendWrapAndLevel(const PoseEvaluatorJob& job, int c, double t, double f, std::int64_t loop,
+                                Blends& blends) {
+    PoseEvaluatorContext& ctx = *job.context;
+    State& st = ctx.m_states[static_cast<std::size_t>(c)];
+    const LodClip& clip = blends.clip;
+    const std::int32_t i0 = blends.i0;
+    const int blendFrames = job.blendFrames;
+    const double inverseBlendFrames = 1.0 / blendFrames;
     const int joints = clip.jointCount();
     if (clip.looping() && loop >= 1 && i0 < blendFrames) {
       // the wrap's offsets depend on the clip and N alone: once per thread and run
@@ -373,8 +462,13 @@ struct PoseEvaluation {
     }
     // 2. the joints that blend: offsets into their rotations; constant ones become slots
     Blends blends{clip, scratch, plan.locals, count, i0};
-    if (job.blendFrames > 0)
-      blend(job, c, t, f, fraction, loop, blends);
+    if (job.blendFrames > 0) {
+      // (older offsets outermost: unfreeze windows, newest first, then the wrap, then a level change)
+      unfreeze(clip, job.blendFrames, fraction, blends);
+      if ((clip.looping() && loop >= 1 && i0 < job.blendFrames) ||
+          job.context->m_states[static_cast<std::size_t>(c)].levelBlend)
+        blendWrapAndLevel(job, c, t, f, loop, blends);
+    }
     // 3. local matrices, 8 slots at once
     const int blocks = (blends.slots + kLanes - 1) / kLanes;
     for (int b = 0; b < blocks; ++b)
@@ -382,29 +476,25 @@ struct PoseEvaluation {
                           locals + static_cast<std::size_t>(b) * kLocalBlock);
     scratch.sampled += blends.slots;
 
-    // 4. the hierarchy, parents first: the same two products for every joint, its local
-    //    matrix read from its slot or where the clip keeps it (a select, not a branch)
+    // 4. the hierarchy
     const int joints = clip.jointCount();
     const std::size_t base = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
-    float* models = glm::value_ptr(job.out_models.empty() ? scratch.models[0] : job.out_models[base]);
-    float* palette = glm::value_ptr(job.out_palette[base]);
-    const float* inverseBinds = glm::value_ptr(job.inverseBinds[0]);
-    const std::int16_t* parents = job.parents.data();
-    const std::uint32_t* refs = blends.refs;
-    const float* constants = clip.constantLocals();
-    const auto localOf = [&](std::uint32_t ref) {
-      return ((ref & LodClip::kPlanSlot) ? locals : constants) + (ref & ~LodClip::kPlanSlot);
-    };
-    // the root (joint 0 has no parent)
-    mulLane(glm::value_ptr(kIdentity), localOf(refs[0]), models);
-    mulAffine(models, inverseBinds, palette);
-    for (int j = 1; j < joints; ++j) {
-      const int p = parents[j];
-      const float* parent = SingleRoot || p >= 0 ? models + 16 * p : glm::value_ptr(kIdentity);
-      float* model = models + 16 * j;
-      mulLane(parent, localOf(refs[j]), model);
-      mulAffine(model, inverseBinds + 16 * j, palette + 16 * j);
+    const Hierarchy hierarchy{clip.constantLocals(),
+                              locals,
+                              blends.refs,
+                              job.parents.data(),
+                              glm::value_ptr(job.inverseBinds[0]),
+                              job.context->m_splat.data(),
+                              glm::value_ptr(job.out_models.empty() ? scratch.models[0] : job.out_models[base]),
+                              glm::value_ptr(job.out_palette[base]),
+                              joints};
+#ifdef MLOD_HIERARCHY_V3
+    if (kHasV3) {
+      hierarchyV3<SingleRoot>(hierarchy);
+      return;
     }
+#endif
+    hierarchyBase<SingleRoot>(hierarchy);
   }
 };
 
@@ -413,6 +503,8 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
   joints = std::max(joints, 0);
   threads = std::max(threads, 1);
   m_joints = joints;
+  m_splat.assign(48 * static_cast<std::size_t>(joints), 0.0f);
+  m_inverseBindsSeen = nullptr;
   m_states.assign(static_cast<std::size_t>(characters), CharacterState{});
   m_levelOffset.assign(static_cast<std::size_t>(characters) * static_cast<std::size_t>(joints),
                        glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
@@ -438,6 +530,7 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
 void PoseEvaluatorContext::reset() {
   for (int c = 0; c < characterCount(); ++c)
     reset(c);
+  m_inverseBindsSeen = nullptr;
 }
 
 void PoseEvaluatorContext::reset(int character) {
@@ -499,6 +592,19 @@ bool PoseEvaluatorJob::run() const {
   if (!validate())
     return false;
   PoseEvaluatorContext& ctx = *context;
+  if (ctx.m_inverseBindsSeen != inverseBinds.data()) {
+    // the inverse binds as hierarchyV3() reads them: per joint, [b0[k] x4 | b1[k] x4] and
+    // [b2[k] x4 | b3[k] x4] for k = 0, 1, 2 (b_c = column c)
+    for (std::size_t j = 0; j < inverseBinds.size(); ++j) {
+      float* s = &ctx.m_splat[48 * j];
+      const glm::mat4& b = inverseBinds[j];
+      for (int pair = 0; pair < 2; ++pair)
+        for (int k = 0; k < 3; ++k)
+          for (int i = 0; i < 8; ++i)
+            s[24 * pair + 8 * k + i] = b[2 * pair + i / 4][k];
+    }
+    ctx.m_inverseBindsSeen = inverseBinds.data();
+  }
   bool singleRoot = true;
   for (std::size_t j = 1; j < parents.size(); ++j)
     singleRoot = singleRoot && parents[j] >= 0;

@@ -63,6 +63,7 @@ public:
   // to `threads` threads (the WorkerPool's threadCount()). Forgets every character's state.
   void resize(int characters, int joints, int threads = 1);
   // Forgets every character's state (the clip of its last run: no level blend follows).
+  // Call it after changing the skeleton's inverse binds in place.
   void reset();
   void reset(int character);
 
@@ -101,7 +102,9 @@ private:
 
   int m_joints = 0;
   std::vector<CharacterState> m_states;
-  std::vector<glm::quat> m_levelOffset; // per character x joint
+  std::vector<glm::quat> m_levelOffset;     // per character x joint
+  std::vector<float> m_splat;               // the job's inverse binds laid out for the palette product
+  const void* m_inverseBindsSeen = nullptr; // the inverse binds m_splat holds
   std::vector<Scratch> m_scratch;
   std::int64_t m_lastSampled = 0;
 };
