@@ -1,7 +1,10 @@
 #include "cli/batch_command.h"
 
+#include "cli/batch_manifest.h"
 #include "cli/export_job.h"
 #include "cli/terminal_progress.h"
+#include "cli/file_checks.h"
+#include "runtime/input_file.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -10,9 +13,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <map>
 #include <iostream>
-#include <sstream>
 #include <thread>
 
 namespace mlod::cli {
@@ -26,6 +28,8 @@ void BatchCommand::attach(CLI::App& app) {
   command->add_option("--jobs", jobs, "jobs to run at once on this machine")->check(CLI::Range(1, 256));
   command->add_flag("--json", json, "print one JSON document on stdout");
   command->add_flag("-q,--quiet", quiet, "no progress line on the terminal (stderr)");
+  command->add_flag("--allow-outside", allowOutside,
+                    "write outputs outside the manifest's folder without a warning");
 }
 
 namespace {
@@ -44,77 +48,54 @@ bool parseShard(const std::string& text, int& out_index, int& out_count) {
   }
 }
 
-// A job of the manifest, paths resolved against its folder; false and a reason when malformed.
-bool readJob(const nlohmann::json& entry, std::size_t index, const std::filesystem::path& folder, ExportJob& out,
-             std::string& out_reason) {
-  const std::string where = "job " + std::to_string(index);
-  if (!entry.is_object()) {
-    out_reason = where + " is not an object";
-    return false;
+ExportJob toExportJob(const ManifestJob& entry) {
+  ExportJob job;
+  job.input = entry.input;
+  job.plugin = entry.plugin;
+  job.output = entry.output;
+  job.levels = entry.levels;
+  job.unitScale = entry.unitScale;
+  for (auto it = entry.options.begin(); it != entry.options.end(); ++it) {
+    const QString key = QString::fromStdString(it.key());
+    if (it->is_boolean())
+      job.options.insert(key, it->get<bool>());
+    else if (it->is_number_integer())
+      job.options.insert(key, QVariant::fromValue(it->get<long long>()));
+    else if (it->is_number())
+      job.options.insert(key, it->get<double>());
+    else
+      job.options.insert(key, QString::fromStdString(it->get<std::string>()));
   }
-  for (const char* key : {"input", "plugin", "output"})
-    if (!entry.contains(key) || !entry[key].is_string() || entry[key].get<std::string>().empty()) {
-      out_reason = where + ": \"" + key + "\" must be a non-empty string";
-      return false;
-    }
-  for (auto it = entry.begin(); it != entry.end(); ++it)
-    if (it.key() != "input" && it.key() != "plugin" && it.key() != "output" && it.key() != "options" &&
-        it.key() != "levels" && it.key() != "unit_scale") {
-      out_reason = where + ": unknown key \"" + it.key() + "\"";
-      return false;
-    }
-  const auto resolve = [&](const std::string& path) {
-    const std::filesystem::path p(path);
-    return (p.is_absolute() ? p : folder / p).lexically_normal().string();
-  };
-  out.input = resolve(entry["input"].get<std::string>());
-  out.output = resolve(entry["output"].get<std::string>());
-  out.plugin = entry["plugin"].get<std::string>();
-  if (entry.contains("options")) {
-    if (!entry["options"].is_object()) {
-      out_reason = where + ": \"options\" must be an object";
-      return false;
-    }
-    for (auto it = entry["options"].begin(); it != entry["options"].end(); ++it) {
-      const QString key = QString::fromStdString(it.key());
-      if (it->is_boolean())
-        out.options.insert(key, it->get<bool>());
-      else if (it->is_number_integer())
-        out.options.insert(key, QVariant::fromValue(it->get<long long>()));
-      else if (it->is_number())
-        out.options.insert(key, it->get<double>());
-      else if (it->is_string())
-        out.options.insert(key, QString::fromStdString(it->get<std::string>()));
-      else {
-        out_reason = where + ": option \"" + it.key() + "\" must be a bool, number or string";
-        return false;
+  return job;
+}
+
+// Nothing lost (file_checks.h), over the whole manifest and before any job runs: no job
+// writes the manifest, its own input or another job's input (by file identity), over an
+// existing file that is not a regular one, or to the same file as another job.
+Error checkOutputs(const std::string& manifest, const std::vector<ExportJob>& jobs) {
+  std::vector<std::string> inputs{manifest};
+  for (const ExportJob& job : jobs)
+    for (std::string& file : exportInputFiles(job.input))
+      inputs.push_back(std::move(file));
+  std::map<std::string, std::size_t> written; // normalOutputPath() -> job
+  std::vector<std::pair<FileIdentity, std::size_t>> existing;
+  for (std::size_t i = 0; i < jobs.size(); ++i)
+    for (const std::string& file : exportOutputFiles(jobs[i].plugin, jobs[i].output, jobs[i].options)) {
+      const std::string where = "job " + std::to_string(i) + ": " + file + ": ";
+      if (std::string problem = outputProblem(file, inputs); !problem.empty())
+        return Error(where + problem);
+      const std::string key = normalOutputPath(file);
+      if (const auto other = written.find(key); other != written.end())
+        return Error(where + "job " + std::to_string(other->second) + " writes the same file");
+      if (const std::optional<FileIdentity> identity = fileIdentity(file)) {
+        for (const auto& [seen, other] : existing)
+          if (seen == *identity)
+            return Error(where + "job " + std::to_string(other) + " writes the same file");
+        existing.emplace_back(*identity, i);
       }
+      written.emplace(key, i);
     }
-  }
-  if (entry.contains("levels")) {
-    if (!entry["levels"].is_array()) {
-      out_reason = where + ": \"levels\" must be an array of level indices";
-      return false;
-    }
-    for (const nlohmann::json& level : entry["levels"]) {
-      if (!level.is_number_integer() || level.get<long long>() < 0 || level.get<long long>() > 65535) {
-        out_reason = where + ": \"levels\" must be an array of level indices";
-        return false;
-      }
-      out.levels.push_back(level.get<int>());
-    }
-  }
-  if (entry.contains("unit_scale")) {
-    if (entry["unit_scale"].is_number())
-      out.unitScale = std::to_string(entry["unit_scale"].get<double>());
-    else if (entry["unit_scale"].is_string())
-      out.unitScale = entry["unit_scale"].get<std::string>();
-    else {
-      out_reason = where + ": \"unit_scale\" must be a number or a preset name";
-      return false;
-    }
-  }
-  return true;
+  return {};
 }
 
 } // namespace
@@ -125,32 +106,31 @@ int BatchCommand::run() const {
     printError(manifest, "--shard '" + shard + "' is not I/N with 0 <= I < N");
     return kExitBadInput;
   }
-  std::ifstream file(manifest);
-  if (!file) {
-    printError(manifest, "cannot open the manifest");
-    return kExitBadInput;
-  }
-  std::stringstream text;
-  text << file.rdbuf();
-  nlohmann::json doc = nlohmann::json::parse(text.str(), nullptr, false);
-  if (doc.is_discarded()) {
-    printError(manifest, "not JSON");
-    return kExitBadInput;
-  }
-  if (!doc.is_object() || !doc.contains("jobs") || !doc["jobs"].is_array()) {
-    printError(manifest, "not a batch manifest: {\"jobs\":[{\"input\",\"plugin\",\"output\",\"options\":{}}]}");
+  std::string reason;
+  const std::optional<std::string> text = readInputFile(manifest, kMaxManifestBytes, &reason);
+  if (!text) {
+    printError(manifest, reason);
     return kExitBadInput;
   }
   const std::filesystem::path folder = std::filesystem::absolute(manifest).parent_path();
+  Result<std::vector<ManifestJob>> parsed = parseBatchManifest(*text, folder);
+  if (!parsed) {
+    printError(manifest, parsed.message());
+    return kExitBadInput;
+  }
   std::vector<ExportJob> all;
-  for (std::size_t i = 0; i < doc["jobs"].size(); ++i) {
-    ExportJob job;
-    std::string reason;
-    if (!readJob(doc["jobs"][i], i, folder, job, reason)) {
-      printError(manifest, reason);
-      return kExitBadInput;
-    }
-    all.push_back(std::move(job));
+  for (const ManifestJob& entry : *parsed)
+    all.push_back(toExportJob(entry));
+  if (Error error = checkOutputs(manifest, all)) {
+    printError(manifest, error.message());
+    return kExitBadInput;
+  }
+  if (!allowOutside) {
+    const std::string inside = normalOutputPath(folder.string());
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (!isInsideFolder(normalOutputPath(all[i].output), inside))
+        std::cerr << "warning: " << manifest << ": job " << i << " writes " << all[i].output
+                  << ", outside the manifest's folder (--allow-outside: no warning)" << std::endl;
   }
   std::vector<std::size_t> mine;
   for (std::size_t i = 0; i < all.size(); ++i)

@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <csignal>
+#include <cstdlib>
 #include <iostream>
 
 namespace mlod::cli {
@@ -16,6 +18,29 @@ void addImportOptions(CLI::App& command, ImportArguments& import) {
       ->check(CLI::Range(0.001, 10000.0));
   command.add_option("--import-timeout", import.timeoutSeconds, "seconds before a stuck import is stopped")
       ->check(CLI::Range(1.0, 86400.0));
+}
+
+namespace {
+std::atomic<bool> g_interrupted{false};
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void onInterrupt(int signal) {
+  g_signal = signal;
+  g_interrupted.store(true);
+}
+} // namespace
+
+const std::atomic<bool>* installInterruptHandler() {
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);
+  return &g_interrupted;
+}
+
+void exitFromInterrupt() {
+  const int signal = g_signal != 0 ? int(g_signal) : SIGINT;
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+  std::_Exit(128 + signal);
 }
 
 void printError(const std::string& file, const std::string& reason) {
@@ -36,7 +61,15 @@ std::optional<Asset> importForCommand(const std::string& file, const ImportArgum
   }
   IsolationLimits limits;
   limits.timeoutSeconds = arguments.timeoutSeconds;
+  limits.cancel = installInterruptHandler();
   Result<Asset> asset = importAssetIsolated(file, options, limits);
+  // what follows the import (clustering, printing) is stopped by Ctrl+C as usual again
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  if (limits.cancel->load()) {
+    printError(file, "interrupted: the import was stopped");
+    exitFromInterrupt();
+  }
   if (!asset) {
     printError(file, asset.message());
     return std::nullopt;

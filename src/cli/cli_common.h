@@ -4,6 +4,7 @@
 #include "core/asset.h"
 #include "io/import_options.h"
 
+#include <atomic>
 #include <optional>
 #include <string>
 
@@ -28,7 +29,17 @@ struct ImportArguments {
 // Adds --unit-scale, --fps and --import-timeout to a command.
 void addImportOptions(CLI::App& command, ImportArguments& import);
 
+// Makes SIGINT and SIGTERM (Ctrl+C, a farm scheduler stopping the job) set the returned
+// flag instead of killing the process, so that a running export stops and leaves nothing
+// and a running import stops its worker at once.
+const std::atomic<bool>* installInterruptHandler();
+
+// Ends the process by the signal that set the interrupt flag (the shell then sees 130 for
+// Ctrl+C), once what it interrupted has been cleaned up.
+[[noreturn]] void exitFromInterrupt();
+
 // Imports `file` in a sandboxed worker; prints the error and returns nothing on failure.
+// Ctrl+C (or SIGTERM) stops the worker at once and ends the process (exitFromInterrupt()).
 std::optional<Asset> importForCommand(const std::string& file, const ImportArguments& arguments);
 
 } // namespace mlod::cli

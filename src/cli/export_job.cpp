@@ -1,14 +1,20 @@
 #include "cli/export_job.h"
 
+#include "cli/file_checks.h"
+
 #include "core/lod/lod_package.h"
 #include "core/project.h"
 #include "io/import_options.h"
 #include "io/isolated_import.h"
 
-#include <QDir>
-#include <QFileInfo>
+#include <QFile>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
+#include <fcntl.h>
+#include <optional>
+#include <unistd.h>
 #include <csignal>
 #include <filesystem>
 #include <memory>
@@ -22,10 +28,6 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-bool isProjectFile(const std::string& file) {
-  return file.size() >= 5 && file.compare(file.size() - 5, 5, ".mlod") == 0;
 }
 
 ExportOutcome failure(int code, std::string file, std::string message) {
@@ -46,19 +48,78 @@ Result<Asset> importFile(const std::string& path, double unitScale, const Export
   return importAssetIsolated(path, options, limits);
 }
 
-std::atomic<bool> g_interrupted{false};
+// An output whose name is not valid UTF-8 (a Latin-1 name): Qt paths are Unicode, so an
+// exporter given QString::fromStdString() of it would write a file named with U+FFFD and
+// report success. Instead the exporter writes into a fresh folder beside the output
+// (reached through /proc/self/fd, so the folder's own name may hold any bytes), under the
+// name decoded with U+FFFD; commit() then renames every file it wrote to the exact bytes
+// given (FILE.mlodb.json follows FILE.mlodb). On failure or without commit() nothing stays.
+class ByteExactOutput {
+public:
+  ByteExactOutput() = default;
+  ByteExactOutput(const ByteExactOutput&) = delete;
+  ByteExactOutput& operator=(const ByteExactOutput&) = delete;
+  ~ByteExactOutput() { discard(); }
 
-extern "C" void onInterrupt(int) {
-  g_interrupted.store(true);
-}
+  bool open(const std::string& output, QString* out_path, std::string* out_reason) {
+    const std::filesystem::path file(output);
+    const std::string folder = file.has_parent_path() ? file.parent_path().string() : std::string(".");
+    m_name = file.filename().string();
+    m_folder = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (m_folder < 0)
+      return fail(out_reason);
+    std::string scratch = "/proc/self/fd/" + std::to_string(m_folder) + "/.motionlod-export-XXXXXX";
+    if (!::mkdtemp(scratch.data()))
+      return fail(out_reason);
+    m_scratch = std::filesystem::path(scratch).filename().string();
+    m_decoded = QFile::encodeName(QFile::decodeName(QByteArray::fromStdString(m_name))).toStdString();
+    *out_path = QStringLiteral("/proc/self/fd/%1/%2/").arg(m_folder).arg(QString::fromStdString(m_scratch)) +
+                QFile::decodeName(QByteArray::fromStdString(m_name));
+    return true;
+  }
+
+  bool commit(std::string* out_reason) {
+    for (const std::string& written : scratchFiles()) {
+      const std::string target =
+          written.rfind(m_decoded, 0) == 0 ? m_name + written.substr(m_decoded.size()) : written;
+      if (::renameat(m_folder, (m_scratch + "/" + written).c_str(), m_folder, target.c_str()) != 0)
+        return fail(out_reason);
+    }
+    return true;
+  }
+
+private:
+  std::vector<std::string> scratchFiles() const {
+    std::vector<std::string> names;
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator(
+             "/proc/self/fd/" + std::to_string(m_folder) + "/" + m_scratch, error))
+      names.push_back(entry.path().filename().string());
+    return names;
+  }
+  void discard() {
+    if (m_folder < 0)
+      return;
+    if (!m_scratch.empty()) {
+      for (const std::string& left : scratchFiles())
+        ::unlinkat(m_folder, (m_scratch + "/" + left).c_str(), 0);
+      ::unlinkat(m_folder, m_scratch.c_str(), AT_REMOVEDIR);
+    }
+    ::close(m_folder);
+    m_folder = -1;
+  }
+  static bool fail(std::string* out_reason) {
+    *out_reason = std::strerror(errno);
+    return false;
+  }
+
+  int m_folder = -1;
+  std::string m_name;    // the output's file name, exact bytes
+  std::string m_decoded; // what Qt writes for it (U+FFFD for each invalid byte), as bytes
+  std::string m_scratch; // the scratch folder's name inside the output's folder
+};
 
 } // namespace
-
-const std::atomic<bool>* installInterruptHandler() {
-  std::signal(SIGINT, onInterrupt);
-  std::signal(SIGTERM, onInterrupt);
-  return &g_interrupted;
-}
 
 bool parseLevelList(const std::string& text, std::vector<int>& out_levels, std::string& out_reason) {
   out_levels.clear();
@@ -104,13 +165,21 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
     return failure(kExitBadInput, job.input, "plugin " + job.plugin + ": " + optionError.toStdString());
   if (job.output.empty())
     return failure(kExitBadInput, job.input, "no output file (-o)");
-  const QFileInfo output(QString::fromStdString(job.output));
-  const QFileInfo folder(output.absolutePath());
-  if (!folder.isDir())
-    return failure(kExitFailure, job.output, "cannot write: the folder " + folder.filePath().toStdString() + " does not exist");
-  if (!folder.isWritable())
-    return failure(kExitFailure, job.output, "cannot write: the folder " + folder.filePath().toStdString() + " is not writable");
-  if (output.isDir())
+  // Nothing lost: no output may be an input, and what exists at an output must be a
+  // regular file (file_checks.h). Checked before any work.
+  const std::vector<std::string> inputs = exportInputFiles(job.input);
+  for (const std::string& file : exportOutputFiles(job.plugin, job.output, options))
+    if (std::string problem = outputProblem(file, inputs); !problem.empty())
+      return failure(kExitBadInput, file, problem);
+  // the folder: a missing or read-only one is no bad input (exit 1: a farm retries it)
+  std::error_code folderError;
+  const std::filesystem::path absolute = std::filesystem::absolute(job.output, folderError);
+  const std::string folder = absolute.parent_path().string();
+  if (!std::filesystem::is_directory(folder, folderError))
+    return failure(kExitFailure, job.output, "cannot write: the folder " + folder + " does not exist");
+  if (::access(folder.c_str(), W_OK) != 0)
+    return failure(kExitFailure, job.output, "cannot write: the folder " + folder + " is not writable");
+  if (std::filesystem::is_directory(job.output, folderError))
     return failure(kExitFailure, job.output, "cannot write: it is a folder");
   double unitScale = 0.0;
   if (!job.unitScale.empty()) {
@@ -209,15 +278,30 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
     return failure(kExitFailure, job.input, "cancelled: nothing was written");
 
   start = Clock::now();
-  const QString path = QString::fromStdString(job.output);
+  std::optional<ByteExactOutput> exact;
+  QString path = QString::fromStdString(job.output);
+  if (QFile::encodeName(path).toStdString() != job.output) {
+    exact.emplace();
+    std::string reason;
+    if (!exact->open(job.output, &path, &reason))
+      return failure(kExitFailure, job.output, "cannot write: " + reason);
+  }
   tell("export", 0.0, job.plugin);
   const ExportResult result = exporter->exportPackage(
       *package, path, options,
       ExportProgress([&](double fraction, const QString& detail) { tell("export", fraction, detail.toStdString()); },
                      [&] { return cancelled(); }));
+  std::string message = result.message.toStdString();
+  const std::string written = path.toStdString();
+  for (std::size_t at = message.find(written); exact && at != std::string::npos; at = message.find(written, at))
+    message.replace(at, written.size(), job.output); // the temporary name is no one's business
+  std::string reason;
+  if (exact && result.ok && !exact->commit(&reason)) {
+    out.exportSeconds = secondsSince(start);
+    return failure(kExitFailure, job.output, "cannot write: " + reason);
+  }
   out.exportSeconds = secondsSince(start);
   if (!result.ok) {
-    std::string message = result.message.toStdString();
     if (message.rfind(job.output + ": ", 0) == 0) // the exporter named the output already
       message.erase(0, job.output.size() + 2);
     ExportOutcome failed = failure(kExitFailure, job.output, message);
@@ -226,8 +310,11 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
     failed.exportSeconds = out.exportSeconds;
     return failed;
   }
-  out.message = result.message.toStdString();
-  out.bytes = QFileInfo(path).size();
+  out.message = message;
+  if (exact)
+    out.message += " (the name is not valid UTF-8: the file has the exact name given; names inside it use U+FFFD)";
+  std::error_code sizeError;
+  out.bytes = static_cast<std::int64_t>(std::filesystem::file_size(job.output, sizeError));
   return out;
 }
 

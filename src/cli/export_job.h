@@ -56,8 +56,4 @@ using ExportJobProgress = std::function<void(std::string_view stage, double frac
 ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const std::atomic<bool>* cancel = nullptr,
                            const ExportJobProgress& progress = {});
 
-// Makes SIGINT and SIGTERM (Ctrl+C, a farm scheduler stopping the job) set the returned
-// flag instead of killing the process, so that a running export stops and leaves nothing.
-const std::atomic<bool>* installInterruptHandler();
-
 } // namespace mlod::cli

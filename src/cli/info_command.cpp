@@ -1,5 +1,6 @@
 #include "cli/info_command.h"
 
+#include "cli/file_checks.h"
 #include "core/project.h"
 
 #include <CLI/CLI.hpp>
@@ -36,9 +37,6 @@ void printJointTree(const Skeleton& skeleton, const Clip* clip) {
 } // namespace
 
 namespace {
-bool isProjectFile(const std::string& file) {
-  return file.size() >= 5 && file.compare(file.size() - 5, 5, ".mlod") == 0;
-}
 
 std::string exactNumber(double value) {
   char text[64];

@@ -2,6 +2,7 @@
 
 #include "core/jpc/jpc.h"
 #include "core/jpc/jpc_report.h"
+#include "cli/file_checks.h"
 #include "core/project.h"
 
 #include <CLI/CLI.hpp>
@@ -44,9 +45,6 @@ void SimplifyCommand::attach(CLI::App& app) {
 }
 
 namespace {
-bool isProjectFile(const std::string& file) {
-  return file.size() >= 5 && file.compare(file.size() - 5, 5, ".mlod") == 0;
-}
 
 // A number as text that parses back to the same double.
 std::string exactNumber(double value) {

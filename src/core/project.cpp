@@ -1,5 +1,7 @@
 #include "core/project.h"
 
+#include "runtime/input_file.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -44,11 +46,17 @@ LodSet defaultLodSet() {
 
 namespace {
 bool nonNegative(double value) { return std::isfinite(value) && value >= 0.0; }
+std::string tooManyLevels(std::size_t count) {
+  return "the project has " + std::to_string(count) + " LOD levels; a project may have at most " +
+         std::to_string(kMaxProjectLevels);
+}
 } // namespace
 
 Error Project::validate() const {
   if (!nonNegative(alpha))
     return Error("alpha must be a finite number >= 0 (cm)");
+  if (lods.levels.size() > std::size_t(kMaxProjectLevels))
+    return Error(tooManyLevels(lods.levels.size()));
   if (Error error = lods.validate())
     return error;
   for (std::size_t a = 0; a < assets.size(); ++a) {
@@ -57,7 +65,8 @@ Error Project::validate() const {
     if (asset.path.empty())
       return Error(where + " has no path");
     if (!nonNegative(asset.unitScale))
-      return Error(where + ": unit scale must be a finite number >= 0 (cm per file unit)");
+      return Error(where + ": unit_scale " + std::to_string(asset.unitScale) +
+                   " is not a finite number >= 0 (cm per file unit; 0 = the file's own unit)");
     for (const auto& [name, joint] : asset.joints) {
       if (joint.alpha && !nonNegative(*joint.alpha))
         return Error(where + ", joint " + name + ": alpha must be a finite number >= 0 (cm)");
@@ -186,6 +195,8 @@ Result<Project> projectFromJson(std::string_view textIn) {
       const json& levels = field(doc, "levels", "the project");
       if (!levels.is_array())
         return Error("\"levels\" is not a list");
+      if (levels.size() + 1 > std::size_t(kMaxProjectLevels))
+        return Error(tooManyLevels(levels.size() + 1));
       project.lods.levels.push_back(LodLevel{.name = "LOD0"});
       for (std::size_t i = 0; i < levels.size(); ++i) {
         LodLevel level;
@@ -205,6 +216,8 @@ Result<Project> projectFromJson(std::string_view textIn) {
       const json& levels = field(lods, "levels", "\"lods\"");
       if (!levels.is_array())
         return Error("\"levels\" is not a list");
+      if (levels.size() > std::size_t(kMaxProjectLevels))
+        return Error(tooManyLevels(levels.size()));
       for (std::size_t i = 0; i < levels.size(); ++i) {
         const std::string where = "level " + std::to_string(i);
         const json& entry = levels[i];
@@ -284,14 +297,13 @@ Result<Project> projectFromJson(std::string_view textIn) {
 }
 
 Result<Project> loadProjectFile(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in)
-    return Error("cannot be opened for reading");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (buffer.str().empty())
+  std::string error;
+  const std::optional<std::string> text = readInputFile(file, kMaxProjectFileBytes, &error);
+  if (!text)
+    return Error(error);
+  if (text->empty())
     return Error("the file is empty");
-  return projectFromJson(buffer.str());
+  return projectFromJson(*text);
 }
 
 std::string storedAssetPath(const std::filesystem::path& projectFile, const std::filesystem::path& assetFile) {

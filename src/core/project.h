@@ -14,6 +14,7 @@
 #include "core/lod/lod_set.h"
 #include "core/mapping/motion_mapping.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -33,6 +34,10 @@ namespace mlod {
 // of version 1 becomes LodSet level i + 1 ("LOD<i+1>", mesh ratio 1, distance 0), and with it
 // the per-joint overrides and the current level.
 inline constexpr int kProjectVersion = 2;
+// Caps checked when a project is read, before anything is built from it: a file of 70,000
+// levels would otherwise run for minutes (every level is clustered on every export).
+inline constexpr int kMaxProjectLevels = 32;                      // level 0 included
+inline constexpr std::uint64_t kMaxProjectFileBytes = 64u << 20; // 64 MiB
 inline constexpr const char* kProjectFormat = "motionlod-project";
 
 // Per-joint settings compare by value (JointSettings has no operator== of its own).
@@ -86,7 +91,7 @@ struct Project {
   std::vector<double> levelThresholds() const;
   int levelCount() const { return static_cast<int>(lods.levels.size()); }
 
-  // Rules: alpha finite and >= 0; the LodSet validates (LodSet::validate(): level 0 the
+  // Rules: alpha finite and >= 0; at most kMaxProjectLevels levels; the LodSet validates (LodSet::validate(): level 0 the
   // original, names unique ...); no joint overrides level 0's threshold; every asset has a path and a unit scale finite and >= 0; every per-joint alpha
   // and threshold finite and >= 0; every mapping names two different assets of the project.
   Error validate() const;
@@ -100,7 +105,8 @@ std::string projectToJson(const Project& project, int indent = 2);
 // kProjectVersion ("made by a newer Motion LOD Studio"), a missing or mistyped field, or
 // values that do not validate.
 Result<Project> projectFromJson(std::string_view text);
-// Reads a .mlod file (errors name what is wrong, never the path: callers add it).
+// Reads a .mlod file (errors name what is wrong, never the path: callers add it): a regular
+// file of at most kMaxProjectFileBytes (runtime/input_file.h), at most kMaxProjectLevels levels.
 Result<Project> loadProjectFile(const std::filesystem::path& file);
 
 // An asset path as stored in a project saved at `projectFile`: relative to its folder,

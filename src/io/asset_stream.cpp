@@ -12,25 +12,47 @@ constexpr char kMagic[8] = {'M', 'L', 'O', 'D', 'A', 'S', 'T', '1'};
 
 class Writer {
 public:
-  explicit Writer(std::string& out) : m_out(out) {}
+  explicit Writer(const AssetStreamSink& sink) : m_sink(sink) {}
+  bool ok() const { return m_ok; }
+  void bytes(const void* data, std::size_t size) {
+    if (size == 0)
+      return; // an empty vector's data() may be null
+    if (size >= kGather) { // large arrays go straight to the sink, after what is gathered
+      flush();
+      if (m_ok)
+        m_ok = m_sink(static_cast<const char*>(data), size);
+      return;
+    }
+    m_buffer.append(static_cast<const char*>(data), size);
+    if (m_buffer.size() >= kGather)
+      flush();
+  }
   template <typename T>
   void pod(const T& value) {
     static_assert(std::is_trivially_copyable_v<T>);
-    m_out.append(reinterpret_cast<const char*>(&value), sizeof(T));
+    bytes(&value, sizeof(T));
   }
   void text(const std::string& value) {
     pod(static_cast<std::uint64_t>(value.size()));
-    m_out.append(value);
+    bytes(value.data(), value.size());
   }
   template <typename T>
   void array(const std::vector<T>& values) {
     static_assert(std::is_trivially_copyable_v<T>);
     pod(static_cast<std::uint64_t>(values.size()));
-    m_out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    bytes(values.data(), values.size() * sizeof(T));
+  }
+  void flush() {
+    if (m_ok && !m_buffer.empty())
+      m_ok = m_sink(m_buffer.data(), m_buffer.size());
+    m_buffer.clear();
   }
 
 private:
-  std::string& m_out;
+  static constexpr std::size_t kGather = std::size_t(1) << 20;
+  const AssetStreamSink& m_sink;
+  std::string m_buffer;
+  bool m_ok = true;
 };
 
 class Reader {
@@ -84,8 +106,15 @@ private:
 } // namespace
 
 void writeAssetStream(const Asset& asset, std::string& out_bytes) {
-  Writer w(out_bytes);
-  out_bytes.append(kMagic, sizeof(kMagic));
+  writeAssetStream(asset, [&out_bytes](const char* data, std::size_t size) {
+    out_bytes.append(data, size);
+    return true;
+  });
+}
+
+bool writeAssetStream(const Asset& asset, const AssetStreamSink& sink) {
+  Writer w(sink);
+  w.bytes(kMagic, sizeof(kMagic));
   w.text(asset.sourcePath);
   w.text(asset.format);
   w.pod(asset.unitScale);
@@ -139,6 +168,8 @@ void writeAssetStream(const Asset& asset, std::string& out_bytes) {
     for (const std::vector<Cluster>& joint : set.joints)
       w.array(joint);
   }
+  w.flush();
+  return w.ok();
 }
 
 Result<Asset> readAssetStream(std::string_view bytes) {

@@ -5,6 +5,7 @@
 #include "io/importer.h"
 
 #include "io/gltf_metadata.h"
+#include "runtime/input_file.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
@@ -774,18 +775,11 @@ std::optional<double> colladaUnitOf(const std::string& extension, const std::str
 } // namespace
 
 Result<Asset> importAsset(const std::string& path, const ImportOptions& options) {
-  std::error_code ec;
   const std::filesystem::path file(path);
-  if (!std::filesystem::exists(file, ec))
-    return Error("no such file");
-  if (std::filesystem::is_directory(file, ec))
-    return Error("it is a directory, not a file");
-  if (!std::filesystem::is_regular_file(file, ec))
-    return Error("it is not a regular file");
-  const auto size = std::filesystem::file_size(file, ec);
-  if (ec)
-    return Error("cannot read it: " + ec.message());
-  if (size == 0)
+  if (std::string problem = inputFileProblem(file, kMaxImportFileBytes); !problem.empty())
+    return Error(problem);
+  std::error_code ec;
+  if (std::filesystem::file_size(file, ec) == 0)
     return Error("the file is empty");
   std::ifstream stream(file, std::ios::binary);
   if (!stream)

@@ -14,9 +14,14 @@
 #include "io/import_options.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace mlod {
+
+// The largest file importAsset() and importAssetIsolated() read: a regular file (never a
+// FIFO or a device; runtime/input_file.h) of at most 4 GiB. Assimp reads a file whole.
+inline constexpr std::uint64_t kMaxImportFileBytes = std::uint64_t(4) << 30;
 
 // Reads `path` in this process. Assimp is not hardened against hostile files (some make
 // it allocate without bound); use importAssetIsolated() for files from users.

@@ -2,12 +2,14 @@
 
 #include "io/asset_stream.h"
 #include "io/importer.h"
+#include "runtime/input_file.h"
 
 #include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstring>
 #include <poll.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -37,8 +39,25 @@ bool writeAll(int fd, const char* data, std::size_t size) {
   return true;
 }
 
-[[noreturn]] void runChild(int fd, const std::string& path, const ImportOptions& options, std::size_t memoryBytes) {
+[[noreturn]] void runChild(int fd, pid_t parent, const std::string& path, const ImportOptions& options,
+                           std::size_t memoryBytes) {
+  // The worker dies with its parent: killed (kill -9) while it imports, the parent can no
+  // longer stop it, and a stuck Assimp would spin at 100% CPU forever. PR_SET_PDEATHSIG
+  // covers a parent that dies from now on; the getppid() check one that died before it.
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (::getppid() != parent)
+    ::_exit(4);
+  // Keep only the pipe (as fd 3) and the standard streams: a worker started by another
+  // thread at the same moment (batch --jobs) must not hold this worker's pipe open, or
+  // the parent would wait for that one's end too.
+  if (fd != 3) {
+    ::dup2(fd, 3);
+    fd = 3;
+  }
+  ::close_range(4, ~0u, 0);
   std::signal(SIGPIPE, SIG_IGN);
+  std::signal(SIGINT, SIG_DFL); // the parent's handlers (Ctrl+C cancels) are not the worker's
+  std::signal(SIGTERM, SIG_DFL);
 #ifndef MLOD_ASAN
   // note: ASan reserves terabytes of address space up front, so the limit is skipped there.
   if (memoryBytes > 0) {
@@ -48,16 +67,16 @@ bool writeAll(int fd, const char* data, std::size_t size) {
 #else
   (void)memoryBytes;
 #endif
-  std::string bytes;
   Result<Asset> result = importAsset(path, options);
+  bool sent = false;
   if (result.ok()) {
-    bytes.push_back('A');
-    writeAssetStream(result.value(), bytes);
+    // streamed: a second copy of a long clip would double the worker's peak memory
+    sent = writeAll(fd, "A", 1) &&
+           writeAssetStream(result.value(), [fd](const char* data, std::size_t size) { return writeAll(fd, data, size); });
   } else {
-    bytes.push_back('E');
-    bytes += result.message();
+    const std::string bytes = "E" + result.message();
+    sent = writeAll(fd, bytes.data(), bytes.size());
   }
-  const bool sent = writeAll(fd, bytes.data(), bytes.size());
   ::close(fd);
   ::_exit(sent ? 0 : 3);
 }
@@ -66,6 +85,10 @@ bool writeAll(int fd, const char* data, std::size_t size) {
 
 Result<Asset> importAssetIsolated(const std::string& path, const ImportOptions& options,
                                   const IsolationLimits& limits) {
+  // a FIFO, a device or a huge file is refused here, before a worker is started for it
+  if (std::string problem = inputFileProblem(path, kMaxImportFileBytes); !problem.empty())
+    return Error(problem);
+  const pid_t parent = ::getpid();
   int fds[2];
   if (::pipe(fds) != 0)
     return Error(std::string("cannot start the import worker: ") + std::strerror(errno));
@@ -77,7 +100,7 @@ Result<Asset> importAssetIsolated(const std::string& path, const ImportOptions& 
   }
   if (child == 0) {
     ::close(fds[0]);
-    runChild(fds[1], path, options, limits.memoryBytes);
+    runChild(fds[1], parent, path, options, limits.memoryBytes);
   }
   ::close(fds[1]);
 

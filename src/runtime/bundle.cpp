@@ -1,5 +1,7 @@
 #include "runtime/bundle.h"
 
+#include "runtime/input_file.h"
+
 #include <array>
 #include <bit>
 #include <cmath>
@@ -655,19 +657,11 @@ std::optional<Bundle> readBundle(std::span<const std::uint8_t> bytes, std::strin
 }
 
 std::optional<Bundle> readBundleFile(const std::string& path, std::string* out_error) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    if (out_error)
-      *out_error = "cannot open the file";
+  // regular files only, bounded: a FIFO or /dev/zero named .mlodb must not hang the reader
+  const std::optional<std::string> bytes = readInputFile(path, kMaxBundleFileBytes, out_error);
+  if (!bytes)
     return std::nullopt;
-  }
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  if (file.bad()) {
-    if (out_error)
-      *out_error = "cannot read the file";
-    return std::nullopt;
-  }
-  return readBundle(bytes, out_error);
+  return readBundle(std::span(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()), out_error);
 }
 
 std::optional<BundleLevelRuntime> buildBundleLevel(const BundleLevel& level, std::string* out_error) {

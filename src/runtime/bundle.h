@@ -37,6 +37,8 @@ inline constexpr std::uint32_t kBundleVersion = 1;
 // count, so a small file could otherwise ask for gigabytes. 2^25 = 33.5 M: e.g. 8 levels of
 // a 60-joint, 10-minute clip at 120 fps (about 1.3 GB of tracks).
 inline constexpr std::uint64_t kMaxBundleJointFrames = std::uint64_t(1) << 25;
+// The largest bundle file readBundleFile() reads (regular files only; runtime/input_file.h).
+inline constexpr std::uint64_t kMaxBundleFileBytes = std::uint64_t(2) << 30;
 
 // A clip as LodClip::build() takes it, owning its arrays.
 struct BundleClip {
@@ -112,6 +114,8 @@ std::vector<std::uint8_t> writeBundle(const Bundle& bundle, std::string* out_err
 
 // Reads a bundle; nothing and the reason on any error (never reads out of bounds).
 std::optional<Bundle> readBundle(std::span<const std::uint8_t> bytes, std::string* out_error = nullptr);
+// readBundleFile() reads regular files of at most kMaxBundleFileBytes only (a FIFO or a
+// device is refused before it is opened).
 std::optional<Bundle> readBundleFile(const std::string& path, std::string* out_error = nullptr);
 
 // The rules a bundle keeps (both writeBundle() and readBundle() check them): a name; at

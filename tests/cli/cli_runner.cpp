@@ -16,10 +16,13 @@ std::string quote(const std::string& text) {
 }
 } // namespace
 
-CliRun runMotionlod(const std::vector<std::string>& arguments) {
+CliRun runMotionlod(const std::vector<std::string>& arguments) { return runMotionlod(arguments, 0); }
+
+CliRun runMotionlod(const std::vector<std::string>& arguments, int timeoutSeconds) {
   const std::string out = writeTemp("cli.out", "");
   const std::string err = writeTemp("cli.err", "");
-  std::string command = quote(MLOD_MOTIONLOD);
+  std::string command = timeoutSeconds > 0 ? "timeout -k 2 " + std::to_string(timeoutSeconds) + " " : std::string();
+  command += quote(MLOD_MOTIONLOD);
   for (const std::string& argument : arguments)
     command += " " + quote(argument);
   command += " > " + quote(out) + " 2> " + quote(err);

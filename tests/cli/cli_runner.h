@@ -15,6 +15,9 @@ struct CliRun {
 };
 
 CliRun runMotionlod(const std::vector<std::string>& arguments);
+// The same, stopped (SIGTERM, then SIGKILL 2 s later) after `timeoutSeconds`: a run that
+// could hang (a FIFO, a kill) must not hang the test. A stopped run has status 124 or 137.
+CliRun runMotionlod(const std::vector<std::string>& arguments, int timeoutSeconds);
 
 // The keys of a JSON object, in the document's (sorted) order.
 inline std::vector<std::string> keysOf(const nlohmann::json& object) {

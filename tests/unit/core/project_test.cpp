@@ -7,6 +7,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace mlod {
 namespace {
@@ -202,6 +204,44 @@ TEST(Project, FilesThatCannotBeReadAreRefused) {
   ASSERT_FALSE(read);
   EXPECT_EQ(read.message(), "the file is empty");
   std::filesystem::remove(empty);
+}
+
+// Guards the reader against files that never end or block: a FIFO named .mlod blocked it
+// forever, a link to /dev/zero read until memory ran out. Both are refused from their type.
+TEST(Project, SpecialFilesAreRefusedAtOnce) {
+  namespace fs = std::filesystem;
+  const fs::path fifo = fs::temp_directory_path() / ("mlod_fifo_" + std::to_string(::getpid()) + ".mlod");
+  const fs::path zero = fs::temp_directory_path() / ("mlod_zero_" + std::to_string(::getpid()) + ".mlod");
+  fs::remove(fifo);
+  fs::remove(zero);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_symlink("/dev/zero", zero);
+  const Result<Project> fromFifo = loadProjectFile(fifo);
+  const Result<Project> fromZero = loadProjectFile(zero);
+  fs::remove(fifo);
+  fs::remove(zero);
+  ASSERT_FALSE(fromFifo);
+  EXPECT_EQ(fromFifo.message(), "it is a FIFO (named pipe), not a regular file");
+  ASSERT_FALSE(fromZero);
+  EXPECT_EQ(fromZero.message(), "it is a device, not a regular file");
+}
+
+// Guards the level cap: a project of 70,000 levels ran for minutes growing memory; it is
+// refused from the size of its level list, before a level is read.
+TEST(Project, LevelsAreCappedOnLoad) {
+  Project project;
+  project.assets.push_back({"a.bvh", 1.0, {}});
+  std::string text = projectToJson(project);
+  ASSERT_TRUE(projectFromJson(text));
+  while (project.lods.levels.size() < std::size_t(kMaxProjectLevels))
+    project.lods.levels.push_back({.name = "L" + std::to_string(project.lods.levels.size()),
+                                   .motionThreshold = 1000.0 + double(project.lods.levels.size())});
+  EXPECT_TRUE(projectFromJson(projectToJson(project))) << "exactly the cap is fine";
+  project.lods.levels.push_back({.name = "one more", .motionThreshold = 1e6});
+  const Result<Project> over = projectFromJson(projectToJson(project));
+  ASSERT_FALSE(over);
+  EXPECT_EQ(over.message(), "the project has 33 LOD levels; a project may have at most 32");
+  EXPECT_TRUE(project.validate()) << "validate() states the cap too";
 }
 
 } // namespace

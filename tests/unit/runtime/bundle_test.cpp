@@ -7,6 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <string>
 
 namespace mlod {
@@ -238,7 +241,26 @@ TEST(Bundle, InconsistentBundlesAreNotWritten) {
 TEST(Bundle, MissingFileSaysSo) {
   std::string error;
   EXPECT_FALSE(readBundleFile("/nonexistent/x.mlodb", &error));
-  EXPECT_EQ(error, "cannot open the file");
+  EXPECT_EQ(error, "no such file");
+}
+
+// Guards the reader against a FIFO (it blocked forever) and a link to /dev/zero (it read
+// until memory ran out): both are refused from their type, before anything is opened.
+TEST(Bundle, SpecialFilesAreRefusedAtOnce) {
+  namespace fs = std::filesystem;
+  const fs::path fifo = fs::temp_directory_path() / ("mlod_fifo_" + std::to_string(::getpid()) + ".mlodb");
+  const fs::path zero = fs::temp_directory_path() / ("mlod_zero_" + std::to_string(::getpid()) + ".mlodb");
+  fs::remove(fifo);
+  fs::remove(zero);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_symlink("/dev/zero", zero);
+  std::string fifoError, zeroError;
+  EXPECT_FALSE(readBundleFile(fifo.string(), &fifoError));
+  EXPECT_FALSE(readBundleFile(zero.string(), &zeroError));
+  fs::remove(fifo);
+  fs::remove(zero);
+  EXPECT_EQ(fifoError, "it is a FIFO (named pipe), not a regular file");
+  EXPECT_EQ(zeroError, "it is a device, not a regular file");
 }
 
 } // namespace

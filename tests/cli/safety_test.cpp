@@ -1,0 +1,288 @@
+// Nothing lost, nothing hangs (docs/architecture.md sections 6 and 9; issue 16): an output is
+// never an input (by file identity) nor an existing device or FIFO; every input is a regular
+// file of bounded size, so a FIFO or a link to /dev/zero is refused at once; a batch
+// manifest is checked whole before any job runs; an output name that is not valid UTF-8 is
+// written under the exact bytes given. Runs that could hang are bounded by a timeout.
+
+#include "cli_runner.h"
+#include "test_files.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace mlod {
+namespace {
+
+namespace fs = std::filesystem;
+using test::runMotionlod;
+
+constexpr int kTimeout = 20; // seconds; every run here takes well under one
+
+fs::path freshFolder(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("mlod_cli_safety_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::vector<std::string> filesIn(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string bytesOf(const fs::path& file) {
+  return test::readText(file.string());
+}
+
+// A copy of the sample BVH (a CMU excerpt) in `dir`.
+fs::path sampleIn(const fs::path& dir, const std::string& name = "walk.bvh") {
+  fs::copy_file(MLOD_SAMPLE, dir / name);
+  return dir / name;
+}
+
+bool startsWith(const std::string& text, const std::string& prefix) {
+  return text.rfind(prefix, 0) == 0;
+}
+
+// `export a.bvh -o a.bvh` (and through a hard link or a symlink) would overwrite its input.
+TEST(CliSafety, ExportNeverWritesItsInput) {
+  const fs::path dir = freshFolder("own_input");
+  const fs::path input = sampleIn(dir);
+  const std::string before = bytesOf(input);
+  fs::create_hard_link(input, dir / "hard.glb");
+  fs::create_symlink(input, dir / "link.glb");
+  for (const fs::path& output : {input, dir / "hard.glb", dir / "link.glb", dir / "." / "walk.bvh"}) {
+    const test::CliRun run = runMotionlod(
+        {"export", input.string(), "--unit-scale", "cmu", "--plugin", "gltf", "-o", output.string()}, kTimeout);
+    EXPECT_EQ(run.status, 2) << output;
+    EXPECT_TRUE(startsWith(run.err, "error: " + output.string() + ": ")) << run.err;
+    EXPECT_NE(run.err.find("it would be overwritten"), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("import"), std::string::npos) << "refused before any work: " << run.err;
+  }
+  EXPECT_EQ(bytesOf(input), before);
+  EXPECT_EQ(filesIn(dir), (std::vector<std::string>{"hard.glb", "link.glb", "walk.bvh"}));
+}
+
+// `export p.mlod --plugin report -o p.mlod`, and a project's asset as the output.
+TEST(CliSafety, ExportNeverWritesItsProjectOrItsAssets) {
+  const fs::path dir = freshFolder("project");
+  const fs::path asset = sampleIn(dir);
+  const nlohmann::json project = {
+      {"format", "motionlod-project"},
+      {"version", 1},
+      {"alpha", 5.0},
+      {"mode", "greedy"},
+      {"levels", {{{"threshold", 5.0}}}},
+      {"assets", {{{"path", "walk.bvh"}, {"unit_scale", 5.6444}, {"joints", nlohmann::json::object()}}}}};
+  const fs::path file = dir / "p.mlod";
+  std::ofstream(file) << project.dump();
+  const std::string before = bytesOf(file), assetBefore = bytesOf(asset);
+  for (const fs::path& output : {file, asset}) {
+    const test::CliRun run =
+        runMotionlod({"export", file.string(), "--plugin", "report", "-o", output.string()}, kTimeout);
+    EXPECT_EQ(run.status, 2) << output;
+    EXPECT_NE(run.err.find("it would be overwritten"), std::string::npos) << run.err;
+  }
+  EXPECT_EQ(bytesOf(file), before);
+  EXPECT_EQ(bytesOf(asset), assetBefore);
+}
+
+// An existing output that is no regular file is never replaced (as root, -o /dev/null
+// would otherwise replace /dev/null with a regular file).
+TEST(CliSafety, ExportRefusesAnOutputThatIsNoRegularFile) {
+  const fs::path dir = freshFolder("special_output");
+  const fs::path input = sampleIn(dir);
+  const fs::path fifo = dir / "out.mlodb";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const fs::path manifestFifo = dir / "m.mlodb";
+  ASSERT_EQ(::mkfifo((manifestFifo.string() + ".json").c_str(), 0600), 0); // the bundle's manifest
+  for (const fs::path& output : {fifo, manifestFifo, fs::path("/dev/null")}) {
+    const test::CliRun run = runMotionlod(
+        {"export", input.string(), "--unit-scale", "cmu", "--plugin", "bundle", "-o", output.string()}, kTimeout);
+    EXPECT_EQ(run.status, 2) << output;
+    EXPECT_NE(run.err.find("not a regular file"), std::string::npos) << run.err;
+  }
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_EQ(filesIn(dir), (std::vector<std::string>{"m.mlodb.json", "out.mlodb", "walk.bvh"}));
+}
+
+// A FIFO named .mlod, .mlodb or a manifest blocked the reader forever; a link to /dev/zero
+// read until memory ran out. Both are refused at once, whatever the command.
+TEST(CliSafety, InputsThatAreNoRegularFilesAreRefusedAtOnce) {
+  const fs::path dir = freshFolder("special_input");
+  std::vector<fs::path> fifos, zeros;
+  for (const char* name : {"a.mlod", "a.mlodb", "a.json", "a.bvh"}) {
+    fifos.push_back(dir / (std::string("fifo_") + name));
+    ASSERT_EQ(::mkfifo(fifos.back().c_str(), 0600), 0);
+    zeros.push_back(dir / (std::string("zero_") + name));
+    fs::create_symlink("/dev/zero", zeros.back());
+  }
+  const auto commandFor = [&](const fs::path& file) -> std::vector<std::string> {
+    const std::string ext = file.extension().string();
+    if (ext == ".json")
+      return {"batch", file.string()};
+    if (ext == ".mlodb")
+      return {"info", file.string()};
+    return {"export", file.string(), "--plugin", "bundle", "-o", (dir / "out.mlodb").string()};
+  };
+  for (const std::vector<fs::path>* kind : {&fifos, &zeros})
+    for (const fs::path& file : *kind) {
+      const test::CliRun run = runMotionlod(commandFor(file), kTimeout);
+      EXPECT_EQ(run.status, 2) << file << ": " << run.err;
+      EXPECT_TRUE(startsWith(run.err, "error: " + file.string() + ": it is a ")) << run.err;
+      EXPECT_NE(run.err.find("not a regular file"), std::string::npos) << run.err;
+    }
+  const test::CliRun info = runMotionlod({"info", fifos[0].string()}, kTimeout);
+  EXPECT_EQ(info.status, 2) << info.err;
+  const test::CliRun simplify = runMotionlod({"simplify", zeros[3].string(), "--threshold", "5"}, kTimeout);
+  EXPECT_EQ(simplify.status, 2) << simplify.err;
+  EXPECT_NE(simplify.err.find("it is a device, not a regular file"), std::string::npos) << simplify.err;
+  EXPECT_FALSE(fs::exists(dir / "out.mlodb"));
+}
+
+// A project of 70,000 levels ran for minutes growing memory: levels are capped on load.
+TEST(CliSafety, ProjectLevelsAreCappedOnLoad) {
+  const fs::path dir = freshFolder("levels");
+  sampleIn(dir);
+  nlohmann::json levels = nlohmann::json::array();
+  for (int i = 0; i < 70000; ++i)
+    levels.push_back({{"threshold", 5.0 + i}});
+  const nlohmann::json project = {
+      {"format", "motionlod-project"},
+      {"version", 1},
+      {"alpha", 5.0},
+      {"mode", "greedy"},
+      {"levels", levels},
+      {"assets", {{{"path", "walk.bvh"}, {"unit_scale", 1.0}, {"joints", nlohmann::json::object()}}}}};
+  const fs::path file = dir / "many.mlod";
+  std::ofstream(file) << project.dump();
+  const test::CliRun run =
+      runMotionlod({"export", file.string(), "--plugin", "bundle", "-o", (dir / "o.mlodb").string()}, kTimeout);
+  EXPECT_EQ(run.status, 2) << run.err;
+  EXPECT_NE(run.err.find("70001 LOD levels; a project may have at most 32"), std::string::npos) << run.err;
+  const test::CliRun negative = [&] {
+    nlohmann::json bad = project;
+    bad["levels"] = {{{"threshold", 5.0}}};
+    bad["assets"][0]["unit_scale"] = -2.0;
+    std::ofstream(file) << bad.dump();
+    return runMotionlod({"info", file.string()}, kTimeout);
+  }();
+  EXPECT_EQ(negative.status, 2);
+  EXPECT_TRUE(startsWith(negative.err, "error: " + file.string() + ": asset 0: unit_scale -2")) << negative.err;
+}
+
+// A Latin-1 output name was written as U+FFFD yet reported success: the file now has the
+// exact bytes given (the bundle's manifest too), and nothing else stays in the folder.
+TEST(CliSafety, OutputNamesAreKeptAsBytes) {
+  const fs::path dir = freshFolder("latin1");
+  const fs::path input = sampleIn(dir);
+  const std::string latin1 = "caf\xe9";
+  for (const char* plugin : {"bundle", "gltf"}) {
+    const std::string name = latin1 + (std::string(plugin) == "bundle" ? ".mlodb" : ".glb");
+    const test::CliRun run = runMotionlod(
+        {"export", input.string(), "--unit-scale", "cmu", "--plugin", plugin, "-o", (dir / name).string()}, kTimeout);
+    EXPECT_EQ(run.status, 0) << run.err;
+    EXPECT_NE(run.out.find("wrote " + (dir / name).string()), std::string::npos) << run.out;
+    EXPECT_GT(fs::file_size(dir / name), 1000u);
+  }
+  EXPECT_EQ(filesIn(dir),
+            (std::vector<std::string>{latin1 + ".glb", latin1 + ".mlodb", latin1 + ".mlodb.json", "walk.bvh"}));
+  const test::CliRun info = runMotionlod({"info", (dir / (latin1 + ".mlodb")).string()}, kTimeout);
+  EXPECT_EQ(info.status, 0) << info.err;
+}
+
+// --- batch: the whole manifest is checked before any job runs -------------------------
+
+fs::path writeManifest(const fs::path& dir, const std::vector<nlohmann::json>& jobs) {
+  const fs::path file = dir / "manifest.json";
+  nlohmann::json doc = nlohmann::json::object();
+  doc["jobs"] = jobs;
+  std::ofstream(file) << doc.dump(2);
+  return file;
+}
+
+nlohmann::json bundleJob(const std::string& input, const std::string& output) {
+  return {{"input", input}, {"plugin", "bundle"}, {"output", output}, {"unit_scale", "cmu"}};
+}
+
+TEST(CliSafety, BatchRefusesOutputsThatWouldLoseData) {
+  const fs::path dir = freshFolder("batch");
+  sampleIn(dir, "a.bvh");
+  sampleIn(dir, "b.bvh");
+  fs::create_directories(dir / "out");
+  const std::string aBefore = bytesOf(dir / "a.bvh");
+  const struct {
+    std::vector<nlohmann::json> jobs;
+    std::string reason;
+  } cases[] = {
+      {{bundleJob("a.bvh", "out/ok.mlodb"), bundleJob("b.bvh", "b.bvh")},
+       "job 1: " + (dir / "b.bvh").string() + ": the output is the same file as the input " + (dir / "b.bvh").string()},
+      {{bundleJob("a.bvh", "out/ok.mlodb"), bundleJob("b.bvh", "a.bvh")},
+       "the same file as the input " + (dir / "a.bvh").string()},
+      {{bundleJob("a.bvh", "manifest.json")}, "the same file as the input"},
+      {{bundleJob("a.bvh", "out/x.mlodb"), bundleJob("b.bvh", "out/../out/x.mlodb")},
+       "job 1: " + (dir / "out/x.mlodb").string() + ": job 0 writes the same file"},
+      {{bundleJob("a.bvh", "out/x"), {{"input", "b.bvh"}, {"plugin", "gltf"}, {"output", "out/x.json"}}},
+       "job 0 writes the same file"},
+      {{bundleJob("a.bvh", "/dev/null")}, "not a regular file"},
+  };
+  for (const auto& c : cases) {
+    const fs::path manifest = writeManifest(dir, c.jobs);
+    const std::string manifestBefore = bytesOf(manifest);
+    const test::CliRun run = runMotionlod({"batch", manifest.string(), "--allow-outside"}, kTimeout);
+    EXPECT_EQ(run.status, 2) << c.reason;
+    EXPECT_TRUE(startsWith(run.err, "error: " + manifest.string() + ": ")) << run.err;
+    EXPECT_NE(run.err.find(c.reason), std::string::npos) << run.err;
+    EXPECT_TRUE(fs::is_empty(dir / "out")) << "no job may run: " << c.reason;
+    EXPECT_EQ(bytesOf(manifest), manifestBefore);
+  }
+  EXPECT_EQ(bytesOf(dir / "a.bvh"), aBefore);
+}
+
+// A missing output folder is no bad manifest: exit 1, which a farm retries; a bad unit
+// scale in the manifest is (exit 2, nothing runs).
+TEST(CliSafety, BatchMissingFolderIsExitOneManifestErrorIsTwo) {
+  const fs::path dir = freshFolder("batch_folder");
+  sampleIn(dir, "a.bvh");
+  const fs::path manifest = writeManifest(dir, {bundleJob("a.bvh", "missing/x.mlodb")});
+  const test::CliRun run = runMotionlod({"batch", manifest.string()}, kTimeout);
+  EXPECT_EQ(run.status, 1) << run.err;
+  EXPECT_NE(run.err.find("the folder " + (dir / "missing").string() + " does not exist"), std::string::npos) << run.err;
+  nlohmann::json zero = bundleJob("a.bvh", "x.mlodb");
+  zero["unit_scale"] = 0;
+  const test::CliRun bad = runMotionlod({"batch", writeManifest(dir, {zero}).string()}, kTimeout);
+  EXPECT_EQ(bad.status, 2) << bad.err;
+  EXPECT_NE(bad.err.find("job 0: \"unit_scale\" must be a positive number"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "x.mlodb"));
+}
+
+// Outputs outside the manifest's folder are written with a warning; --allow-outside
+// silences it.
+TEST(CliSafety, BatchWarnsAboutOutputsOutsideItsFolder) {
+  const fs::path dir = freshFolder("batch_outside");
+  fs::create_directories(dir / "jobs");
+  sampleIn(dir / "jobs", "a.bvh");
+  const fs::path manifest = writeManifest(dir / "jobs", {bundleJob("a.bvh", "../elsewhere.mlodb")});
+  const test::CliRun warned = runMotionlod({"batch", manifest.string()}, kTimeout);
+  EXPECT_EQ(warned.status, 0) << warned.err;
+  EXPECT_NE(warned.err.find("warning: " + manifest.string() + ": job 0 writes " + (dir / "elsewhere.mlodb").string() +
+                            ", outside the manifest's folder"),
+            std::string::npos)
+      << warned.err;
+  EXPECT_TRUE(fs::exists(dir / "elsewhere.mlodb"));
+  const test::CliRun allowed = runMotionlod({"batch", manifest.string(), "--allow-outside"}, kTimeout);
+  EXPECT_EQ(allowed.status, 0) << allowed.err;
+  EXPECT_EQ(allowed.err.find("warning"), std::string::npos) << allowed.err;
+}
+
+} // namespace
+} // namespace mlod
