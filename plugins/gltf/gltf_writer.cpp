@@ -400,7 +400,7 @@ Result<std::string> withExtension(const std::string& bytes, const WriteOptions& 
     if (document.is_discarded())
       return Error("the glTF serializer wrote invalid JSON");
     document["extensions"][name] = std::move(value);
-    return document.dump(options.pretty ? 2 : -1) + "\n";
+    return document.dump(options.pretty ? 2 : -1, ' ', false, json::error_handler_t::replace) + "\n";
   }
   // GLB: a 12-byte header, the JSON chunk (length, "JSON", text padded with spaces), the BIN chunk.
   const auto u32 = [&](std::size_t at) {
@@ -415,7 +415,7 @@ Result<std::string> withExtension(const std::string& bytes, const WriteOptions& 
   if (document.is_discarded())
     return Error("the glTF serializer wrote invalid JSON");
   document["extensions"][name] = std::move(value);
-  std::string text = document.dump();
+  std::string text = document.dump(-1, ' ', false, json::error_handler_t::replace);
   text.resize((text.size() + 3) / 4 * 4, ' ');
   const std::string bin = bytes.substr(20 + jsonLength);
   std::string out;

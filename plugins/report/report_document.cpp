@@ -34,7 +34,7 @@ json jointsJson(const LodPackage& package, const LodPackageLevel& level, const J
 
 // A number as the CSV writes it: the shortest text that reads back to the same double.
 std::string csvNumber(const json& value) {
-  return value.is_null() ? std::string() : value.dump();
+  return value.is_null() ? std::string() : value.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 std::string csvField(const std::string& text) {

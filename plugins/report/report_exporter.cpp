@@ -50,7 +50,7 @@ ExportResult ReportExporter::exportPackage(const LodPackage& package, const QStr
   std::string text;
   if (format == QLatin1String("json")) {
     const int indent = options.value(QStringLiteral("indent"), 2).toInt();
-    text = document.dump(indent > 0 ? indent : -1) + "\n"; // nlohmann: 0 still breaks lines, -1 does not
+    text = document.dump(indent > 0 ? indent : -1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n"; // nlohmann: 0 still breaks lines, -1 does not
   } else if (format == QLatin1String("csv")) {
     const bool joints = options.value(QStringLiteral("csv_table")).toString() == QLatin1String("joints");
     text = report::reportCsv(document, joints ? report::CsvTable::Joints : report::CsvTable::Levels);

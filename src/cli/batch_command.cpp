@@ -196,7 +196,7 @@ int BatchCommand::run() const {
                                 {"succeeded", int(mine.size()) - failed},
                                 {"failed", failed},
                                 {"seconds", total}};
-    std::cout << out.dump(2) << std::endl;
+    std::cout << jsonText(out) << std::endl;
   } else {
     std::printf("batch %s, shard %d/%d: %zu of %zu jobs, %d at once\n", manifest.c_str(), shardIndex, shardCount,
                 mine.size(), all.size(), std::min<int>(jobs, std::max<int>(1, int(mine.size()))));

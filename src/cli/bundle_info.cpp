@@ -2,6 +2,7 @@
 
 #include "cli/cli_common.h"
 #include "runtime/bundle.h"
+#include "runtime/input_file.h"
 
 #include <nlohmann/json.hpp>
 
@@ -9,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <span>
 
 namespace mlod::cli {
 
@@ -16,14 +18,45 @@ bool isBundleFile(const std::string& file) {
   return file.size() >= 6 && file.compare(file.size() - 6, 6, ".mlodb") == 0;
 }
 
+namespace {
+
+// The manifest beside a bundle (FILE.mlodb.json) carries the bundle's size and CRC-32: an
+// export killed between renaming the bundle and its manifest leaves a manifest of another
+// bundle, which is said here (the bundle itself is whole: it has its own CRCs).
+void checkManifest(const std::string& file, std::span<const std::uint8_t> bytes) {
+  const std::string manifest = file + ".json";
+  std::error_code error;
+  if (!std::filesystem::exists(manifest, error))
+    return;
+  std::string reason;
+  const std::optional<std::string> text = readInputFile(manifest, std::uint64_t(64) << 20, &reason);
+  const nlohmann::json doc = text ? nlohmann::json::parse(*text, nullptr, false) : nlohmann::json();
+  if (!doc.is_object() || !doc.contains("bytes") || !doc.contains("crc32")) {
+    std::cerr << "warning: " << manifest << ": not a bundle manifest" << (text ? "" : " (" + reason + ")") << std::endl;
+    return;
+  }
+  char crc[16];
+  std::snprintf(crc, sizeof crc, "%08x", crc32(bytes));
+  if (doc["bytes"] != bytes.size() || doc["crc32"] != crc)
+    std::cerr << "warning: " << manifest << ": it does not belong to " << file << " (its bytes and CRC-32 are "
+              << doc["bytes"].dump() << " and " << doc["crc32"].dump() << ", the bundle's " << bytes.size() << " and "
+              << crc << "): an export stopped between the two? The bundle itself is whole." << std::endl;
+}
+
+} // namespace
+
 int describeBundle(const std::string& file, bool json) {
   const auto start = std::chrono::steady_clock::now();
   std::string error;
-  std::optional<Bundle> bundle = readBundleFile(file, &error);
+  const std::optional<std::string> content = readInputFile(file, kMaxBundleFileBytes, &error);
+  const auto data = content ? std::span(reinterpret_cast<const std::uint8_t*>(content->data()), content->size())
+                            : std::span<const std::uint8_t>();
+  std::optional<Bundle> bundle = content ? readBundle(data, &error) : std::nullopt;
   if (!bundle) {
     printError(file, error);
     return kExitBadInput;
   }
+  checkManifest(file, data);
   // what an engine builds from it: every clip and mesh must build
   std::vector<BundleLevelRuntime> runtime;
   for (const BundleLevel& level : bundle->levels) {
@@ -71,7 +104,7 @@ int describeBundle(const std::string& file, bool json) {
                                 {"bounding_radius_cm", bundle->boundingRadiusCm},
                                 {"levels", levels},
                                 {"seconds", seconds}};
-    std::cout << doc.dump(2) << std::endl;
+    std::cout << jsonText(doc) << std::endl;
     return kExitOk;
   }
   std::printf("file:     %s\nformat:   Motion LOD runtime bundle, version %u, %ju bytes\n", file.c_str(),

@@ -1,5 +1,6 @@
 #include "cli/cli_common.h"
 
+#include "core/utf8.h"
 #include "io/isolated_import.h"
 
 #include <CLI/CLI.hpp>
@@ -41,6 +42,23 @@ void exitFromInterrupt() {
   std::signal(signal, SIG_DFL);
   std::raise(signal);
   std::_Exit(128 + signal);
+}
+
+std::string jsonText(const nlohmann::json& doc) {
+  try {
+    return doc.dump(2);
+  } catch (const nlohmann::json::type_error&) {
+    std::cerr << "warning: the JSON output names a file whose name is not valid UTF-8; its bad bytes are written as "
+                 "U+FFFD"
+              << std::endl;
+    return doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+}
+
+void warnIfNotUtf8(const std::string& file) {
+  if (!isValidUtf8(file))
+    std::cerr << "warning: " << file << ": the name is not valid UTF-8; the JSON output writes U+FFFD for its bad bytes"
+              << std::endl;
 }
 
 void printError(const std::string& file, const std::string& reason) {

@@ -4,6 +4,8 @@
 #include "core/asset.h"
 #include "io/import_options.h"
 
+#include <nlohmann/json.hpp>
+
 #include <atomic>
 #include <optional>
 #include <string>
@@ -18,6 +20,14 @@ inline constexpr int kExitBadInput = 2; // the input (file or arguments) is bad
 
 // Prints "error: FILE: reason" on stderr.
 void printError(const std::string& file, const std::string& reason);
+
+// The JSON text of `doc` (indent 2), never an exception: strings that are not valid UTF-8
+// (file names are kept as bytes; names from files are made valid on import) are written
+// with U+FFFD for their bad bytes, and a warning on stderr says so.
+std::string jsonText(const nlohmann::json& doc);
+
+// Warns on stderr when `file` is not valid UTF-8: JSON written from it holds U+FFFD instead.
+void warnIfNotUtf8(const std::string& file);
 
 // Import options as the commands take them.
 struct ImportArguments {

@@ -74,7 +74,7 @@ int ExportCommand::run() const {
                            {{"import", outcome.importSeconds},
                             {"package", outcome.packageSeconds},
                             {"export", outcome.exportSeconds}}}};
-    std::cout << doc.dump(2) << std::endl;
+    std::cout << jsonText(doc) << std::endl;
   } else if (outcome.ok()) {
     std::printf("%s\n%d levels; import %.3f s, LOD package %.3f s, export %.3f s\n", outcome.message.c_str(),
                 outcome.levels, outcome.importSeconds, outcome.packageSeconds, outcome.exportSeconds);

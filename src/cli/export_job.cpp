@@ -4,12 +4,14 @@
 
 #include "core/lod/lod_package.h"
 #include "core/project.h"
+#include "runtime/bundle.h"
 #include "io/import_options.h"
 #include "io/isolated_import.h"
 
 #include <QFile>
 
 #include <cerrno>
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <fcntl.h>
@@ -18,6 +20,7 @@
 #include <csignal>
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <sstream>
 
 namespace mlod::cli {
@@ -28,6 +31,24 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The runtime bundle's joint-frame cap (runtime/bundle.h kMaxBundleJointFrames), checked
+// before the package is built: a 1,000,000-frame clip grew past 12 GB and died with
+// std::bad_alloc before the bundle refused it. Level 0 is the original (every joint); any
+// other level keeps at least its root, so this is a lower bound of what the bundle needs.
+std::string bundleBudgetProblem(std::span<const Clip* const> clips, int joints, int levels, bool withOriginal) {
+  std::uint64_t frames = 0;
+  for (const Clip* clip : clips)
+    frames += std::uint64_t(std::max(clip->frameCount, 0));
+  const std::uint64_t least =
+      frames * ((withOriginal ? std::uint64_t(std::max(joints, 0)) : 0) + std::uint64_t(std::max(levels - (withOriginal ? 1 : 0), 0)));
+  if (least <= kMaxBundleJointFrames)
+    return {};
+  return "a runtime bundle holds at most " + std::to_string(kMaxBundleJointFrames) +
+         " joint-frames; these " + std::to_string(levels) + " levels of " + std::to_string(frames) + " frames (" +
+         std::to_string(joints) + " joints at the original level) need at least " + std::to_string(least) +
+         ": export fewer levels (--levels, without 0) or a shorter clip";
 }
 
 ExportOutcome failure(int code, std::string file, std::string message) {
@@ -257,6 +278,21 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
         if (std::optional<ExportOutcome> failed = importAt(mapping.motion))
           return *failed;
     out.importSeconds = secondsSince(start);
+    if (job.plugin == "bundle") {
+      std::vector<const Clip*> clips;
+      for (const Clip& clip : imported[std::size_t(character)]->clips)
+        clips.push_back(&clip);
+      for (const ProjectMapping& mapping : project->mappings)
+        if (mapping.character == character && imported[std::size_t(mapping.motion)])
+          for (const Clip& clip : imported[std::size_t(mapping.motion)]->clips)
+            clips.push_back(&clip);
+      const int levels = job.levels.empty() ? project->levelCount() : int(job.levels.size());
+      const bool original = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
+      if (std::string problem =
+              bundleBudgetProblem(clips, imported[std::size_t(character)]->skeleton.jointCount(), levels, original);
+          !problem.empty())
+        return failure(kExitBadInput, job.input, problem);
+    }
     start = Clock::now();
     package = buildLodPackage(*project, imported, character, job.levels, progress);
   } else {
@@ -264,8 +300,23 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
     if (!asset)
       return failure(cancelled() ? kExitFailure : kExitBadInput, job.input, cancelled() ? "cancelled" : asset.message());
     out.importSeconds = secondsSince(start);
+    if (job.plugin == "bundle") {
+      std::vector<const Clip*> clips;
+      for (const Clip& clip : asset->clips)
+        clips.push_back(&clip);
+      // a file gets the default set of 4 levels (docs/architecture.md section 6)
+      const int levels = job.levels.empty() ? 4 : int(job.levels.size());
+      const bool original = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
+      if (std::string problem = bundleBudgetProblem(clips, asset->skeleton.jointCount(), levels, original);
+          !problem.empty())
+        return failure(kExitBadInput, job.input, problem);
+    }
     start = Clock::now();
-    package = buildLodPackage(*asset, job.levels, progress);
+    try {
+      package = buildLodPackage(*asset, job.levels, progress);
+    } catch (const std::bad_alloc&) {
+      return failure(kExitFailure, job.input, "not enough memory to build its LOD package");
+    }
   }
   if (!package) {
     if (package.message() == kLodPackageCancelled)

@@ -101,7 +101,7 @@ int describeProject(const std::string& file, bool json, const ImportArguments& i
   doc["mappings"] = mappings;
 
   if (json) {
-    std::cout << doc.dump(2) << std::endl;
+    std::cout << jsonText(doc) << std::endl;
     return allFound ? kExitOk : kExitBadInput;
   }
   std::printf("project:  %s (Motion LOD project)\nsettings: mode %s, alpha %g cm\n", file.c_str(), toString(project.mode),
@@ -149,6 +149,7 @@ int InfoCommand::run() const {
   if (!asset)
     return kExitBadInput;
   if (json) {
+    warnIfNotUtf8(file);
     std::cout << describeAssetJson(*asset) << std::endl;
     return kExitOk;
   }

@@ -275,9 +275,10 @@ int SimplifyCommand::run() const {
     report.jointNames.push_back(joint.name);
   report.levels = std::move(levels).value();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (json)
+  if (json) {
+    warnIfNotUtf8(file);
     std::cout << jpcReportJson(report) << std::endl;
-  else
+  } else
     printTable(report, selected, selected.rotationChannelCount());
   return kExitOk;
 }

@@ -40,7 +40,7 @@ std::string describeAssetJson(const Asset& asset, int indent) {
                       {"parts", mesh.parts.size()}});
   doc["meshes"] = std::move(meshes);
   doc["warnings"] = asset.warnings;
-  return doc.dump(indent);
+  return doc.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace); // a file name kept as bytes
 }
 
 } // namespace mlod

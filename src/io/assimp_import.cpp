@@ -4,6 +4,7 @@
 
 #include "io/importer.h"
 
+#include "core/utf8.h"
 #include "io/gltf_metadata.h"
 #include "runtime/input_file.h"
 
@@ -14,13 +15,17 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <set>
 #include <unordered_map>
 
@@ -186,6 +191,122 @@ bool channelAnimates(const aiNodeAnim& channel, const Transform& rest) {
   return false;
 }
 
+// Gives a sampled channel's keys back (the scene is ours: convert() orphans it).
+void releaseKeys(aiNodeAnim& channel) {
+  delete[] channel.mPositionKeys;
+  delete[] channel.mRotationKeys;
+  delete[] channel.mScalingKeys;
+  channel.mPositionKeys = nullptr;
+  channel.mRotationKeys = nullptr;
+  channel.mScalingKeys = nullptr;
+  channel.mNumPositionKeys = channel.mNumRotationKeys = channel.mNumScalingKeys = 0;
+}
+
+// A BVH's "Frame Time:" (seconds per frame). Assimp turns "inf" into 0 ticks per second
+// (then 25 fps are assumed) and 0 or NaN into a tick rate nobody can name: the header says
+// what is wrong instead. A file without one is Assimp's to refuse.
+Error checkBvhFrameTime(std::string_view header) {
+  const std::size_t at = header.find("Frame Time:");
+  if (at == std::string_view::npos)
+    return {};
+  const std::size_t begin = header.find_first_not_of(" \t", at + 11);
+  const std::size_t end = header.find_first_of("\r\n", at);
+  const std::string value(begin == std::string_view::npos || begin >= end ? std::string_view()
+                                                                           : header.substr(begin, end - begin));
+  char* stop = nullptr;
+  const double seconds = std::strtod(value.c_str(), &stop);
+  if (value.empty() || stop == value.c_str() || !std::isfinite(seconds) || seconds < 1e-4)
+    return Error("its Frame Time '" + value.substr(0, 40) +
+                 "' is not a finite number of seconds per frame of at least 0.0001 (10,000 frames per second)");
+  return {};
+}
+
+// The BVH header up to the end of its "Frame Time:" line (at most 16 MiB are looked at).
+std::string bvhHeader(std::istream& stream) {
+  std::string header;
+  char buffer[1 << 16];
+  while (stream && header.size() < (std::size_t(16) << 20)) {
+    stream.read(buffer, sizeof buffer);
+    header.append(buffer, static_cast<std::size_t>(stream.gcount()));
+    const std::size_t at = header.find("Frame Time:");
+    if (at != std::string::npos && header.find_first_of("\r\n", at) != std::string::npos)
+      break;
+  }
+  return header;
+}
+
+std::string percentDecoded(const std::string& uri) {
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out.push_back(static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16)));
+      i += 2;
+    } else {
+      out.push_back(uri[i]);
+    }
+  }
+  return out;
+}
+
+// glTF buffers named by URI are read by Assimp from wherever the URI points: one that is
+// absolute, has a scheme, or climbs out of the file's folder (../../../../etc/passwd) is
+// refused, and so is one that is no regular file (a FIFO would block the import).
+Error checkGltfBuffers(std::string_view json, const std::filesystem::path& folder) {
+  const nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object() || !doc.contains("buffers") || !doc["buffers"].is_array())
+    return {}; // Assimp's to refuse
+  for (std::size_t b = 0; b < doc["buffers"].size(); ++b) {
+    const nlohmann::json& buffer = doc["buffers"][b];
+    if (!buffer.is_object() || !buffer.contains("uri") || !buffer["uri"].is_string())
+      continue;
+    const std::string uri = buffer["uri"].get<std::string>();
+    if (uri.rfind("data:", 0) == 0)
+      continue;
+    const std::string where = "its buffer " + std::to_string(b) + " ('" + uri.substr(0, 80) + "')";
+    const std::string decoded = percentDecoded(uri);
+    const std::filesystem::path relative = std::filesystem::path(decoded).lexically_normal();
+    const std::size_t colon = decoded.find(':');
+    if (relative.is_absolute() || (colon != std::string::npos && colon < decoded.find('/')))
+      return Error(where + " is not a path relative to the file's folder");
+    if (!relative.empty() && *relative.begin() == "..")
+      return Error(where + " lies outside the file's folder");
+    const std::filesystem::path file = folder / relative;
+    std::error_code error;
+    if (std::filesystem::exists(file, error))
+      if (std::string problem = inputFileProblem(file, kMaxImportFileBytes); !problem.empty())
+        return Error(where + ": " + problem);
+  }
+  return {};
+}
+
+// What Assimp reads beside the file itself, checked first: a BVH's frame time, a glTF's
+// buffers (the JSON of a .gltf, the JSON chunk of a .glb).
+Error checkBeforeImport(const std::filesystem::path& file, const std::string& extension) {
+  if (extension != "bvh" && extension != "gltf" && extension != "glb")
+    return {};
+  std::ifstream stream(file, std::ios::binary);
+  if (extension == "bvh")
+    return checkBvhFrameTime(bvhHeader(stream));
+  std::string json;
+  if (extension == "gltf") {
+    std::optional<std::string> text = readInputFile(file, kMaxImportFileBytes);
+    if (!text)
+      return {}; // importAsset() said why already, or Assimp will
+    json = std::move(*text);
+  } else {
+    std::uint32_t header[5] = {};
+    stream.read(reinterpret_cast<char*>(header), sizeof header);
+    constexpr std::uint32_t kJsonChunk = 0x4E4F534Au; // "JSON", little-endian
+    std::error_code error;
+    if (!stream || header[4] != kJsonChunk || header[3] > std::filesystem::file_size(file, error))
+      return {}; // Assimp's to refuse
+    json.resize(header[3]);
+    stream.read(json.data(), static_cast<std::streamsize>(json.size()));
+  }
+  return checkGltfBuffers(json, file.parent_path());
+}
+
 class SceneConverter {
 public:
   SceneConverter(const aiScene& scene, const ImportOptions& options, std::string sourcePath, std::string extension,
@@ -219,12 +340,24 @@ public:
         return error;
     if (m_asset.clips.empty() && m_asset.meshes.empty())
       return Error("it holds no animation and no triangle mesh");
+    if (m_replacedNames > 0)
+      m_asset.warnings.push_back(std::to_string(m_replacedNames) +
+                                 " names (joints, clips, meshes) held bytes that are not UTF-8 (a Latin-1 file?); "
+                                 "each such byte was replaced by U+FFFD");
     if (Error error = m_asset.validate())
       return error;
     return std::move(m_asset);
   }
 
 private:
+  // A name from the file as valid UTF-8 (core/utf8.h): JSON cannot hold other bytes.
+  std::string validName(std::string_view raw) {
+    if (isValidUtf8(raw))
+      return std::string(raw);
+    ++m_replacedNames;
+    return validUtf8(raw);
+  }
+
   void chooseUnitScale() {
     const std::string format = lower(m_asset.format);
     const bool collada = format.find("collada") != std::string::npos || m_extension == "dae" || m_extension == "zae";
@@ -344,7 +477,7 @@ private:
         return Error("its skeleton has more than 32767 joints");
       const FlatNode& flat = m_nodes[i];
       Joint joint;
-      joint.name = flat.node->mName.C_Str();
+      joint.name = validName(flat.node->mName.C_Str());
       if (joint.name.empty())
         joint.name = "joint" + std::to_string(skeleton.joints.size());
       if (!names.insert(joint.name).second) {
@@ -368,7 +501,7 @@ private:
     Skeleton& skeleton = m_asset.skeleton;
     if (skeleton.empty())
       return {};
-    std::string name = animation.mName.C_Str();
+    std::string name = validName(animation.mName.C_Str());
     if (name.empty())
       name = "Take " + std::to_string(animationIndex + 1);
     for (const Clip& other : m_asset.clips)
@@ -413,29 +546,44 @@ private:
       return Error(where + " is too long (" + std::to_string(framesExact) + " frames)");
     clip.frameCount = static_cast<int>(std::lround(framesExact)) + 1;
     clip.jointCount = skeleton.jointCount();
-    const Clip rest = Clip::restPose(skeleton, clip.frameCount, clip.fps);
-    clip.rotations = rest.rotations;
-    clip.translations = rest.translations;
-    clip.scales = rest.scales;
-    clip.hasRotation = rest.hasRotation;
-    clip.hasTranslation = rest.hasTranslation;
-    clip.hasScale = rest.hasScale;
+    // Joint after joint (the clip is joint-major), each joint's channel freed once sampled:
+    // the clip's pages are touched only as they are filled while Assimp's keys are given
+    // back, so a long clip and its keys never sit in memory whole at once.
+    std::vector<aiNodeAnim*> channelOf(skeleton.joints.size(), nullptr);
+    for (unsigned c = 0; c < animation.mNumChannels; ++c) {
+      aiNodeAnim* channel = animation.mChannels[c];
+      const int node = nodeIndex(channel->mNodeName);
+      if (node < 0 || m_jointOfNode[static_cast<std::size_t>(node)] < 0)
+        continue;
+      if (!keysSortedAndFinite(channel->mPositionKeys, channel->mNumPositionKeys) ||
+          !keysSortedAndFinite(channel->mRotationKeys, channel->mNumRotationKeys) ||
+          !keysSortedAndFinite(channel->mScalingKeys, channel->mNumScalingKeys))
+        return Error(where + " has key times that are not finite or not in order on '" +
+                     std::string(channel->mNodeName.C_Str()) + "'");
+      channelOf[static_cast<std::size_t>(m_jointOfNode[static_cast<std::size_t>(node)])] = channel;
+    }
+    const std::size_t frames = static_cast<std::size_t>(clip.frameCount);
+    const std::size_t total = frames * skeleton.joints.size();
+    clip.rotations.reserve(total);
+    clip.translations.reserve(total);
+    clip.scales.reserve(total);
+    clip.hasRotation.assign(skeleton.joints.size(), 0);
+    clip.hasTranslation.assign(skeleton.joints.size(), 0);
+    clip.hasScale.assign(skeleton.joints.size(), 0);
 
     const float unit = static_cast<float>(m_asset.unitScale);
     const bool foldRoot = !isIdentity(m_rootParentGlobal);
-    for (unsigned c = 0; c < animation.mNumChannels; ++c) {
-      const aiNodeAnim& channel = *animation.mChannels[c];
-      const int node = nodeIndex(channel.mNodeName);
-      if (node < 0 || m_jointOfNode[static_cast<std::size_t>(node)] < 0)
+    for (std::size_t j_ = 0; j_ < skeleton.joints.size(); ++j_) {
+      const int j = static_cast<int>(j_);
+      clip.rotations.resize(clip.rotations.size() + frames, skeleton.joints[j_].rest.rotation);
+      clip.translations.resize(clip.translations.size() + frames, skeleton.joints[j_].rest.translation);
+      clip.scales.resize(clip.scales.size() + frames, skeleton.joints[j_].rest.scale);
+      aiNodeAnim* const animated = channelOf[j_];
+      if (!animated)
         continue;
-      const int j = m_jointOfNode[static_cast<std::size_t>(node)];
-      if (!keysSortedAndFinite(channel.mPositionKeys, channel.mNumPositionKeys) ||
-          !keysSortedAndFinite(channel.mRotationKeys, channel.mNumRotationKeys) ||
-          !keysSortedAndFinite(channel.mScalingKeys, channel.mNumScalingKeys))
-        return Error(where + " has key times that are not finite or not in order on '" +
-                     std::string(channel.mNodeName.C_Str()) + "'");
+      const aiNodeAnim& channel = *animated;
+      const int node = nodeIndex(channel.mNodeName);
       const Transform nodeRest = decompose(m_nodes[static_cast<std::size_t>(node)].local);
-      const auto j_ = static_cast<std::size_t>(j);
       clip.hasRotation[j_] = channel.mNumRotationKeys > 0;
       for (unsigned i = 0; i < channel.mNumPositionKeys && !clip.hasTranslation[j_]; ++i)
         clip.hasTranslation[j_] = !nearlyEqual(toGlm(channel.mPositionKeys[i].mValue), nodeRest.translation);
@@ -467,6 +615,7 @@ private:
         clip.translations[k] = local.translation * unit;
         clip.scales[k] = local.scale;
       }
+      releaseKeys(*animated);
     }
     m_asset.clips.push_back(std::move(clip));
     return {};
@@ -641,7 +790,7 @@ private:
           character.weights.push_back(outWeights);
         }
         MeshPart part;
-        part.name = mesh.mName.length > 0 ? mesh.mName.C_Str() : node.mName.C_Str();
+        part.name = validName(mesh.mName.length > 0 ? mesh.mName.C_Str() : node.mName.C_Str());
         part.firstIndex = static_cast<std::uint32_t>(target.indices.size());
         for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
           const aiFace& face = mesh.mFaces[f];
@@ -672,7 +821,7 @@ private:
     if (unweighted > 0)
       m_asset.warnings.push_back(std::to_string(unweighted) +
                                  " vertices of skinned meshes had no weights and were bound rigidly");
-    const std::string stem = std::filesystem::path(m_asset.sourcePath).stem().string();
+    const std::string stem = validName(std::filesystem::path(m_asset.sourcePath).stem().string());
     character.name = stem.empty() ? "character" : stem;
     fixed.name = skeleton.empty() ? character.name : "static";
     for (SkinnedMesh* mesh : {&character, &fixed}) {
@@ -728,6 +877,7 @@ private:
   std::vector<int> m_jointOfNode;
   glm::mat4 m_rootParentGlobal{1.0f};
   glm::mat4 m_rootCorrection{1.0f};
+  int m_replacedNames = 0;
 };
 
 void configure(Assimp::Importer& importer) {
@@ -736,11 +886,13 @@ void configure(Assimp::Importer& importer) {
   importer.SetPropertyInteger(AI_CONFIG_PP_LBW_MAX_WEIGHTS, kMaxInfluences);
 }
 
-Result<Asset> convert(Assimp::Importer& importer, const aiScene* scene, const std::string& sourcePath,
+// The scene made ours and the importer (its loaders' buffers: a BVH's whole text and
+// channel values) let go before the conversion, so they do not sit beside the clips.
+Result<Asset> convert(std::unique_ptr<Assimp::Importer> importer, const aiScene* read, const std::string& sourcePath,
                       const std::string& extension, const ImportOptions& options, std::optional<double> colladaMetres,
                       std::string_view gltfBytes) {
-  if (!scene) {
-    std::string reason = importer.GetErrorString();
+  if (!read) {
+    std::string reason = importer->GetErrorString();
     if (reason.empty())
       reason = "Assimp could not read it";
     // Assimp catches the allocation failure itself and keeps only its what().
@@ -748,6 +900,8 @@ Result<Asset> convert(Assimp::Importer& importer, const aiScene* scene, const st
       reason = "it needs more memory than the import may use (the file may be broken)";
     return Error(reason);
   }
+  const std::unique_ptr<aiScene> scene(importer->GetOrphanedScene());
+  importer.reset();
   if (!(options.fps > 0.0) || !std::isfinite(options.fps) || options.fps > 10000.0)
     return Error("the resampling rate must be in (0, 10000] fps");
   if (!std::isfinite(options.unitScale) || options.unitScale < 0.0)
@@ -779,7 +933,8 @@ Result<Asset> importAsset(const std::string& path, const ImportOptions& options)
   if (std::string problem = inputFileProblem(file, kMaxImportFileBytes); !problem.empty())
     return Error(problem);
   std::error_code ec;
-  if (std::filesystem::file_size(file, ec) == 0)
+  const auto size = std::filesystem::file_size(file, ec);
+  if (size == 0)
     return Error("the file is empty");
   std::ifstream stream(file, std::ios::binary);
   if (!stream)
@@ -791,10 +946,12 @@ Result<Asset> importAsset(const std::string& path, const ImportOptions& options)
   if (!extension.empty())
     extension.erase(0, 1);
 
-  Assimp::Importer importer;
-  configure(importer);
+  if (Error error = checkBeforeImport(file, extension))
+    return error;
+  auto importer = std::make_unique<Assimp::Importer>();
+  configure(*importer);
   try {
-    const aiScene* scene = importer.ReadFile(path, kPostProcess);
+    const aiScene* scene = importer->ReadFile(path, kPostProcess);
     std::string gltf; // a glTF's own JSON: what it states beyond what Assimp reads
     if (scene && (extension == "glb" || extension == "gltf")) {
       stream.clear();
@@ -803,7 +960,7 @@ Result<Asset> importAsset(const std::string& path, const ImportOptions& options)
       stream.read(gltf.data(), static_cast<std::streamsize>(gltf.size()));
       gltf.resize(static_cast<std::size_t>(stream.gcount()));
     }
-    return convert(importer, scene, path, extension, options, colladaUnitOf(extension, head), gltf);
+    return convert(std::move(importer), scene, path, extension, options, colladaUnitOf(extension, head), gltf);
   } catch (const std::bad_alloc&) {
     return Error("it needs more memory than the import may use (the file may be broken)");
   } catch (const std::exception& e) {
@@ -816,13 +973,16 @@ Result<Asset> importAssetFromMemory(const void* data, std::size_t size, const st
   if (size == 0 || !data)
     return Error("the file is empty");
   const std::string ext = lower(extension);
-  Assimp::Importer importer;
-  configure(importer);
+  if (ext == "bvh")
+    if (Error error = checkBvhFrameTime(std::string_view(static_cast<const char*>(data), size)))
+      return error;
+  auto importer = std::make_unique<Assimp::Importer>();
+  configure(*importer);
   try {
-    const aiScene* scene = importer.ReadFileFromMemory(data, size, kPostProcess, ext.c_str());
+    const aiScene* scene = importer->ReadFileFromMemory(data, size, kPostProcess, ext.c_str());
     const std::string head(static_cast<const char*>(data), std::min<std::size_t>(size, 4096));
     const bool gltf = ext == "glb" || ext == "gltf";
-    return convert(importer, scene, "memory." + ext, ext, options, colladaUnitOf(ext, head),
+    return convert(std::move(importer), scene, "memory." + ext, ext, options, colladaUnitOf(ext, head),
                    gltf ? std::string_view(static_cast<const char*>(data), size) : std::string_view());
   } catch (const std::bad_alloc&) {
     return Error("it needs more memory than the import may use (the file may be broken)");

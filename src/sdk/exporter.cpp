@@ -3,8 +3,6 @@
 #include <QDir>
 #include <algorithm>
 #include <QFileInfo>
-#include <QSaveFile>
-#include <QTemporaryFile>
 
 #include <cmath>
 #include <filesystem>
@@ -156,56 +154,6 @@ bool parseExporterOptions(const ExporterOptions& options, const QStringList& key
     values.insert(key, entry.mid(equals + 1));
   }
   return checkExporterOptions(options, values, out_values, out_error);
-}
-
-ExportResult writeFileAtomically(const QString& path, const QByteArray& data) {
-  QSaveFile file(path);
-  if (!file.open(QIODevice::WriteOnly))
-    return ExportResult::failure(QStringLiteral("%1: cannot write: %2").arg(path, file.errorString()));
-  if (file.write(data) != data.size()) {
-    const QString reason = file.errorString();
-    file.cancelWriting();
-    return ExportResult::failure(QStringLiteral("%1: cannot write: %2").arg(path, reason));
-  }
-  if (!file.commit())
-    return ExportResult::failure(QStringLiteral("%1: cannot write: %2").arg(path, file.errorString()));
-  return ExportResult::success(QStringLiteral("wrote %1 (%2 bytes)").arg(path).arg(data.size()));
-}
-
-ExportResult writeFilesAtomically(const QList<QPair<QString, QByteArray>>& files) {
-  std::vector<std::unique_ptr<QTemporaryFile>> temporaries;
-  for (const auto& [path, data] : files) {
-    const QFileInfo info(path);
-    if (info.isDir())
-      return ExportResult::failure(QStringLiteral("%1: cannot write: it is a folder").arg(path));
-    auto temporary = std::make_unique<QTemporaryFile>(info.absoluteDir().filePath(QStringLiteral(".%1.XXXXXX").arg(info.fileName())));
-    if (!temporary->open())
-      return ExportResult::failure(QStringLiteral("%1: cannot write: %2").arg(path, temporary->errorString()));
-    if (temporary->write(data) != data.size() || !temporary->flush())
-      return ExportResult::failure(QStringLiteral("%1: cannot write: %2").arg(path, temporary->errorString()));
-    temporary->setPermissions(QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ReadGroup |
-                              QFileDevice::ReadOther);
-    temporary->close();
-    temporaries.push_back(std::move(temporary));
-  }
-  qint64 bytes = 0;
-  for (std::size_t i = 0; i < temporaries.size(); ++i) {
-    const QString& path = files[qsizetype(i)].first;
-    std::error_code error;
-    std::filesystem::rename(temporaries[i]->fileName().toStdString(), path.toStdString(), error);
-    if (error) {
-      for (std::size_t k = 0; k < i; ++k)
-        QFile::remove(files[qsizetype(k)].first);
-      return ExportResult::failure(
-          QStringLiteral("%1: cannot write: %2").arg(path, QString::fromStdString(error.message())));
-    }
-    temporaries[i]->setAutoRemove(false); // it is the file now
-    bytes += files[qsizetype(i)].second.size();
-  }
-  QStringList names;
-  for (const auto& entry : files)
-    names << entry.first;
-  return ExportResult::success(QStringLiteral("wrote %1 (%2 bytes)").arg(names.join(", ")).arg(bytes));
 }
 
 QString withSuffix(const QString& path, const QString& suffix, const QStringList& suffixes) {

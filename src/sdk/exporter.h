@@ -113,14 +113,18 @@ bool checkExporterOptions(const ExporterOptions& options, const QVariantMap& val
 bool parseExporterOptions(const ExporterOptions& options, const QStringList& keyValues, QVariantMap* out_values,
                           QString* out_error);
 
-// Writes `data` to `path` through a temporary file in the same folder, renamed at the end
-// (QSaveFile): on any failure nothing is left at `path` (an existing file is kept as it
-// was). The message of a failure names the file and the reason.
+// Writes `data` to `path` through a temporary file in the same folder, fsync'ed, renamed at
+// the end: on any failure nothing is left at `path` (an existing file is kept as it was).
+// The message of a failure names the file and the system's reason ("No space left on
+// device"). Temporaries a killed writer left beside `path` are removed (atomic_write.cpp).
 ExportResult writeFileAtomically(const QString& path, const QByteArray& data);
 
 // Several files that belong together (a bundle and its manifest): every file is written to
-// a temporary file first; only when all are written are they renamed into place. If a
-// rename fails, the files already renamed are removed again.
+// a temporary file and fsync'ed first; only when all are written are they renamed into
+// place, in order. If a rename fails, the files already renamed get their previous
+// version back (or go, where there was none): the previous set stays intact. A kill
+// between two renames can leave the first file new and the second old: give the second a
+// checksum of the first (the bundle's manifest carries its CRC-32).
 ExportResult writeFilesAtomically(const QList<QPair<QString, QByteArray>>& files);
 
 // `path` with `suffix` (without the dot) appended unless it already ends with one of `suffixes`.

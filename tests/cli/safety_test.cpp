@@ -8,11 +8,17 @@
 #include "test_files.h"
 
 #include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <thread>
 #include <unistd.h>
 
 namespace mlod {
@@ -198,6 +204,222 @@ TEST(CliSafety, OutputNamesAreKeptAsBytes) {
             (std::vector<std::string>{latin1 + ".glb", latin1 + ".mlodb", latin1 + ".mlodb.json", "walk.bvh"}));
   const test::CliRun info = runMotionlod({"info", (dir / (latin1 + ".mlodb")).string()}, kTimeout);
   EXPECT_EQ(info.status, 0) << info.err;
+}
+
+// --- the import worker: stopped with its parent ------------------------------------
+
+// `motionlod ARGS` started in the background, stderr to `err`; its PID.
+pid_t startMotionlod(const std::vector<std::string>& arguments, const fs::path& err) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    std::FILE* out = std::freopen(err.c_str(), "w", stderr);
+    (void)out;
+    std::vector<char*> argv{const_cast<char*>(MLOD_MOTIONLOD)};
+    for (const std::string& argument : arguments)
+      argv.push_back(const_cast<char*>(argument.c_str()));
+    argv.push_back(nullptr);
+    ::execv(MLOD_MOTIONLOD, argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// waitpid() for at most `seconds`; the raw status, or -1 (and the process killed) on timeout.
+int waitAtMost(pid_t pid, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return status;
+}
+
+bool goneWithin(pid_t pid, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (test::runs(pid) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const bool gone = !test::runs(pid);
+  if (!gone)
+    ::kill(pid, SIGKILL); // leave nothing behind either way
+  return gone;
+}
+
+// Ctrl+C during `info` stops a stuck import at once (not after --import-timeout): the
+// worker is stopped and motionlod ends by SIGINT, as a shell expects.
+TEST(CliSafety, CtrlCStopsAStuckImportAtOnce) {
+  const fs::path dir = freshFolder("ctrl_c");
+  const pid_t cli = startMotionlod({"info", test::stuckImport(), "--import-timeout", "600"}, dir / "err");
+  const pid_t worker = test::workerOf(cli, 10.0);
+  ASSERT_GT(worker, 0);
+  ::kill(cli, SIGINT);
+  const int status = waitAtMost(cli, 10.0);
+  ASSERT_NE(status, -1) << "motionlod did not stop on SIGINT";
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << status;
+  EXPECT_NE(bytesOf(dir / "err").find("interrupted: the import was stopped"), std::string::npos)
+      << bytesOf(dir / "err");
+  EXPECT_TRUE(goneWithin(worker, 10.0)) << "the worker outlived the interrupted command";
+}
+
+// kill -9 of motionlod while it imports left the worker running forever.
+TEST(CliSafety, KilledCommandTakesItsWorkerAlong) {
+  const fs::path dir = freshFolder("kill9");
+  const pid_t cli = startMotionlod({"info", test::stuckImport(), "--import-timeout", "600"}, dir / "err");
+  const pid_t worker = test::workerOf(cli, 10.0);
+  ASSERT_GT(worker, 0);
+  ::kill(cli, SIGKILL);
+  waitAtMost(cli, 10.0);
+  EXPECT_TRUE(goneWithin(worker, 10.0)) << "the worker outlived motionlod";
+}
+
+// --- the bundle and its manifest: whole after any failure ----------------------------
+
+// Runs `script` with sh; its exit status and output (stdout and stderr together).
+std::pair<int, std::string> shell(const std::string& script) {
+  const std::string out = test::writeTemp("shell.out", "");
+  const int raw = std::system(("timeout -k 2 60 sh -c '" + script + "' > '" + out + "' 2>&1").c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw), test::readText(out)};
+}
+
+// A full disk said "Unknown error" for glTF and the bundle: it is named, with the file, and
+// nothing stays on the disk. A small tmpfs in a mount namespace of its own fills up.
+TEST(CliSafety, FullDiskIsNamedWithTheFile) {
+  if (shell("unshare -m true").first != 0)
+    GTEST_SKIP() << "no mount namespace here (unshare -m): the write-failure test below covers the path";
+  const fs::path dir = freshFolder("full_disk");
+  const std::string input = sampleIn(dir).string();
+  for (const char* name : {"out.mlodb", "out.glb"}) {
+    const std::string plugin = std::string(name) == "out.mlodb" ? "bundle" : "gltf";
+    const std::string disk = (dir / "disk").string();
+    fs::create_directories(disk);
+    const auto [status, output] = shell("unshare -m sh -c \"mount -t tmpfs -o size=64k none " + disk + " && " +
+                                        MLOD_MOTIONLOD + " export " + input + " --unit-scale cmu --plugin " + plugin +
+                                        " -o " + disk + "/" + name + "; echo exit=\\$?; ls -A " + disk + "\"");
+    EXPECT_NE(output.find("error: " + disk + "/" + name + ": cannot write: No space left on device"), std::string::npos)
+        << output;
+    EXPECT_TRUE(output.size() >= 7 && output.compare(output.size() - 7, 7, "exit=1\n") == 0)
+        << "exit 1 and nothing left on the disk: " << output;
+  }
+}
+
+// Any write failure (here the file size limit: "File too large") leaves the previous
+// bundle and manifest exactly as they were, and no temporary.
+TEST(CliSafety, FailedExportKeepsThePreviousPair) {
+  const fs::path dir = freshFolder("keep_pair");
+  const std::string input = sampleIn(dir).string();
+  const fs::path bundle = dir / "x.mlodb";
+  const test::CliRun first = runMotionlod(
+      {"export", input, "--unit-scale", "cmu", "--plugin", "bundle", "--levels", "0,1", "-o", bundle.string()},
+      kTimeout);
+  ASSERT_EQ(first.status, 0) << first.err;
+  const std::string bundleBefore = bytesOf(bundle), manifestBefore = bytesOf(bundle.string() + ".json");
+  const auto [status, output] = shell(std::string("trap \"\" XFSZ; exec prlimit --fsize=100000 ") + MLOD_MOTIONLOD +
+                                      " export " + input + " --unit-scale cmu --plugin bundle -o " + bundle.string());
+  EXPECT_EQ(status, 1) << output;
+  EXPECT_NE(output.find("error: " + bundle.string() + ": cannot write: File too large"), std::string::npos) << output;
+  EXPECT_EQ(bytesOf(bundle), bundleBefore);
+  EXPECT_EQ(bytesOf(bundle.string() + ".json"), manifestBefore);
+  EXPECT_EQ(filesIn(dir), (std::vector<std::string>{"walk.bvh", "x.mlodb", "x.mlodb.json"}));
+}
+
+// A kill between the bundle's rename and its manifest's leaves a new bundle beside the old
+// manifest: the manifest carries the bundle's size and CRC-32, and `info` says it does not
+// belong. The killed writer's temporaries go on the next export.
+TEST(CliSafety, InfoTellsAManifestOfAnotherBundle) {
+  const fs::path dir = freshFolder("mismatch");
+  const std::string input = sampleIn(dir).string();
+  for (const char* levels : {"0,1", "2,3"}) {
+    const test::CliRun run =
+        runMotionlod({"export", input, "--unit-scale", "cmu", "--plugin", "bundle", "--levels", levels, "-o",
+                      (dir / (std::string(levels) == "0,1" ? "a.mlodb" : "b.mlodb")).string()},
+                     kTimeout);
+    ASSERT_EQ(run.status, 0) << run.err;
+  }
+  const test::CliRun whole = runMotionlod({"info", (dir / "a.mlodb").string()}, kTimeout);
+  EXPECT_EQ(whole.status, 0) << whole.err;
+  EXPECT_EQ(whole.err, "");
+  fs::copy_file(dir / "b.mlodb", dir / "a.mlodb", fs::copy_options::overwrite_existing);
+  const test::CliRun torn = runMotionlod({"info", (dir / "a.mlodb").string()}, kTimeout);
+  EXPECT_EQ(torn.status, 0) << torn.err;
+  EXPECT_TRUE(startsWith(torn.err, "warning: " + (dir / "a.mlodb.json").string() + ": it does not belong to " +
+                                       (dir / "a.mlodb").string()))
+      << torn.err;
+
+  const pid_t dead = ::fork();
+  if (dead == 0)
+    ::_exit(0);
+  ::waitpid(dead, nullptr, 0);
+  const std::string leftover = ".a.mlodb.mlod-tmp-" + std::to_string(dead) + "-XyZ123";
+  std::ofstream(dir / leftover) << "half a bundle";
+  const test::CliRun again = runMotionlod(
+      {"export", input, "--unit-scale", "cmu", "--plugin", "bundle", "-o", (dir / "a.mlodb").string()}, kTimeout);
+  EXPECT_EQ(again.status, 0) << again.err;
+  EXPECT_FALSE(fs::exists(dir / leftover));
+}
+
+// --- clear errors instead of raw exceptions ------------------------------------------
+
+// Latin-1 bytes in joint and file names made --json, glTF and report exports exit 1 with a
+// raw "[json.exception.type_error.316]". Names are made valid on import (and said so);
+// file names stay bytes, written with U+FFFD in JSON, with a warning.
+TEST(CliSafety, Latin1NamesNeverThrow) {
+  const fs::path dir = freshFolder("latin1_names");
+  std::string bvh =
+      test::makeBvh("Xposition Yposition Zposition Zrotation Yrotation Xrotation", "Zrotation Yrotation Xrotation", 3,
+                    "0.04", "0 0 0 0 0 0 0 0 0\n0 1 0 10 0 0 20 0 0\n0 2 0 20 0 0 40 0 0\n");
+  bvh.replace(bvh.find("Chest"), 5, "Cou\xE9");
+  const fs::path file = dir / "d\xE9mo.bvh";
+  std::ofstream(file) << bvh;
+  const test::CliRun info = runMotionlod({"info", file.string(), "--json"}, kTimeout);
+  EXPECT_EQ(info.status, 0) << info.err;
+  EXPECT_EQ(info.err.find("json.exception"), std::string::npos) << info.err;
+  EXPECT_NE(info.err.find("not valid UTF-8"), std::string::npos) << info.err;
+  const nlohmann::json doc = nlohmann::json::parse(info.out, nullptr, false);
+  ASSERT_FALSE(doc.is_discarded()) << info.out;
+  EXPECT_NE(info.out.find("Cou\xEF\xBF\xBD"), std::string::npos) << info.out;
+  for (const char* plugin : {"gltf", "report"}) {
+    const fs::path out = dir / (std::string("out.") + (std::string(plugin) == "gltf" ? "gltf" : "json"));
+    const test::CliRun run =
+        runMotionlod({"export", file.string(), "--plugin", plugin, "-o", out.string(), "--json"}, kTimeout);
+    EXPECT_EQ(run.status, 0) << plugin << ": " << run.err;
+    EXPECT_EQ(run.err.find("json.exception"), std::string::npos) << run.err;
+    EXPECT_FALSE(nlohmann::json::parse(run.out, nullptr, false).is_discarded()) << run.out;
+    EXPECT_FALSE(nlohmann::json::parse(bytesOf(out), nullptr, false).is_discarded()) << plugin;
+  }
+}
+
+// A BVH whose offsets are all zero failed export with "pixel figures must be finite": the
+// character has no size, which the message now says.
+TEST(CliSafety, CharacterWithoutSizeIsNamedAsSuch) {
+  const fs::path dir = freshFolder("no_size");
+  std::string bvh =
+      test::makeBvh("Xposition Yposition Zposition Zrotation Yrotation Xrotation", "Zrotation Yrotation Xrotation", 2,
+                    "0.04", "0 0 0 0 0 0 0 0 0\n0 0 0 10 0 0 20 0 0\n");
+  for (const char* offset : {"OFFSET 0 10 0", "OFFSET 0 5 0"})
+    bvh.replace(bvh.find(offset), std::string(offset).size(), "OFFSET 0 0 0");
+  const fs::path file = dir / "flat.bvh";
+  std::ofstream(file) << bvh;
+  const test::CliRun run =
+      runMotionlod({"export", file.string(), "--plugin", "bundle", "-o", (dir / "o.mlodb").string()}, kTimeout);
+  EXPECT_EQ(run.status, 2) << run.err;
+  EXPECT_TRUE(startsWith(run.err, "error: " + file.string() + ": LOD: the character has no size")) << run.err;
+  EXPECT_FALSE(fs::exists(dir / "o.mlodb"));
+}
+
+// BVH "Frame Time: inf" became 25 fps without a word.
+TEST(CliSafety, BvhFrameTimeInfIsRefused) {
+  const fs::path dir = freshFolder("frame_time");
+  const fs::path file = dir / "inf.bvh";
+  std::ofstream(file) << test::makeBvh("Xposition Yposition Zposition Zrotation Yrotation Xrotation",
+                                       "Zrotation Yrotation Xrotation", 1, "inf", "0 0 0 0 0 0 0 0 0\n");
+  const test::CliRun run = runMotionlod({"info", file.string()}, kTimeout);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_TRUE(startsWith(run.err, "error: " + file.string() + ": its Frame Time 'inf' is not a finite number"))
+      << run.err;
 }
 
 // --- batch: the whole manifest is checked before any job runs -------------------------

@@ -9,6 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 namespace mlod {
 namespace {
 
@@ -107,6 +110,46 @@ TEST(AtomicWrite, SetOfFilesLandsTogether) {
   EXPECT_EQ(QFileInfo(dir.filePath("x.mlodb")).size(), 2);
   EXPECT_EQ(QFileInfo(dir.filePath("x.mlodb.json")).size(), 2);
   EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size(), 2);
+}
+
+// Guards the pair: when renaming the second file fails, the first (already renamed) gets
+// its previous version back. Before, it was removed, and the old bundle was gone too.
+TEST(AtomicWrite, FailedSetKeepsThePreviousVersion) {
+  QTemporaryDir dir;
+  const QString bundle = dir.filePath("x.mlodb");
+  ASSERT_TRUE(writeFileAtomically(bundle, "old bundle").ok);
+  const QString manifest = dir.filePath("x.mlodb.json");
+  ASSERT_TRUE(QDir(dir.path()).mkpath("x.mlodb.json/taken")); // no file can replace this folder
+  const ExportResult result = writeFilesAtomically({{bundle, "new bundle"}, {manifest, "{}"}});
+  EXPECT_FALSE(result.ok);
+  EXPECT_TRUE(result.message.startsWith(manifest + ": cannot write: ")) << result.message.toStdString();
+  QFile file(bundle);
+  ASSERT_TRUE(file.open(QIODevice::ReadOnly));
+  EXPECT_EQ(file.readAll(), QByteArray("old bundle"));
+  EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{"x.mlodb"}) << "no temporary left";
+}
+
+// Guards the leftovers of a killed writer: its temporaries and kept links (named with its
+// PID) are removed the next time the file is written; a running writer's are not.
+TEST(AtomicWrite, LeftoversOfAKilledWriterAreRemoved) {
+  QTemporaryDir dir;
+  const pid_t dead = ::fork(); // a PID that runs no more
+  if (dead == 0)
+    ::_exit(0);
+  ASSERT_GT(dead, 0);
+  ::waitpid(dead, nullptr, 0);
+  const QString deadTemporary = QStringLiteral(".x.mlodb.mlod-tmp-%1-AbC123").arg(dead);
+  const QString deadKept = QStringLiteral(".x.mlodb.mlod-old-%1-AbC123").arg(dead);
+  const QString live = QStringLiteral(".x.mlodb.mlod-tmp-1-AbC123"); // PID 1 always runs
+  for (const QString& name : {deadTemporary, deadKept, live}) {
+    QFile file(dir.filePath(name));
+    ASSERT_TRUE(file.open(QIODevice::WriteOnly));
+    file.write("partial");
+  }
+  ASSERT_TRUE(writeFileAtomically(dir.filePath("x.mlodb"), "bundle").ok);
+  QStringList left = QDir(dir.path()).entryList(QDir::Files | QDir::Hidden);
+  left.sort();
+  EXPECT_EQ(left, (QStringList{live, "x.mlodb"}));
 }
 
 TEST(ExportProgress, ReportsAndCancels) {

@@ -36,7 +36,7 @@ std::string jpcReportJson(const JpcReport& report, int indent) {
   }
   doc["thresholds"] = std::move(thresholds);
   doc["seconds"] = report.seconds;
-  return doc.dump(indent);
+  return doc.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace); // a file name kept as bytes
 }
 
 } // namespace mlod

@@ -3,6 +3,7 @@
 #include "core/lod_clip_builder.h"
 #include "core/mapping/motion_mapping.h"
 #include "core/mesh/mesh_lod.h"
+#include "core/utf8.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -74,7 +75,8 @@ LevelBuild originalLevel(const LodPackage& package) {
 }
 
 std::string stemOf(const std::string& path) {
-  return std::filesystem::path(path).stem().string();
+  // a name, not a file name: valid UTF-8 (core/utf8.h), as glTF and JSON need it
+  return validUtf8(std::filesystem::path(path).stem().string());
 }
 
 } // namespace

@@ -64,7 +64,7 @@ struct LodPackageLevel {
 };
 
 struct LodPackage {
-  std::string name;       // the asset's file name without its folder and suffix
+  std::string name;       // the asset's file name without its folder and suffix (valid UTF-8: bad bytes U+FFFD)
   std::string sourcePath; // the asset's file, as imported
   double unitScale = 1.0; // cm per file unit the asset was imported at
   Skeleton skeleton;      // the original skeleton (may be empty for a mesh alone)

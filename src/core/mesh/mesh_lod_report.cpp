@@ -33,7 +33,7 @@ std::string meshLodReportJson(const MeshLodReport& report, int indent) {
                       {"warning", level.warning.empty() ? json(nullptr) : json(level.warning)},
                       {"seconds", level.seconds}});
   doc["levels"] = std::move(levels);
-  return doc.dump(indent);
+  return doc.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace); // a file name kept as bytes
 }
 
 } // namespace mlod

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <sys/stat.h>
 #include <random>
 
 namespace mlod {
@@ -84,6 +85,58 @@ TEST(BadInput, NothingUsable) {
   expectRefused(test::writeTemp("nothing.gltf", R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
     "nodes":[{"name":"a"}]})"),
                 "no animation and no triangle mesh");
+}
+
+// Guards the BVH frame time: "inf" silently became 25 fps; 0, NaN and negative times gave
+// an unnamed tick-rate error. Each is refused with the value named.
+TEST(BadInput, BvhFrameTimeMustBeFiniteAndPositive) {
+  const std::string rows = "0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 0 0 0\n";
+  for (const char* time : {"inf", "0", "nan", "-0.01", "0.0", "1e-9", "x"}) {
+    SCOPED_TRACE(time);
+    expectRefused(test::writeTemp("time.bvh", test::makeBvh(kRoot6, kZyx, 2, time, rows)),
+                  std::string("its Frame Time '") + time + "' is not a finite number of seconds per frame");
+  }
+  const Result<Asset> fine = importAsset(test::writeTemp("time.bvh", test::makeBvh(kRoot6, kZyx, 2, "0.04", rows)));
+  ASSERT_TRUE(fine.ok()) << fine.message();
+  EXPECT_DOUBLE_EQ(fine->clips.front().fps, 25.0);
+}
+
+// Guards glTF buffer URIs: one that climbs out of the file's folder (../../etc/passwd) was
+// read; absolute ones, schemes and special files are refused too.
+TEST(BadInput, GltfBuffersStayInTheFilesFolder) {
+  const auto gltfWith = [](const std::string& uri) {
+    return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"name":"a"}],)"
+           R"("buffers":[{"byteLength":4,"uri":")" + uri + R"("}]})";
+  };
+  expectRefused(test::writeTemp("climb.gltf", gltfWith("../../../../etc/passwd")), "lies outside the file's folder");
+  expectRefused(test::writeTemp("climb2.gltf", gltfWith("sub/../../x.bin")), "lies outside the file's folder");
+  expectRefused(test::writeTemp("climb3.gltf", gltfWith("%2E%2E/%2E%2E/etc/passwd")), "lies outside the file's folder");
+  expectRefused(test::writeTemp("absolute.gltf", gltfWith("/etc/passwd")), "is not a path relative to the file's folder");
+  expectRefused(test::writeTemp("scheme.gltf", gltfWith("file:///etc/passwd")), "is not a path relative to the file's folder");
+  const std::string fifo = std::filesystem::path(test::writeTemp("fifo.gltf", gltfWith("pipe.bin"))).parent_path() / "pipe.bin";
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  expectRefused(std::filesystem::path(fifo).parent_path() / "fifo.gltf", "it is a FIFO (named pipe), not a regular file");
+  std::filesystem::remove(fifo);
+  // a buffer inside the folder is Assimp's to read (real data: simple_skin's own .bin files)
+  EXPECT_TRUE(importAsset(test::modelPath("glTF2/simple_skin/simple_skin.gltf")).ok());
+}
+
+// Guards names that are not UTF-8 (a Latin-1 BVH): they are replaced deliberately, and the
+// asset says so; --json, glTF and report exports then never meet them.
+TEST(BadInput, Latin1NamesAreMadeValidAndSaidSo) {
+  std::string bvh = test::makeBvh(kRoot6, kZyx, 1, "0.01", "0 0 0 0 0 0 0 0 0\n");
+  bvh.replace(bvh.find("Chest"), 5, "Cou\xE9");
+  const Result<Asset> asset = importAsset(test::writeTemp("latin1.bvh", bvh));
+  ASSERT_TRUE(asset.ok()) << asset.message();
+  bool found = false;
+  for (const Joint& joint : asset->skeleton.joints)
+    found = found || joint.name == "Cou\xEF\xBF\xBD";
+  EXPECT_TRUE(found);
+  bool said = false;
+  for (const std::string& warning : asset->warnings)
+    said = said || warning.find("not UTF-8") != std::string::npos;
+  EXPECT_TRUE(said);
 }
 
 class Garbage : public ::testing::TestWithParam<const char*> {};

@@ -8,7 +8,13 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <thread>
@@ -111,6 +117,48 @@ TEST(IsolatedImport, FifoIsRefused) {
   ::unlink(fifo.c_str());
   ASSERT_FALSE(asset.ok());
   EXPECT_NE(asset.message().find("not a regular file"), std::string::npos) << asset.message();
+}
+
+// Guards the worker's lifetime: a parent killed with SIGKILL runs no handler, and its
+// stuck worker ran at 100% CPU (or here, blocked) forever. It must die with its parent.
+TEST(IsolatedImport, WorkerDiesWithItsParent) {
+  const std::string file = test::stuckImport();
+  const pid_t parent = ::fork();
+  ASSERT_GE(parent, 0);
+  if (parent == 0) {
+    IsolationLimits limits;
+    limits.timeoutSeconds = 120.0;
+    (void)importAssetIsolated(file, {}, limits);
+    ::_exit(0);
+  }
+  const pid_t worker = test::workerOf(parent, 10.0);
+  ::kill(parent, SIGKILL);
+  ::waitpid(parent, nullptr, 0);
+  ASSERT_GT(worker, 0) << "the import started no worker";
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (test::runs(worker) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const bool orphanRuns = test::runs(worker);
+  if (orphanRuns)
+    ::kill(worker, SIGKILL); // leave nothing behind either way
+  EXPECT_FALSE(orphanRuns) << "the worker outlived its parent";
+}
+
+// Guards the cancel flag: a stuck worker is stopped at once when the caller cancels.
+TEST(IsolatedImport, CancelStopsAStuckWorker) {
+  const std::string file = test::stuckImport();
+  std::atomic<bool> cancel{false};
+  IsolationLimits limits;
+  limits.timeoutSeconds = 120.0;
+  limits.cancel = &cancel;
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    cancel = true;
+  });
+  const Result<Asset> asset = importAssetIsolated(file, {}, limits);
+  canceller.join();
+  ASSERT_FALSE(asset.ok());
+  EXPECT_EQ(asset.message(), "import cancelled");
 }
 
 // Guards the stream reader against truncated bytes (it must refuse, not read past the end).

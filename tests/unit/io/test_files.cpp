@@ -1,6 +1,10 @@
 #include "test_files.h"
 
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
+#include <sys/stat.h>
+#include <thread>
 #include <fstream>
 #include <sstream>
 #include <unistd.h>
@@ -46,6 +50,52 @@ std::string makeBvh(const std::string& rootChannels, const std::string& chestCha
       << "\nFrame Time: " << frameTime << "\n"
       << rows;
   return out.str();
+}
+
+// A child of `parent` (its import worker), or 0 when it has none within `seconds`.
+pid_t workerOf(pid_t parent, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < deadline) {
+    for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+      const std::string name = entry.path().filename().string();
+      if (name.find_first_not_of("0123456789") != std::string::npos)
+        continue;
+      std::ifstream stat(entry.path() / "stat");
+      std::string line;
+      std::getline(stat, line);
+      const std::size_t close = line.rfind(')');
+      if (close == std::string::npos)
+        continue;
+      char state = 0;
+      int ppid = 0;
+      if (std::sscanf(line.c_str() + close + 1, " %c %d", &state, &ppid) == 2 && ppid == parent)
+        return static_cast<pid_t>(std::stoi(name));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return 0;
+}
+
+// Whether `pid` still runs (a zombie waiting for a reaper runs no more).
+bool runs(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line))
+    return false;
+  const std::size_t close = line.rfind(')');
+  return close != std::string::npos && close + 2 < line.size() && line[close + 2] != 'Z' && line[close + 2] != 'X';
+}
+
+// An OBJ whose material library is a FIFO: Assimp opens it and blocks forever, as a stuck
+// import does (the worker never answers).
+std::string stuckImport() {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("mlod-stuck-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "s.obj") << "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  ::unlink((dir / "m.mtl").c_str());
+  ::mkfifo((dir / "m.mtl").c_str(), 0600);
+  return (dir / "s.obj").string();
 }
 
 } // namespace mlod::test

@@ -2,6 +2,7 @@
 // Paths to real test data and temporary files the tests write.
 
 #include <string>
+#include <sys/types.h>
 
 namespace mlod::test {
 
@@ -18,5 +19,13 @@ std::string readText(const std::string& path);
 // End Site 5 units above it, and the motion rows given.
 std::string makeBvh(const std::string& rootChannels, const std::string& chestChannels, int frames,
                     const std::string& frameTime, const std::string& rows);
+
+// A child process of `parent` (an import worker), or 0 when none appears within `seconds`.
+pid_t workerOf(pid_t parent, double seconds);
+// Whether process `pid` still runs (a zombie waiting for its reaper does not).
+bool runs(pid_t pid);
+// An OBJ file whose material library is a FIFO: Assimp opens it and blocks forever, as a
+// stuck import does. The worker never answers; only a timeout, a cancel or a kill ends it.
+std::string stuckImport();
 
 } // namespace mlod::test

@@ -1,0 +1,189 @@
+// writeFileAtomically() and writeFilesAtomically() (exporter.h): what every exporter writes
+// goes through here, so the rules of docs/architecture.md section 9 (nothing lost, no
+// partial file) hold for all of them:
+// - each file is written to a temporary beside it (".NAME.mlod-tmp-PID-XXXXXX"), in full,
+//   and fsync'ed before it is renamed into place, so a crash never leaves a torn file;
+// - a set of files (a bundle and its manifest) is renamed in order; before that, each file
+//   it replaces is kept as a hard link (".NAME.mlod-old-PID-XXXXXX"). When a rename fails,
+//   the files already renamed get their previous version back (or go, where there was
+//   none): after any failure the previous set is intact. A kill between two renames can
+//   leave a new bundle beside an old manifest: the manifest carries the bundle's size and
+//   CRC-32, so a reader tells (motionlod info does);
+// - temporaries and kept links that a killed writer left behind (its PID no longer runs)
+//   are removed the next time the same file is written;
+// - a failure names the file and the system's reason ("No space left on device").
+// POSIX calls, not QSaveFile: Qt's buffered writes report a full disk as "Unknown error".
+
+#include "sdk/exporter.h"
+
+#include <QFile>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <string>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <vector>
+
+namespace mlod {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kTemporaryTag = ".mlod-tmp-";
+constexpr const char* kKeptTag = ".mlod-old-";
+
+std::string bytesOf(const QString& path) {
+  return QFile::encodeName(path).toStdString();
+}
+
+ExportResult failure(const QString& path, const std::string& reason) {
+  return ExportResult::failure(QStringLiteral("%1: cannot write: %2").arg(path, QString::fromStdString(reason)));
+}
+
+std::string folderOf(const std::string& path) {
+  const fs::path parent = fs::path(path).parent_path();
+  return parent.empty() ? std::string(".") : parent.string();
+}
+
+// Removes what a killed writer of `path` left beside it: ".NAME.mlod-tmp-PID-…" and
+// ".NAME.mlod-old-PID-…" whose PID runs no more.
+void removeLeftovers(const std::string& path) {
+  const std::string name = fs::path(path).filename().string();
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folderOf(path), error)) {
+    const std::string left = entry.path().filename().string();
+    for (const char* tag : {kTemporaryTag, kKeptTag}) {
+      const std::string prefix = "." + name + tag;
+      if (left.rfind(prefix, 0) != 0)
+        continue;
+      const long pid = std::strtol(left.c_str() + prefix.size(), nullptr, 10);
+      if (pid > 0 && pid != long(::getpid()) && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH)
+        ::unlink(entry.path().c_str());
+    }
+  }
+}
+
+bool writeAll(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t written = ::write(fd, data, size);
+    if (written < 0 && errno == EINTR)
+      continue;
+    if (written <= 0) {
+      if (written == 0)
+        errno = EIO;
+      return false;
+    }
+    data += written;
+    size -= std::size_t(written);
+  }
+  return true;
+}
+
+// `data` in a fresh temporary beside `path`, fsync'ed; its name, or empty and errno.
+std::string writeTemporary(const std::string& path, const QByteArray& data) {
+  std::string temporary = folderOf(path) + "/." + fs::path(path).filename().string() + kTemporaryTag +
+                          std::to_string(::getpid()) + "-XXXXXX";
+  const int fd = ::mkostemp(temporary.data(), O_CLOEXEC);
+  if (fd < 0)
+    return {};
+  const bool written =
+      ::fchmod(fd, 0644) == 0 && writeAll(fd, data.constData(), std::size_t(data.size())) && ::fsync(fd) == 0;
+  const int writeErrno = errno;
+  if (::close(fd) != 0 || !written) {
+    const int reason = written ? errno : writeErrno;
+    ::unlink(temporary.c_str());
+    errno = reason;
+    return {};
+  }
+  return temporary;
+}
+
+void syncFolder(const std::string& path) {
+  const int fd = ::open(folderOf(path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
+}
+
+} // namespace
+
+ExportResult writeFileAtomically(const QString& path, const QByteArray& data) {
+  ExportResult result = writeFilesAtomically({{path, data}});
+  if (result.ok)
+    result.message = QStringLiteral("wrote %1 (%2 bytes)").arg(path).arg(data.size());
+  return result;
+}
+
+ExportResult writeFilesAtomically(const QList<QPair<QString, QByteArray>>& files) {
+  struct Entry {
+    QString name;          // as the caller gave it
+    std::string path;      // its bytes
+    std::string temporary; // the new content, until renamed
+    std::string kept;      // a hard link to what it replaces, until the set is in place
+  };
+  std::vector<Entry> entries;
+  const auto discard = [&entries] {
+    for (const Entry& entry : entries) {
+      if (!entry.temporary.empty())
+        ::unlink(entry.temporary.c_str());
+      if (!entry.kept.empty())
+        ::unlink(entry.kept.c_str());
+    }
+  };
+  for (const auto& [name, data] : files) {
+    Entry entry{name, bytesOf(name), {}, {}};
+    removeLeftovers(entry.path);
+    entry.temporary = writeTemporary(entry.path, data);
+    if (entry.temporary.empty()) {
+      const std::string reason = std::strerror(errno);
+      discard();
+      return failure(name, reason);
+    }
+    entries.push_back(std::move(entry));
+  }
+  // keep what is replaced until every file is in place (a file system without hard
+  // links keeps nothing: a failed rename then removes the new files, as before)
+  for (Entry& entry : entries) {
+    struct stat info {};
+    if (::lstat(entry.path.c_str(), &info) != 0 || !S_ISREG(info.st_mode))
+      continue;
+    std::string kept = entry.temporary;
+    kept.replace(kept.rfind(kTemporaryTag), std::strlen(kTemporaryTag), kKeptTag);
+    if (::link(entry.path.c_str(), kept.c_str()) == 0)
+      entry.kept = std::move(kept);
+  }
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    if (::rename(entries[i].temporary.c_str(), entries[i].path.c_str()) == 0) {
+      entries[i].temporary.clear(); // it is the file now
+      continue;
+    }
+    const std::string reason = std::strerror(errno);
+    for (std::size_t k = 0; k < i; ++k) { // the previous set back
+      Entry& done = entries[k];
+      if (done.kept.empty())
+        ::unlink(done.path.c_str());
+      else
+        ::rename(done.kept.c_str(), done.path.c_str()); // should this fail, the link stays
+      done.kept.clear();
+    }
+    discard();
+    return failure(entries[i].name, reason);
+  }
+  for (const Entry& entry : entries)
+    syncFolder(entry.path);
+  discard(); // the kept links
+  qint64 bytes = 0;
+  QStringList names;
+  for (const auto& [name, data] : files) {
+    names << name;
+    bytes += data.size();
+  }
+  return ExportResult::success(QStringLiteral("wrote %1 (%2 bytes)").arg(names.join(", ")).arg(bytes));
+}
+
+} // namespace mlod
