@@ -26,6 +26,18 @@ std::vector<std::string> exportOutputFiles(const std::string& plugin, const std:
   // plugins/bundle/bundle_plugin.cpp writes FILE.mlodb.json beside the bundle
   if (plugin == "bundle" && options.value("manifest", true).toBool())
     files.push_back(output + ".json");
+  // plugins/gltf/gltf_exporter.cpp with split_levels writes OUT_LOD<n>.<suffix> per level
+  // instead: every name a project's levels can give (kMaxProjectLevels)
+  if (plugin == "gltf" && options.value("split_levels", false).toBool()) {
+    const fs::path path(output);
+    const std::string format = options.value("format", "auto").toString().toStdString();
+    const std::string suffix =
+        path.has_extension() ? path.extension().string().substr(1) : (format == "gltf" ? "gltf" : "glb");
+    const std::string stem = path.has_extension() ? (path.parent_path() / path.stem()).string() : output;
+    files.clear();
+    for (int level = 0; level < kMaxProjectLevels; ++level)
+      files.push_back(stem + "_LOD" + std::to_string(level) + "." + suffix);
+  }
   return files;
 }
 

@@ -30,8 +30,9 @@ struct FileIdentity {
 // The identity of the file `path` names (symlinks followed), or nothing when there is none.
 std::optional<FileIdentity> fileIdentity(const std::string& path);
 
-// Every file `motionlod export --plugin PLUGIN -o OUTPUT` writes: OUTPUT, and for the
-// bundle exporter OUTPUT.json unless its "manifest" option is off.
+// Every file `motionlod export --plugin PLUGIN -o OUTPUT` may write: OUTPUT, and for the
+// bundle exporter OUTPUT.json unless its "manifest" option is off; for the glTF exporter
+// with split_levels, OUT_LOD<n>.<suffix> for every level a project may have instead.
 std::vector<std::string> exportOutputFiles(const std::string& plugin, const std::string& output,
                                            const QVariantMap& options);
 

@@ -75,6 +75,15 @@ TEST(CliSafety, ExportNeverWritesItsInput) {
   }
   EXPECT_EQ(bytesOf(input), before);
   EXPECT_EQ(filesIn(dir), (std::vector<std::string>{"hard.glb", "link.glb", "walk.bvh"}));
+  // glTF with split_levels writes OUT_LOD<n>.glb: those are outputs too
+  fs::create_hard_link(input, dir / "split_LOD1.glb");
+  const test::CliRun split = runMotionlod({"export", input.string(), "--unit-scale", "cmu", "--plugin", "gltf",
+                                           "--option", "split_levels=true", "-o", (dir / "split.glb").string()},
+                                          kTimeout);
+  EXPECT_EQ(split.status, 2) << split.err;
+  EXPECT_TRUE(startsWith(split.err, "error: " + (dir / "split_LOD1.glb").string() + ": the output is the same file"))
+      << split.err;
+  EXPECT_EQ(bytesOf(input), before);
 }
 
 // `export p.mlod --plugin report -o p.mlod`, and a project's asset as the output.
