@@ -93,7 +93,7 @@ TEST(CliSimplify, BadInputExitsTwoWithMessage) {
       {{"simplify", file, "--threshold", "5", "--joint", "Head"}, "NAME=E"},
       {{"simplify", file, "--threshold", "5", "--clip", "7"}, "no clip '7'"},
       {{"simplify", "/no/such/file.bvh", "--threshold", "5"}, ""},
-      {{"simplify", "/no/such/project.mlod", "--threshold", "5"}, "cannot be opened for reading"},
+      {{"simplify", "/no/such/project.mlod", "--threshold", "5"}, "no such file"},
       {{"simplify", test::writeTemp("bad_project.mlod", "{\"format\": \"motionlod-project\", \"version\": 99}")},
        "newer Motion LOD Studio"},
   };
