@@ -1,5 +1,6 @@
 // motionlod-studio: the editor's thin main.
 
+#include "core/project.h"
 #include "core/version.h"
 #include "editor/document/document.h"
 #include "editor/main_window.h"
@@ -16,8 +17,8 @@
 #include <QPixmap>
 #include <QSurfaceFormat>
 #include <QTimer>
-
 #include <cstdio>
+#include <functional>
 #include <string_view>
 
 namespace {
@@ -123,13 +124,21 @@ int main(int argc, char** argv) {
   const int levelIndex = parser.value(level).toInt();
   const int crowdAgents = parser.value(crowd).toInt();
   auto shotStarted = std::make_shared<bool>(false);
-  auto next = [&window, pending, shotPath, jointName, levelIndex, crowdAgents, shotStarted, &status]() {
+  std::function<void()> next; // imports and opens each file in turn, then the screenshot
+  next = [&next, &window, pending, shotPath, jointName, levelIndex, crowdAgents, shotStarted, &status]() {
     if (!pending->isEmpty()) {
       const auto [file, scale] = pending->takeFirst();
       if (file.endsWith(".mlod")) {
-        if (!window.openProject(file))
-          status = 2;
-        return; // projectOpened() calls next
+        if (window.openProject(file))
+          return; // projectOpened() calls next
+        // Refused (the window says why): a scripted run goes on, and ends with status 2.
+        const mlod::Result<mlod::Project> probe =
+            mlod::loadProjectFile(QFileInfo(file).absoluteFilePath().toStdString());
+        std::fprintf(stderr, "error: %s: %s\n", qPrintable(file),
+                     probe ? "the project was not opened" : probe.message().c_str());
+        status = 2;
+        QTimer::singleShot(0, &window, next);
+        return;
       }
       if (scale > 0.0)
         window.importFileWithUnit(file, scale);

@@ -154,8 +154,9 @@ int InfoCommand::run() const {
     return kExitOk;
   }
   const Skeleton& skeleton = asset->skeleton;
-  std::printf("file:     %s\nformat:   %s\nunit:     %g cm per file unit (%s)\n", asset->sourcePath.c_str(),
-              asset->format.c_str(), asset->unitScale, asset->unitSource.c_str());
+  std::printf("file:     %s\nformat:   %s\nunit:     %g cm per file unit (%s)\nheight:   %.1f cm\n",
+              asset->sourcePath.c_str(), asset->format.c_str(), asset->unitScale, asset->unitSource.c_str(),
+              standingHeightCm(*asset));
   const Clip* first = asset->clips.empty() ? nullptr : &asset->clips.front();
   std::printf("skeleton: %d joints (%d leaves", skeleton.jointCount(), skeleton.leafCount());
   if (first)

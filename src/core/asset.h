@@ -17,7 +17,10 @@ public:
   std::string sourcePath;       // the file it came from, as given
   std::string format;           // the importer that read it, e.g. "BVH", "X", "glTF2"
   double unitScale = 1.0;       // cm per file unit, already applied to every length
-  std::string unitSource;       // where unitScale came from: "file", "format", "option", "default"
+  // Where unitScale came from: "file" (the file states it, or its format fixes it: glTF in
+  // metres), "guessed" (a file without a unit: see io/import_options.h guessUnitPreset()),
+  // or "option" (the user's setting).
+  std::string unitSource;
   Skeleton skeleton;            // may be empty (a mesh without a skeleton)
   std::vector<Clip> clips;      // each animates every joint of the skeleton
   std::vector<SkinnedMesh> meshes; // the character mesh (skinned) and/or a static mesh
@@ -33,9 +36,17 @@ public:
   Error validate() const;
 };
 
+// The asset's standing height, cm: the vertical (+Y) extent of its meshes in the bind pose,
+// or, without a mesh, of its joints in the rest pose; 0 when it has neither.
+double standingHeightCm(const Asset& asset);
+
+// Multiplies every length of `asset` by `factor` (> 0, finite): rest and inverse-bind
+// translations, clip translations and mesh positions; unitScale follows.
+void scaleAssetLengths(Asset& asset, double factor);
+
 // A JSON document describing the asset for people and tools (`motionlod info --json`):
-// file, format, unit, joints (name, parent), clips (name, frames, fps, duration,
-// channels), meshes (vertices, triangles, bones).
+// file, format, unit ("unit_scale", "unit_source", "height_cm"), joints (name, parent), clips (name, frames, fps,
+// duration, channels), meshes (vertices, triangles, bones).
 std::string describeAssetJson(const Asset& asset, int indent = 2);
 
 } // namespace mlod

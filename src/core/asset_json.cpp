@@ -11,6 +11,7 @@ std::string describeAssetJson(const Asset& asset, int indent) {
   doc["format"] = asset.format;
   doc["unit_scale"] = asset.unitScale;
   doc["unit_source"] = asset.unitSource;
+  doc["height_cm"] = standingHeightCm(asset);
   json joints = json::array();
   for (const Joint& joint : asset.skeleton.joints)
     joints.push_back({{"name", joint.name},

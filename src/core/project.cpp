@@ -4,8 +4,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace mlod {
@@ -161,6 +164,27 @@ int integer(const json& value, const std::string& what) {
     throw std::runtime_error(what + " is not an integer");
   return value.get<int>();
 }
+// An index of the view: any integer is read (a hand-edited file may hold 2^31 or -5) and
+// clampView() brings it in range; only a value that is no integer is refused.
+int viewIndex(const json& value, const std::string& what) {
+  if (!value.is_number_integer())
+    throw std::runtime_error(what + " is not an integer");
+  const long long wide = value.is_number_unsigned()
+                             ? static_cast<long long>(std::min<std::uint64_t>(value.get<std::uint64_t>(), 1ull << 40))
+                             : value.get<long long>();
+  return static_cast<int>(
+      std::clamp<long long>(wide, std::numeric_limits<int>::min() / 2, std::numeric_limits<int>::max() / 2));
+}
+// The view names no figure, so one out of range opens at the nearest valid place: a level of
+// the set, an asset of the project (none when it has none), a clip >= 0 (the Document checks
+// the clip count once the asset is imported).
+void clampView(Project& project) {
+  ProjectView& view = project.view;
+  view.level = std::clamp(view.level, 0, std::max(0, project.levelCount() - 1));
+  if (view.asset < -1 || view.asset >= static_cast<int>(project.assets.size()))
+    view.asset = project.assets.empty() ? -1 : 0;
+  view.clip = std::max(0, view.clip);
+}
 std::string text(const json& value, const std::string& what) {
   if (!value.is_string())
     throw std::runtime_error(what + " is not a string");
@@ -283,10 +307,11 @@ Result<Project> projectFromJson(std::string_view textIn) {
     }
     if (doc.contains("current")) {
       const json& current = doc["current"];
-      project.view.asset = integer(field(current, "asset", "\"current\""), "current asset");
-      project.view.clip = integer(field(current, "clip", "\"current\""), "current clip");
-      project.view.level = integer(field(current, "level", "\"current\""), "current level") + (version == 1 ? 1 : 0);
+      project.view.asset = viewIndex(field(current, "asset", "\"current\""), "current asset");
+      project.view.clip = viewIndex(field(current, "clip", "\"current\""), "current clip");
+      project.view.level = viewIndex(field(current, "level", "\"current\""), "current level") + (version == 1 ? 1 : 0);
       project.view.joint = text(field(current, "joint", "\"current\""), "current joint");
+      clampView(project);
     }
   } catch (const std::exception& error) {
     return Error(error.what());

@@ -14,6 +14,7 @@
 #include "editor/viewport/viewport_panel.h"
 #include "editor/views/clustering_table_view.h"
 #include "editor/views/export_dialog.h"
+#include "editor/views/job_progress.h"
 #include "editor/views/mapping_dialog.h"
 #include "editor/views/trajectory_view.h"
 #include "sdk/plugin_host.h"
@@ -118,6 +119,17 @@ MainWindow::MainWindow(QWidget* parent)
   });
   connect(m_document, &Document::message, this, &MainWindow::log);
 
+  m_progress = new JobProgress(tr("Import"), tr("Cancel"), this);
+  m_progress->setObjectName("importProgress");
+  connect(m_progress, &QProgressDialog::canceled, this, &MainWindow::cancelImport);
+  m_levelsProgress = new JobProgress(tr("LOD levels"), tr("Cancel"), this);
+  m_levelsProgress->setObjectName("levelsProgress");
+  connect(m_levelsProgress, &QProgressDialog::canceled, m_document, &Document::cancelLevelGeneration);
+  connect(m_document, &Document::levelGenerationFinished, this, [this](bool ok, const QString& message) {
+    m_levelsProgress->finish();
+    statusBar()->showMessage(ok ? message : tr("Level generation: %1").arg(message), 4000);
+  });
+
   buildUnitMenu();
   buildDocks();
   buildActions();
@@ -138,6 +150,16 @@ MainWindow::~MainWindow() = default;
 
 bool MainWindow::isImporting() const { return m_import->isRunning(); }
 
+QProgressDialog* MainWindow::importProgress() const {
+  return m_progress;
+}
+QProgressDialog* MainWindow::analysisProgress() const {
+  return m_analysisProgress;
+}
+QProgressDialog* MainWindow::levelsProgress() const {
+  return m_levelsProgress;
+}
+
 QString MainWindow::logText() const { return m_ui->logView->toPlainText(); }
 
 void MainWindow::buildUnitMenu() {
@@ -156,19 +178,20 @@ void MainWindow::buildUnitMenu() {
     group->addAction(action);
     return action;
   };
-  add(tr("From the File"), 0.0, tr("glTF in metres, FBX and Collada by their stated unit, others 1 cm per unit"))
+  add(tr("From the File"), 0.0,
+      tr("glTF in metres, FBX and Collada by their stated unit; files that state none (BVH, X, OBJ …) get the preset "
+         "that makes them a human height (guessed)"))
       ->setObjectName("actionUnitFromFile");
   for (const UnitPreset& preset : unitPresets())
     add(tr("%1 (%2 cm per unit)").arg(QString::fromUtf8(preset.description)).arg(preset.cmPerUnit, 0, 'g', 5),
         preset.cmPerUnit, tr("Lengths in the file are %1").arg(QString::fromUtf8(preset.description)))
         ->setObjectName(QString("actionUnit_%1").arg(preset.name));
-  const double saved = QSettings().value("import/unitScale", 0.0).toDouble();
-  setImportUnitScale(saved);
+  m_unitGroup = group; // before the saved unit is applied: it checks its action
+  setImportUnitScale(QSettings().value("import/unitScale", 0.0).toDouble());
   connect(group, &QActionGroup::triggered, this, [this](QAction* action) {
     setImportUnitScale(action->data().toDouble());
     QSettings().setValue("import/unitScale", m_unitScale);
   });
-  m_unitGroup = group;
 }
 
 void MainWindow::setImportUnitScale(double cmPerUnit) {
@@ -202,26 +225,13 @@ void MainWindow::importFileWithUnit(const QString& path, double unitScale) {
   options.unitScale = unitScale;
   m_pendingScale = unitScale;
   m_import->start(path, options);
-  if (!m_progress) {
-    m_progress = new QProgressDialog(this);
-    m_progress->setWindowTitle(tr("Import"));
-    m_progress->setRange(0, 0); // the importer reports no fraction; a busy bar, with cancel
-    m_progress->setMinimumDuration(400);
-    m_progress->setAutoClose(false);
-    m_progress->setAutoReset(false);
-    connect(m_progress, &QProgressDialog::canceled, this, &MainWindow::cancelImport);
-  }
-  m_progress->setLabelText(tr("Importing %1 …").arg(QFileInfo(path).fileName()));
-  m_progress->reset();
-  m_progress->setRange(0, 0);
-  m_progress->setValue(0);
+  m_progress->begin(tr("Importing %1 …").arg(QFileInfo(path).fileName())); // the importer reports no fraction
 }
 
 void MainWindow::cancelImport() { m_import->cancel(); }
 
 void MainWindow::onImported(const QString& path, std::shared_ptr<const Asset> asset) {
-  if (m_progress)
-    m_progress->reset();
+  m_progress->finish();
   m_document->addAsset(asset, path, m_pendingScale);
   const QModelIndex index = m_assets->index(m_assets->rowCount() - 1, 0);
   m_ui->assetTree->expand(index);
@@ -229,6 +239,11 @@ void MainWindow::onImported(const QString& path, std::shared_ptr<const Asset> as
   m_ui->assetTree->resizeColumnToContents(AssetTreeModel::NameColumn);
   for (const std::string& warning : asset->warnings)
     log(tr("warning: %1: %2").arg(path, QString::fromStdString(warning)));
+  if (asset->unitSource == "guessed")
+    log(tr("%1 states no unit: guessed %2 cm per file unit, which makes it %3 m tall (Edit → Asset Unit to change)")
+            .arg(QFileInfo(path).fileName())
+            .arg(asset->unitScale, 0, 'g', 5)
+            .arg(standingHeightCm(*asset) / 100.0, 0, 'f', 2));
   const QString message = tr("Imported %1: %2, %3, %4")
                               .arg(QFileInfo(path).fileName(), countText(asset->skeleton.jointCount(), "joint", "joints"),
                                    countText(qsizetype(asset->clips.size()), "clip", "clips"),
@@ -240,8 +255,7 @@ void MainWindow::onImported(const QString& path, std::shared_ptr<const Asset> as
 }
 
 void MainWindow::onImportFailed(const QString& path, const QString& reason) {
-  if (m_progress)
-    m_progress->reset();
+  m_progress->finish();
   const QString message = tr("error: %1: %2").arg(path, reason);
   log(message);
   statusBar()->showMessage(tr("Import failed"), 10000);
@@ -255,9 +269,10 @@ void MainWindow::onImportFailed(const QString& path, const QString& reason) {
 }
 
 void MainWindow::showAsset(const Asset& asset) {
-  QString html = tr("<h2>%1</h2><p>%2 · %3 cm per file unit (%4)</p>")
+  QString html = tr("<h2>%1</h2><p>%2 · %3 m tall · %4 cm per file unit (%5)</p>")
                      .arg(QFileInfo(QString::fromStdString(asset.sourcePath)).fileName().toHtmlEscaped(),
                           QString::fromStdString(asset.format).toHtmlEscaped())
+                     .arg(standingHeightCm(asset) / 100.0, 0, 'f', 2)
                      .arg(asset.unitScale)
                      .arg(QString::fromStdString(asset.unitSource));
   html += tr("<p><b>Skeleton:</b> %1 joints, %2 leaves</p>").arg(asset.skeleton.jointCount()).arg(asset.skeleton.leafCount());
@@ -352,12 +367,22 @@ void MainWindow::buildDocks() {
   m_skeletonView->setToolTip(tr("Joints: α, threshold at the current level, lock and simplified %. Double-click or F2 to "
                                 "edit; the edit applies to every selected joint"));
   m_jointModel->setSelectionProvider([this](int) { return selectedJoints(); });
-  connect(m_jointModel, &QAbstractItemModel::modelReset, this, [this] {
-    m_skeletonView->expandAll();
-    m_skeletonView->setColumnWidth(JointTreeModel::NameColumn, 200);
+  // Readable joint names: the figures' columns as wide as their headers and values, the name
+  // column as wide as the longest name up to 240 px, longer names elided in the middle (the
+  // row's tooltip has them whole).
+  m_skeletonView->setTextElideMode(Qt::ElideMiddle);
+  const auto fitColumns = [this] {
     for (int column = 1; column < JointTreeModel::ColumnCount; ++column)
-      m_skeletonView->setColumnWidth(column, column == JointTreeModel::LockColumn ? 44 : 64);
+      m_skeletonView->resizeColumnToContents(column);
+    m_skeletonView->resizeColumnToContents(JointTreeModel::NameColumn);
+    m_skeletonView->setColumnWidth(JointTreeModel::NameColumn,
+                                   std::clamp(m_skeletonView->columnWidth(JointTreeModel::NameColumn), 120, 240));
+  };
+  connect(m_jointModel, &QAbstractItemModel::modelReset, this, [this, fitColumns] {
+    m_skeletonView->expandAll();
+    fitColumns();
   });
+  connect(m_jointModel, &QAbstractItemModel::headerDataChanged, this, fitColumns); // "T L2 (cm·°)" …
   connect(m_skeletonView->selectionModel(), &QItemSelectionModel::currentChanged, this,
           [this](const QModelIndex& current) { m_document->setCurrentJoint(m_jointModel->jointAt(current)); });
   addDock("skeletonDock", tr("Skeleton"), m_skeletonView, Qt::LeftDockWidgetArea);
@@ -385,6 +410,17 @@ void MainWindow::buildDocks() {
               m_document->setCurrentLevel(current.row());
           });
   levelsLayout->addWidget(m_levelsView);
+  // Every level in sight: the table asks for the height of all its rows (up to 12).
+  const auto fitLevels = [this] {
+    const int rows = std::min(12, m_levelsModel->rowCount());
+    m_levelsView->setMinimumHeight(m_levelsView->horizontalHeader()->sizeHint().height() +
+                                   rows * m_levelsView->verticalHeader()->defaultSectionSize() +
+                                   2 * m_levelsView->frameWidth() + 2);
+  };
+  connect(m_levelsModel, &QAbstractItemModel::modelReset, this, fitLevels);
+  connect(m_levelsModel, &QAbstractItemModel::rowsInserted, this, fitLevels);
+  connect(m_levelsModel, &QAbstractItemModel::rowsRemoved, this, fitLevels);
+  fitLevels();
   auto* buttons = new QHBoxLayout;
   const auto button = [&](const QString& name, const QString& text, const QString& tip) {
     auto* b = new QToolButton;
@@ -459,6 +495,8 @@ void MainWindow::buildDocks() {
   connect(viewport, &ViewportPanel::mappingChosen, crowd, &CrowdPanel::setMapping);
   tabifyDockWidget(viewportDock, addDock("crowdDock", tr("Crowd"), crowd, Qt::RightDockWidgetArea));
   trajectory->raise();
+  connect(viewport->playback(), &Playback::timeChanged, m_statisticsView,
+          [this, viewport] { m_statisticsView->setPlayhead(viewport->playback()->frame()); });
   auto* currentFrame = new QLabel(viewport->timeline()->frameText());
   currentFrame->setObjectName("currentFrameLabel");
   currentFrame->setToolTip(tr("The current frame of the 3D views (Viewport dock's timeline)"));
@@ -486,30 +524,21 @@ void MainWindow::buildDocks() {
     refreshStatus();
   });
   connect(m_document, &Document::analysisFinished, this, [this](bool ok, const QString& message) {
-    if (m_analysisProgress)
-      m_analysisProgress->reset();
+    m_analysisProgress->finish();
     if (ok && m_document->currentJoint() < 0)
       selectDefaultJoint();
     refreshViews();
     if (ok && m_document->analysis())
       statusBar()->showMessage(message, 4000);
   });
-  connect(m_document, &Document::analysisStarted, this, [this] {
-    if (!m_analysisProgress) {
-      m_analysisProgress = new QProgressDialog(tr("Clustering joints …"), tr("Cancel"), 0, 100, this);
-      m_analysisProgress->setObjectName("analysisProgress");
-      m_analysisProgress->setWindowTitle(tr("Clustering"));
-      m_analysisProgress->setMinimumDuration(500); // quick edits never flash a dialog
-      m_analysisProgress->setAutoClose(false);
-      m_analysisProgress->setAutoReset(false);
-      connect(m_analysisProgress, &QProgressDialog::canceled, m_document, &Document::cancelAnalysis);
-    }
-    m_analysisProgress->reset();
-    m_analysisProgress->setValue(0);
-  });
+  m_analysisProgress = new JobProgress(tr("Clustering"), tr("Cancel"), this);
+  m_analysisProgress->setObjectName("analysisProgress");
+  connect(m_analysisProgress, &QProgressDialog::canceled, m_document, &Document::cancelAnalysis);
+  connect(m_document, &Document::analysisStarted, this,
+          [this] { m_analysisProgress->begin(tr("Clustering joints …"), 100); });
   connect(m_document, &Document::analysisProgress, this, [this](int done, int total) {
-    if (m_analysisProgress && m_document->isAnalysing() && total > 0)
-      m_analysisProgress->setValue(std::min(99, 100 * done / total));
+    if (m_document->isAnalysing())
+      m_analysisProgress->step(done, total);
   });
   connect(m_document->undoStack(), &QUndoStack::cleanChanged, this, &MainWindow::refreshTitle);
 }
@@ -736,23 +765,8 @@ bool MainWindow::generateLevels(double pixels, int levels) {
     showError(tr("Cannot generate levels"), tr("The levels were not generated."), error);
     return false;
   }
-  if (!m_levelsProgress) {
-    m_levelsProgress = new QProgressDialog(tr("Generating levels (motion and mesh) …"), tr("Cancel"), 0, 0, this);
-    m_levelsProgress->setObjectName("levelsProgress");
-    m_levelsProgress->setWindowTitle(tr("LOD levels"));
-    m_levelsProgress->setMinimumDuration(0);
-    m_levelsProgress->setAutoClose(false);
-    m_levelsProgress->setAutoReset(false);
-    connect(m_levelsProgress, &QProgressDialog::canceled, m_document, &Document::cancelLevelGeneration);
-    connect(m_document, &Document::levelGenerationFinished, this, [this](bool ok, const QString& message) {
-      m_levelsProgress->reset();
-      m_levelsProgress->hide();
-      statusBar()->showMessage(ok ? message : tr("Level generation: %1").arg(message), 4000);
-    });
-  }
-  m_levelsProgress->reset();
-  m_levelsProgress->setRange(0, 0); // the core reports no steps: busy until it lands
-  m_levelsProgress->show();
+  // The core reports no steps: a busy bar until the levels land.
+  m_levelsProgress->begin(tr("Generating levels (motion and mesh) …"));
   return true;
 }
 

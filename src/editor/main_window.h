@@ -29,6 +29,7 @@ class Autosave;
 class ClusteringTableView;
 class Document;
 class ImportJob;
+class JobProgress;
 class JointTreeModel;
 class LevelsModel;
 class MappingDialog;
@@ -60,7 +61,8 @@ public:
   StatisticsView* statisticsView() const { return m_statisticsView; }
   QDoubleSpinBox* alphaBox() const { return m_alphaBox; }
   QComboBox* modeBox() const { return m_modeBox; }
-  QProgressDialog* analysisProgress() const { return m_analysisProgress; }
+  QProgressDialog* analysisProgress() const;
+  QProgressDialog* importProgress() const;
   QString statusText() const; // the permanent status-bar figures
   // Opens the joint-mapping table of the asset in view (its first mapping, as motion or
   // character); null, with a message, when it has none.
@@ -68,7 +70,7 @@ public:
   // Generates the LOD set from a pixel budget in the background with a progress dialog
   // ("levelsProgress", Cancel drops the result); false with a message when it cannot start.
   bool generateLevels(double pixels, int levels);
-  QProgressDialog* levelsProgress() const { return m_levelsProgress; }
+  QProgressDialog* levelsProgress() const;
 
   // Projects: errors show in a non-modal message box and the log; the document is kept.
   bool openProject(const QString& path);
@@ -115,8 +117,8 @@ private:
   AssetTreeModel* m_assets = nullptr;
   ImportJob* m_import = nullptr;
   Autosave* m_autosave = nullptr;
-  QProgressDialog* m_progress = nullptr;
-  QProgressDialog* m_analysisProgress = nullptr;
+  JobProgress* m_progress = nullptr;
+  JobProgress* m_analysisProgress = nullptr;
   QActionGroup* m_unitGroup = nullptr;
   double m_unitScale = 0.0;
   double m_pendingScale = 0.0;
@@ -126,7 +128,7 @@ private:
   QTableView* m_levelsView = nullptr;
   LevelsModel* m_levelsModel = nullptr;
   QPointer<MappingDialog> m_mappingDialog;
-  QProgressDialog* m_levelsProgress = nullptr;
+  JobProgress* m_levelsProgress = nullptr;
   ClusteringTableView* m_clusteringView = nullptr;
   TrajectoryView* m_trajectoryView = nullptr;
   StatisticsView* m_statisticsView = nullptr;

@@ -21,6 +21,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -344,6 +345,8 @@ public:
       m_asset.warnings.push_back(std::to_string(m_replacedNames) +
                                  " names (joints, clips, meshes) held bytes that are not UTF-8 (a Latin-1 file?); "
                                  "each such byte was replaced by U+FFFD");
+    if (m_asset.unitSource == "guessed")
+      guessUnitScale();
     if (Error error = m_asset.validate())
       return error;
     return std::move(m_asset);
@@ -370,12 +373,12 @@ private:
       m_asset.unitSource = "option";
     } else if (format.find("gltf") != std::string::npos || m_extension == "gltf" || m_extension == "glb") {
       m_asset.unitScale = 100.0;
-      m_asset.unitSource = "format";
+      m_asset.unitSource = "file"; // metres by the format's specification
     } else if (format.find("fbx") != std::string::npos || m_extension == "fbx") {
       const std::optional<double> factor = metadataNumber(m_scene, "UnitScaleFactor");
       const bool valid = factor && std::isfinite(*factor) && *factor > 0.0;
       m_asset.unitScale = valid ? *factor : 1.0;
-      m_asset.unitSource = valid ? "file" : "default";
+      m_asset.unitSource = valid ? "file" : "guessed";
     } else if (collada) {
       if (m_colladaMetres) {
         m_asset.unitScale = *m_colladaMetres * 100.0;
@@ -385,9 +388,26 @@ private:
         m_asset.unitSource = "format";
       }
     } else {
-      m_asset.unitScale = 1.0;
-      m_asset.unitSource = "default";
+      m_asset.unitScale = 1.0; // read at 1 cm per unit, then guessed: guessUnitScale()
+      m_asset.unitSource = "guessed";
     }
+  }
+
+  // A file without a unit of its own was read at 1 cm per unit; the preset that makes it a
+  // human height scales it (docs/architecture.md section 3), else it stays at 1 with a warning.
+  void guessUnitScale() {
+    const double height = standingHeightCm(m_asset);
+    if (const UnitPreset* preset = guessUnitPreset(height)) {
+      if (preset->cmPerUnit != 1.0)
+        scaleAssetLengths(m_asset, preset->cmPerUnit);
+      return;
+    }
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "the file states no unit and no preset makes its height (%.4g units) a human %g-%g cm; it was "
+                  "kept at 1 cm per unit: set the unit if that is wrong",
+                  height, kGuessMinHeightCm, kGuessMaxHeightCm);
+    m_asset.warnings.push_back(text);
   }
 
   int nodeIndex(const aiString& name) const {

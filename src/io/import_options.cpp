@@ -20,6 +20,20 @@ constexpr std::array kPresets{
 
 std::span<const UnitPreset> unitPresets() { return kPresets; }
 
+const UnitPreset* guessUnitPreset(double heightInFileUnits) {
+  if (!std::isfinite(heightInFileUnits) || heightInFileUnits <= 0.0)
+    return nullptr;
+  const UnitPreset* best = nullptr;
+  for (const UnitPreset& preset : kPresets) {
+    const double height = heightInFileUnits * preset.cmPerUnit;
+    if (height < kGuessMinHeightCm || height > kGuessMaxHeightCm)
+      continue;
+    if (!best || std::abs(height - kHumanHeightCm) < std::abs(heightInFileUnits * best->cmPerUnit - kHumanHeightCm))
+      best = &preset;
+  }
+  return best;
+}
+
 std::optional<double> parseUnitScale(const std::string& text) {
   for (const UnitPreset& preset : kPresets)
     if (text == preset.name)

@@ -39,8 +39,25 @@ TEST(Cli, InfoJson) {
   EXPECT_EQ(doc["meshes"][0]["vertices"], 3014);
   EXPECT_EQ(doc["meshes"][0]["triangles"], 5126);
   EXPECT_EQ(doc["meshes"][0]["bones"], 54);
-  EXPECT_EQ(doc["unit_scale"], 1.0);
+  // The file states no unit: guessed as metres (the issue: read at 1 cm per unit it was a
+  // 1.8 cm character), and said to be guessed, with the height it gives.
+  EXPECT_EQ(doc["unit_scale"], 100.0);
+  EXPECT_EQ(doc["unit_source"], "guessed");
+  EXPECT_GT(doc["height_cm"].get<double>(), 170.0);
+  EXPECT_LT(doc["height_cm"].get<double>(), 190.0);
   EXPECT_TRUE(doc["joints"][0]["parent"].is_null());
+  // --unit-scale overrides the guess.
+  const test::CliRun chosen =
+      runMotionlod({"info", test::modelPath("X/BCN_Epileptic.X"), "--json", "--unit-scale", "cm"});
+  ASSERT_EQ(chosen.status, 0) << chosen.err;
+  const nlohmann::json option = nlohmann::json::parse(chosen.out);
+  EXPECT_EQ(option["unit_scale"], 1.0);
+  EXPECT_EQ(option["unit_source"], "option");
+  EXPECT_LT(option["height_cm"].get<double>(), 2.0);
+  // The human output prints the height.
+  const test::CliRun text = runMotionlod({"info", test::modelPath("X/BCN_Epileptic.X")});
+  EXPECT_NE(text.out.find("unit:     100 cm per file unit (guessed)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("height:   181."), std::string::npos) << text.out;
 }
 
 // Guards the error contract: "error: FILE: reason" on stderr, exit 2, nothing on stdout.

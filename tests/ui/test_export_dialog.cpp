@@ -23,6 +23,8 @@
 #include <QPushButton>
 #include <QSignalSpy>
 #include <QTemporaryDir>
+#include <QSpinBox>
+#include <QSettings>
 #include <QTest>
 
 #include <chrono>
@@ -169,6 +171,71 @@ private slots:
       dialog.levelsList()->item(i)->setCheckState(Qt::Unchecked);
     dialog.startExport();
     QVERIFY(dialog.resultLabel()->text().contains("Tick at least one level"));
+  }
+
+  // The output's suffix must be the plugin's: another format's is refused (nothing written),
+  // none gets the plugin's; a new plugin or option clears the last result.
+  void suffixMustMatchThePlugin() {
+    std::unique_ptr<Document> document = sampleDocument();
+    QVERIFY(document);
+    ExportDialog dialog(document.get(), &m_host);
+    chooseBundle(dialog);
+    QTemporaryDir dir;
+    dialog.outputEdit()->setText(dir.filePath("character.glb"));
+    dialog.startExport();
+    QVERIFY(!dialog.isRunning());
+    QVERIFY2(dialog.resultLabel()->text().contains("ends in .glb"), qPrintable(dialog.resultLabel()->text()));
+    QVERIFY(filesIn(dir.path()).isEmpty());
+    // An option changed: the message about the last try goes.
+    for (QWidget* editor : dialog.findChildren<QWidget*>()) {
+      if (!editor->objectName().startsWith("option_"))
+        continue;
+      if (auto* box = qobject_cast<QCheckBox*>(editor))
+        box->toggle();
+      else if (auto* spin = qobject_cast<QSpinBox*>(editor))
+        spin->setValue(spin->value() == spin->minimum() ? spin->value() + 1 : spin->minimum());
+      else if (auto* combo = qobject_cast<QComboBox*>(editor))
+        combo->setCurrentIndex((combo->currentIndex() + 1) % combo->count());
+      else
+        continue;
+      QVERIFY2(dialog.resultLabel()->text().isEmpty(), qPrintable(editor->objectName()));
+      break;
+    }
+    if (dialog.pluginCombo()->count() > 1) { // another plugin: the same
+      dialog.startExport();
+      QVERIFY(!dialog.resultLabel()->text().isEmpty());
+      dialog.pluginCombo()->setCurrentIndex((dialog.pluginCombo()->currentIndex() + 1) % dialog.pluginCombo()->count());
+      QVERIFY(dialog.resultLabel()->text().isEmpty());
+      chooseBundle(dialog);
+    }
+    // No suffix: the plugin's is added and the export runs.
+    dialog.outputEdit()->setText(dir.filePath("character"));
+    QSignalSpy finished(&dialog, &ExportDialog::exportFinished);
+    dialog.startExport();
+    QVERIFY(finished.wait(60000));
+    QCOMPARE(finished.first().at(0).toBool(), true);
+    QCOMPARE(dialog.outputEdit()->text(), dir.filePath("character.mlodb"));
+    QVERIFY(QFileInfo::exists(dir.filePath("character.mlodb")));
+  }
+
+  // The default output folder is one the user can write to, never a read-only source folder.
+  void defaultFolderIsWritable() {
+    QTemporaryDir dir;
+    QVERIFY(QDir(dir.path()).mkdir("readonly"));
+    const QString readOnly = dir.filePath("readonly");
+    QVERIFY(QFile::setPermissions(readOnly, QFile::ReadOwner | QFile::ExeOwner));
+    const bool enforced = !QFileInfo(readOnly).isWritable(); // root writes anywhere
+    if (enforced)
+      QCOMPARE(firstWritableFolder({readOnly, dir.path()}), QFileInfo(dir.path()).absoluteFilePath());
+    QCOMPARE(firstWritableFolder({QString(), dir.filePath("missing"), dir.path()}),
+             QFileInfo(dir.path()).absoluteFilePath());
+    QSettings().remove("export/lastDir");
+    std::unique_ptr<Document> document = sampleDocument();
+    QVERIFY(document);
+    ExportDialog dialog(document.get(), &m_host);
+    const QFileInfo folder(QFileInfo(dialog.outputEdit()->text()).absolutePath());
+    QVERIFY2(folder.isDir() && folder.isWritable(), qPrintable(folder.absoluteFilePath()));
+    QVERIFY(QFile::setPermissions(readOnly, QFile::ReadOwner | QFile::WriteOwner | QFile::ExeOwner));
   }
 
   // File > Export… is there with Ctrl+E and opens the dialog.

@@ -1,9 +1,11 @@
 // Qt Test driving the studio's main window: import (off the UI thread, through the
 // sandboxed importer), errors, cancel, shortcuts and a rendered window.
 
+#include "editor/document/document.h"
 #include "editor/import_job.h"
 #include "editor/main_window.h"
 #include "editor/models/asset_tree.h"
+#include "editor/views/job_progress.h"
 
 #include <QAction>
 #include <QImage>
@@ -133,8 +135,98 @@ private slots:
     }
     MainWindow reopened;
     QVERIFY(qAbs(reopened.importUnitScale() - 2.54 / 0.45) < 1e-9);
+    // The remembered unit is checked from the start (it was not: the menu was filled after
+    // the saved unit was applied).
+    QVERIFY(reopened.findChild<QAction*>("actionUnit_cmu")->isChecked());
     reopened.findChild<QAction*>("actionUnitFromFile")->trigger();
     QCOMPARE(reopened.importUnitScale(), 0.0);
+    MainWindow fromFile;
+    QVERIFY(fromFile.findChild<QAction*>("actionUnitFromFile")->isChecked());
+    QVERIFY(!fromFile.findChild<QAction*>("actionUnit_cmu")->isChecked());
+  }
+
+  // A file that states no unit gets the preset that makes it a human height, and the
+  // Assets dock says how tall it is and that the unit was guessed.
+  void guessedUnitIsShown() {
+    MainWindow window;
+    window.findChild<QAction*>("actionUnitFromFile")->trigger();
+    QCOMPARE(importAndWait(window, MLOD_SAMPLE).value(0).toBool(), true);
+    const mlod::Asset* asset = window.assetModel()->assetAt(0);
+    QVERIFY(asset);
+    QCOMPARE(QString::fromStdString(asset->unitSource), QString("guessed"));
+    QVERIFY(qAbs(asset->unitScale - 2.54 / 0.45) < 1e-9); // a CMU skeleton
+    const QString detail = window.assetModel()->index(0, AssetTreeModel::DetailColumn).data().toString();
+    QVERIFY2(detail.contains(" m tall") && detail.contains("(guessed)"), qPrintable(detail));
+    QVERIFY(window.logText().contains("states no unit: guessed 5.6444 cm per file unit"));
+  }
+
+  // Progress dialogs show only while work runs: after an import and its clustering they are
+  // hidden, and stay hidden (QProgressDialog's own timer used to show them afterwards).
+  void progressDialogsHideWhenTheJobEnds() {
+    MainWindow window;
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    QSignalSpy analysed(window.document(), &mlod::Document::analysisFinished);
+    QCOMPARE(importAndWait(window, MLOD_SAMPLE).value(0).toBool(), true);
+    QVERIFY(analysed.wait(60000));
+    QTest::qWait(mlod::JobProgress::kShowDelayMs + 500); // past every show timer
+    QVERIFY(window.importProgress());
+    QVERIFY(!window.importProgress()->isVisible());
+    QVERIFY(!window.analysisProgress()->isVisible());
+    QVERIFY(!window.levelsProgress()->isVisible());
+  }
+
+  // The dialog itself: shown once a job has run kShowDelayMs, hidden when it ends; a job
+  // shorter than that never shows it.
+  void jobProgressShowsOnlyForLongWork() {
+    QWidget parent;
+    parent.show();
+    mlod::JobProgress progress("Work", "Cancel", &parent);
+    progress.begin("short", 10);
+    QTest::qWait(50);
+    progress.finish();
+    QTest::qWait(mlod::JobProgress::kShowDelayMs + 300);
+    QVERIFY(!progress.isVisible());
+    progress.begin("long", 10);
+    QTRY_VERIFY_WITH_TIMEOUT(progress.isVisible(), 5000);
+    progress.step(5, 10);
+    QCOMPARE(progress.value(), 5);
+    progress.finish();
+    QVERIFY(!progress.isVisible());
+    QTest::qWait(mlod::JobProgress::kShowDelayMs + 300);
+    QVERIFY(!progress.isVisible());
+  }
+
+  // A project whose "current" fields are all out of range (hand-edited, or from a damaged
+  // file) opens without a crash at the nearest valid view (it crashed in
+  // JointTreeModel::data and MainWindow::refreshStatus).
+  void projectWithEveryCurrentFieldOutOfRangeOpens() {
+    QTemporaryDir dir;
+    for (const QString& current :
+         {QString(R"({"asset":2147483647,"clip":2147483648,"level":2147483648,"joint":"nope"})"),
+          QString(R"({"asset":-7,"clip":-1,"level":-1,"joint":""})"),
+          QString(R"({"asset":0,"clip":99,"level":99,"joint":"Hips"})")}) {
+      const QString path = dir.filePath("out_of_range.mlod");
+      QFile file(path);
+      QVERIFY(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
+      file.write(QString(R"({"format":"motionlod-project","version":1,"alpha":5,"mode":"greedy",)"
+                         R"("levels":[{"threshold":5},{"threshold":50}],)"
+                         R"("assets":[{"path":"%1","unit_scale":5.644444444,"joints":{}}],"current":%2})")
+                     .arg(QString(MLOD_SAMPLE), current)
+                     .toUtf8());
+      file.close();
+      MainWindow window;
+      window.show();
+      QSignalSpy opened(window.document(), &mlod::Document::projectOpened);
+      QVERIFY2(window.openProject(path), qPrintable(current));
+      QVERIFY(opened.wait(60000));
+      QTest::qWait(300); // the views refresh
+      const mlod::Document* document = window.document();
+      QVERIFY(document->currentLevel() >= 0 && document->currentLevel() < document->project().levelCount());
+      QVERIFY(document->currentAsset() >= -1 && document->currentAsset() < document->assetCount());
+      QVERIFY(!window.statusText().isEmpty());
+      window.grab(); // paints every view
+    }
   }
 
   // The common actions have their standard shortcuts and tooltips.

@@ -614,6 +614,48 @@ private slots:
   }
 
   // The main window holds the Viewport and Crowd docks; the status bar shows the current frame.
+  // Floating the Viewport dock and docking it again gives its view a new OpenGL context; the
+  // character is drawn in each (the meshes were lost: the CPU copy was dropped after the
+  // first upload and nothing uploaded again).
+  void viewportKeepsItsMeshesWhenItsDockFloatsAndDocks() {
+    MainWindow window;
+    window.resize(1400, 900);
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    QSignalSpy spy(&window, &MainWindow::importFinished);
+    window.importFileWithUnit(bcnPath(), 100.0);
+    QVERIFY(spy.wait(60000));
+    QVERIFY(waitForFigures(*window.document()));
+    auto* dock = window.findChild<QDockWidget*>("viewportDock");
+    auto* viewport = window.findChild<ViewportPanel*>("viewportPanel");
+    QVERIFY(dock && viewport && viewport->sceneView());
+    dock->raise();
+    SceneView* view = viewport->sceneView();
+    // The character's coloured pixels once the view has painted again.
+    const auto meshPixels = [&](const char* what) {
+      const int before = view->paintCount();
+      view->update();
+      if (!QTest::qWaitFor([&] { return view->isVisible() && view->paintCount() > before; }, 10000))
+        return -1;
+      QTest::qWait(100);
+      const PixelCensus pixels = census(keep(view->grabFramebuffer(), what), QRectF());
+      qInfo("%s: %d blue (original) and %d orange (simplified) pixels of %d coloured", what, pixels.blue, pixels.orange,
+            pixels.saturated);
+      return std::min(pixels.blue, pixels.orange); // both characters, not the skeleton overlay alone
+    };
+    const int docked = meshPixels("docked");
+    QVERIFY2(docked > 300, qPrintable(QString::number(docked)));
+    dock->setFloating(true);
+    QVERIFY(QTest::qWaitForWindowExposed(dock));
+    const int floating = meshPixels("floating");
+    QVERIFY2(floating > 300, qPrintable(QString::number(floating)));
+    dock->setFloating(false);
+    QVERIFY(QTest::qWaitFor([&] { return !dock->isFloating() && dock->isVisible(); }, 5000));
+    dock->raise();
+    const int redocked = meshPixels("redocked");
+    QVERIFY2(redocked > 300, qPrintable(QString::number(redocked)));
+  }
+
   void mainWindowHasTheDocks() {
     MainWindow window;
     window.resize(1400, 900);

@@ -7,6 +7,7 @@
 #include <QChartView>
 #include <QHeaderView>
 #include <QLineSeries>
+#include <QPen>
 #include <QSplitter>
 #include <QTabWidget>
 #include <QTableWidget>
@@ -53,6 +54,25 @@ QChart* StatisticsView::jointChart() const { return m_jointView->chart(); }
 QChart* StatisticsView::frameChart() const { return m_frameView->chart(); }
 QChart* StatisticsView::errorChart() const { return m_errorView->chart(); }
 
+void StatisticsView::setPlayhead(int frame) {
+  if (frame == m_playhead)
+    return;
+  m_playhead = frame;
+  placePlayhead();
+}
+
+void StatisticsView::placePlayhead() {
+  if (!m_playheadLine || !m_analysis || m_level >= m_analysis->levelCount())
+    return;
+  const int frames = m_analysis->levels[static_cast<std::size_t>(m_level)].clusters.frameCount;
+  if (m_playhead < 0 || m_playhead >= frames) {
+    m_playheadLine->clear();
+    return;
+  }
+  const qreal top = m_analysis->prepared->clusterableCount();
+  m_playheadLine->replace(QList<QPointF>{{qreal(m_playhead), 0.0}, {qreal(m_playhead), top}});
+}
+
 void StatisticsView::setAnalysis(std::shared_ptr<const Analysis> analysis, int level, const QStringList& names) {
   m_analysis = std::move(analysis);
   m_level = level;
@@ -93,6 +113,7 @@ void StatisticsView::fillTable() {
 }
 
 void StatisticsView::fillCharts() {
+  m_playheadLine = nullptr; // removeAllSeries() deletes it
   for (QChartView* view : {m_jointView, m_frameView, m_errorView}) {
     view->chart()->removeAllSeries();
     for (QAbstractAxis* axis : view->chart()->axes())
@@ -154,6 +175,14 @@ void StatisticsView::fillCharts() {
   chart->addAxis(countAxis, Qt::AlignLeft);
   line->attachAxis(frameAxis);
   line->attachAxis(countAxis);
+  m_playheadLine = new QLineSeries;
+  m_playheadLine->setObjectName("playhead");
+  m_playheadLine->setName(tr("current frame"));
+  m_playheadLine->setPen(QPen(QColor(220, 60, 40), 1.5));
+  chart->addSeries(m_playheadLine);
+  m_playheadLine->attachAxis(frameAxis);
+  m_playheadLine->attachAxis(countAxis);
+  placePlayhead();
   chart->setTitle(tr("Simplified joints per frame, level %1").arg(m_level));
 
   // Max joint-position error per level.

@@ -14,6 +14,7 @@ class QTableWidget;
 class QTabWidget;
 class QChartView;
 class QChart;
+class QLineSeries;
 
 namespace mlod {
 
@@ -28,19 +29,25 @@ public:
   QChart* jointChart() const;
   QChart* frameChart() const;
   QChart* errorChart() const;
+  // The frame the 3D views show, drawn as a vertical line on the per-frame chart; -1: none.
+  void setPlayhead(int frame);
+  int playhead() const { return m_playhead; }
 
 private:
+  void placePlayhead();
   void fillTable();
   void fillCharts();
 
   std::shared_ptr<const Analysis> m_analysis;
   int m_level = 0;
+  int m_playhead = -1;
   QStringList m_names;
   QTableWidget* m_table;
   QTabWidget* m_tabs;
   QChartView* m_jointView;
   QChartView* m_frameView;
   QChartView* m_errorView;
+  QLineSeries* m_playheadLine = nullptr; // owned by the per-frame chart; null when it has none
 };
 
 } // namespace mlod

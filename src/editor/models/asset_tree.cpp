@@ -30,10 +30,27 @@ QModelIndex AssetTreeModel::addAsset(const std::shared_ptr<const Asset>& asset) 
   m_assets.push_back(asset);
   const QString file = QString::fromStdString(asset->sourcePath);
   const QString kind = asset->meshes.empty() ? tr("motion") : tr("character");
+  // The height says at a glance whether the unit is right (a 1.8 cm character is not).
+  const bool guessed = asset->unitSource == "guessed";
+  const double height = standingHeightCm(*asset);
   QList<QStandardItem*> top =
       row(QFileInfo(file).fileName(),
-          tr("%1 · %2 cm/unit · %3").arg(kind).arg(asset->unitScale).arg(QString::fromStdString(asset->format)),
-          tr("%1\nUnit: %2 cm per file unit (%3)").arg(file).arg(asset->unitScale).arg(QString::fromStdString(asset->unitSource)));
+          tr("%1 · %2 m tall · %3 cm/unit%4 · %5")
+              .arg(kind)
+              .arg(height / 100.0, 0, 'f', 2)
+              .arg(asset->unitScale, 0, 'g', 5)
+              .arg(guessed ? tr(" (guessed)") : QString())
+              .arg(QString::fromStdString(asset->format)),
+          tr("%1\nHeight: %2 cm\nUnit: %3 cm per file unit (%4)%5")
+              .arg(file)
+              .arg(height, 0, 'f', 1)
+              .arg(asset->unitScale, 0, 'g', 6)
+              .arg(QString::fromStdString(asset->unitSource))
+              .arg(guessed ? tr("\nThe file states no unit: this one was guessed from the height. Edit → Asset Unit "
+                                "changes it.")
+                           : QString()));
+  if (guessed)
+    top.back()->setData(QColor(176, 112, 0), Qt::ForegroundRole);
 
   const Skeleton& skeleton = asset->skeleton;
   QList<QStandardItem*> skeletonRow =

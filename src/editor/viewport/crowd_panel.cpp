@@ -119,6 +119,10 @@ CrowdPanel::CrowdPanel(Document* document, Playback* playback, QWidget* parent)
                            "full-detail crowd; vertices skinned (each agent's level mesh); CPU time of level selection "
                            "and pose evaluation; frames per second while the view changes"));
   layout->addWidget(m_figures);
+  m_legend = new QLabel;
+  m_legend->setObjectName("crowdLegend");
+  m_legend->setToolTip(tr("The tint of each LOD level's agents"));
+  layout->addWidget(m_legend);
   m_comparisonLabel = new QLabel;
   m_comparisonLabel->setObjectName("crowdComparison");
   m_comparisonLabel->setWordWrap(true);
@@ -414,6 +418,15 @@ void CrowdPanel::refresh() {
                          : tr("The LOD set has no switch distances yet: every agent plays the last level (LOD Levels "
                               "dock, Budget…)"));
   m_figures->setText(m_overlay.join(QStringLiteral("\n")));
+  QStringList legend; // each level's tint, as the agents wear it
+  for (int l = 0; l < m_crowd.levelCount() && m_tint->isChecked(); ++l)
+    legend << QStringLiteral("<span style='color:%1'>■</span> %2")
+                  .arg(QColor::fromRgbF(crowdLevelTint(l).x, crowdLevelTint(l).y, crowdLevelTint(l).z).name(),
+                       QString::fromStdString(std::size_t(l) < m_document->project().lods.levels.size()
+                                                  ? m_document->project().lods.levels[std::size_t(l)].name
+                                                  : "LOD" + std::to_string(l))
+                           .toHtmlEscaped());
+  m_legend->setText(legend.join(QStringLiteral("&nbsp;&nbsp; ")));
   if (!m_view)
     return;
 

@@ -99,6 +99,7 @@ private:
   Playback* m_playback = nullptr;
   SceneView* m_view = nullptr;
   QLabel* m_figures = nullptr;
+  QLabel* m_legend = nullptr; // the level tints
   QSpinBox* m_agents = nullptr;
   QComboBox* m_layout = nullptr;
   QDoubleSpinBox* m_spacing = nullptr;

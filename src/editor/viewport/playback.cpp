@@ -3,6 +3,8 @@
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QHBoxLayout>
+#include <QSpinBox>
+#include <QShortcut>
 #include <QLabel>
 #include <QSignalBlocker>
 #include <QSlider>
@@ -75,6 +77,11 @@ void Playback::setPlaying(bool playing) {
 
 void Playback::setLoop(bool loop) { m_loop = loop; }
 
+void Playback::stepFrames(int frames) {
+  setPlaying(false);
+  setFrame(std::clamp(frame() + frames, 0, std::max(0, m_frames - 1)));
+}
+
 void Playback::setSpeed(double speed) { m_speed = std::isfinite(speed) ? std::clamp(speed, 0.01, 10.0) : 1.0; }
 
 void Playback::tick() {
@@ -105,12 +112,17 @@ TimelineWidget::TimelineWidget(Playback* playback, QWidget* parent) : QWidget(pa
   m_speed->setSuffix(QStringLiteral("×"));
   m_speed->setValue(playback->speed());
   m_speed->setToolTip(tr("Playback speed"));
+  m_frameBox = new QSpinBox;
+  m_frameBox->setObjectName("frameBox");
+  m_frameBox->setKeyboardTracking(false); // a typed number applies on Enter, not digit by digit
+  m_frameBox->setToolTip(tr("The current frame: type a frame number and press Enter (← → or , . step, Home End)"));
   m_label = new QLabel;
   m_label->setObjectName("frameLabel");
-  m_label->setMinimumWidth(170);
-  m_label->setToolTip(tr("Current frame / last frame · time in seconds"));
+  m_label->setMinimumWidth(120);
+  m_label->setToolTip(tr("Last frame · time in seconds"));
   layout->addWidget(m_play);
   layout->addWidget(m_slider, 1);
+  layout->addWidget(m_frameBox);
   layout->addWidget(m_label);
   layout->addWidget(m_loop);
   layout->addWidget(m_speed);
@@ -121,6 +133,12 @@ TimelineWidget::TimelineWidget(Playback* playback, QWidget* parent) : QWidget(pa
       playback->setFrame(frame);
   });
   connect(m_slider, &QSlider::sliderPressed, playback, [playback] { playback->setPlaying(false); });
+  connect(m_frameBox, &QSpinBox::valueChanged, playback, [playback](int frame) {
+    if (frame != playback->frame()) {
+      playback->setPlaying(false);
+      playback->setFrame(frame);
+    }
+  });
   connect(m_loop, &QCheckBox::toggled, playback, &Playback::setLoop);
   connect(m_speed, &QDoubleSpinBox::valueChanged, playback, &Playback::setSpeed);
   connect(playback, &Playback::timeChanged, this, &TimelineWidget::refresh);
@@ -140,13 +158,38 @@ QString TimelineWidget::frameText() const {
       .arg(m_playback->seconds(), 0, 'f', 3);
 }
 
+void TimelineWidget::addKeys(QWidget* scope) {
+  const auto key = [&](QKeySequence sequence, auto&& slot) {
+    auto* shortcut = new QShortcut(sequence, scope);
+    shortcut->setContext(Qt::WidgetWithChildrenShortcut);
+    connect(shortcut, &QShortcut::activated, m_playback, slot);
+  };
+  Playback* playback = m_playback;
+  key(QKeySequence(Qt::Key_Right), [playback] { playback->stepFrames(1); });
+  key(QKeySequence(Qt::Key_Period), [playback] { playback->stepFrames(1); });
+  key(QKeySequence(Qt::Key_Left), [playback] { playback->stepFrames(-1); });
+  key(QKeySequence(Qt::Key_Comma), [playback] { playback->stepFrames(-1); });
+  key(QKeySequence(Qt::Key_Home), [playback] { playback->goToFirstFrame(); });
+  key(QKeySequence(Qt::Key_End), [playback] { playback->goToLastFrame(); });
+}
+
 void TimelineWidget::refresh() {
-  const QSignalBlocker block(m_slider);
-  m_slider->setRange(0, std::max(0, m_playback->frameCount() - 1));
-  m_slider->setValue(m_playback->frame());
-  m_slider->setEnabled(m_playback->frameCount() > 1);
+  const int last = std::max(0, m_playback->frameCount() - 1);
+  {
+    const QSignalBlocker block(m_slider);
+    m_slider->setRange(0, last);
+    m_slider->setValue(m_playback->frame());
+    m_slider->setEnabled(m_playback->frameCount() > 1);
+  }
+  {
+    const QSignalBlocker block(m_frameBox);
+    m_frameBox->setRange(0, last);
+    m_frameBox->setValue(m_playback->frame());
+    m_frameBox->setEnabled(m_playback->frameCount() > 1);
+  }
   m_play->setEnabled(m_playback->frameCount() > 1);
-  m_label->setText(frameText());
+  m_label->setText(m_playback->frameCount() < 1 ? tr("no clip")
+                                                : tr("/ %1 · %2 s").arg(last).arg(m_playback->seconds(), 0, 'f', 3));
 }
 
 } // namespace mlod

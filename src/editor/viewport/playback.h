@@ -1,7 +1,8 @@
 #pragma once
 // The one current time every 3D view follows (the character view, the crowd, the status
-// bar), and the timeline that drives it: play/pause (Space), scrub, loop, speed, frame
-// number and time.
+// bar, the per-frame chart), and the timeline that drives it: play/pause (Space), scrub,
+// step a frame (← → or , .), first and last frame (Home End), a typed frame number, loop,
+// speed, time.
 
 #include <QElapsedTimer>
 #include <QObject>
@@ -12,6 +13,7 @@ class QCheckBox;
 class QDoubleSpinBox;
 class QLabel;
 class QSlider;
+class QSpinBox;
 class QToolButton;
 
 namespace mlod {
@@ -32,6 +34,10 @@ public:
   int frame() const; // the nearest frame
   void setSeconds(double seconds);
   void setFrame(int frame) { setSeconds(frame / m_fps); }
+  // Stops and moves `frames` frames (negative: back), within the clip.
+  void stepFrames(int frames);
+  void goToFirstFrame() { stepFrames(-frame()); }
+  void goToLastFrame() { stepFrames(m_frames - 1 - frame()); }
   // Advances by `seconds` x speed, wrapping (loop) or stopping at the end.
   void advance(double seconds);
 
@@ -66,6 +72,10 @@ public:
   explicit TimelineWidget(Playback* playback, QWidget* parent = nullptr);
 
   QSlider* slider() const { return m_slider; }
+  QSpinBox* frameBox() const { return m_frameBox; }
+  // The timeline's keys (← → , . Home End) wherever the focus is inside `scope` (the panel
+  // that holds this timeline and its view).
+  void addKeys(QWidget* scope);
   QToolButton* playButton() const { return m_play; }
   QString frameText() const;
 
@@ -75,6 +85,7 @@ private:
   Playback* m_playback = nullptr;
   QToolButton* m_play = nullptr;
   QSlider* m_slider = nullptr;
+  QSpinBox* m_frameBox = nullptr;
   QCheckBox* m_loop = nullptr;
   QDoubleSpinBox* m_speed = nullptr;
   QLabel* m_label = nullptr;

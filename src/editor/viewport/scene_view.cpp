@@ -67,6 +67,10 @@ SceneView::SceneView(QWidget* parent) : QOpenGLWidget(parent) {
 }
 
 SceneView::~SceneView() {
+  releaseGL();
+}
+
+void SceneView::releaseGL() {
   if (!m_ready)
     return;
   makeCurrent();
@@ -74,9 +78,13 @@ SceneView::~SceneView() {
   glDeleteBuffers(1, &m_lineVbo);
   glDeleteVertexArrays(1, &m_lineVao);
   glDeleteTextures(1, &m_paletteTexture);
+  m_lineVbo = m_lineVao = m_paletteTexture = 0;
   m_skinned.reset();
   m_lineProgram.reset();
   doneCurrent();
+  m_ready = false;
+  m_textureRows = 0;    // the next context's texture has no storage yet
+  m_texelsDirty = true; // and the palettes go up again
 }
 
 int SceneView::addMesh(const SkinnedMesh& mesh) {
@@ -151,6 +159,10 @@ glm::mat4 SceneView::viewProjection() const {
 }
 
 void SceneView::initializeGL() {
+  // note: a QOpenGLWidget moved to another window (its dock floats or docks again) gets a
+  // new context and calls initializeGL() again; the old context takes its objects with it.
+  connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, &SceneView::releaseGL, Qt::UniqueConnection);
+  m_glError.clear();
   if (!initializeOpenGLFunctions()) {
     m_glError = tr("OpenGL 3.3 core is not available here (%1).")
                     .arg(QString::fromLatin1(reinterpret_cast<const char*>(context()->functions()->glGetString(GL_VERSION))));
@@ -233,7 +245,6 @@ void SceneView::upload(GpuMesh& mesh) {
   glVertexAttribDivisor(5, 1);
   glBindVertexArray(0);
   mesh.indexCount = static_cast<int>(source.indices.size());
-  mesh.source = SkinnedMesh();
   mesh.uploaded = true;
 }
 

@@ -92,12 +92,17 @@ protected:
 
 private:
   struct GpuMesh {
-    SkinnedMesh source; // dropped after upload
+    // Kept after upload: a new context (the dock floated or docked again gives the widget
+    // another window, and with it another context) uploads it again.
+    SkinnedMesh source;
     bool uploaded = false;
     unsigned vao = 0, vbo = 0, ibo = 0, instances = 0;
     int indexCount = 0;
   };
   void upload(GpuMesh& mesh);
+  // Frees every GL object while its context is still there (it is about to go: the widget
+  // moves to another window, or is destroyed); initializeGL() builds them anew.
+  void releaseGL();
   void releaseMeshes(bool all); // all: every mesh (the context goes); else what clearMeshes() left
   void drawBatches(const glm::mat4& viewProjection, bool transparent);
   void drawLines(const glm::mat4& viewProjection, bool grid);

@@ -84,6 +84,7 @@ ViewportPanel::ViewportPanel(Document* document, QWidget* parent)
     layout->addWidget(m_noGl, 1);
   }
   m_timeline = new TimelineWidget(m_playback);
+  m_timeline->addKeys(this);
   layout->addWidget(m_timeline);
 
   // Space plays and pauses wherever the focus is in this dock (the view, the timeline, the bar).

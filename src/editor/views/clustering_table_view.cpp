@@ -52,8 +52,11 @@ void ClusteringTableView::resetZoom() {
   update();
 }
 
+// Room right of the table for its colour scale.
+constexpr int kLegendWidth = 78;
+
 QRect ClusteringTableView::plotRect() const {
-  const int side = std::max(10, std::min(width() - 56, height() - 40));
+  const int side = std::max(10, std::min(width() - 56 - kLegendWidth, height() - 40));
   return QRect(48, 8, side, side);
 }
 
@@ -103,6 +106,7 @@ void ClusteringTableView::renderImage() {
       largest = std::max(largest, e);
     }
   }
+  m_largest = largest;
   for (int y = 0; y < r.height(); ++y) {
     const int ref = static_cast<int>(std::floor(m_first + (y + 0.5) / r.height() * m_span));
     if (ref < 0 || ref >= frames)
@@ -159,13 +163,51 @@ void ClusteringTableView::paintEvent(QPaintEvent*) {
   painter.drawText(QRect(0, r.bottom() - 20, r.left() - 4, 20), Qt::AlignRight, QString::number(int(m_first + m_span)));
   painter.drawText(QRect(r.left(), r.bottom() + 2, r.width(), 18), Qt::AlignLeft,
                    tr("t →   (t_ref ↓)   T = %1 cm·°, %2 clusters").arg(m_threshold).arg(clusters.size()));
+  paintLegend(painter, r);
+}
+
+void ClusteringTableView::paintLegend(QPainter& painter, const QRect& plot) const {
+  // The colour scale: E from 0 (bottom) to the largest in view (top), square-root spaced as
+  // heat() maps it; the threshold T marked; dimmed colours are entries outside a run.
+  const QRect bar(plot.right() + 12, plot.top() + 14, 12, std::max(20, plot.height() - 28));
+  for (int y = 0; y < bar.height(); ++y) {
+    const double x = 1.0 - (y + 0.5) / bar.height(); // heat()'s sqrt(E / largest)
+    painter.setPen(QColor(heat(x * x * m_largest, m_largest, true)));
+    painter.drawLine(bar.left(), bar.top() + y, bar.right(), bar.top() + y);
+  }
+  painter.setPen(palette().color(QPalette::Text));
+  painter.setBrush(Qt::NoBrush);
+  painter.drawRect(bar.adjusted(0, 0, -1, -1));
+  const auto yOf = [&](double error) {
+    const double x = m_largest > 0.0 ? std::sqrt(std::clamp(error / m_largest, 0.0, 1.0)) : 0.0;
+    return bar.bottom() - x * bar.height();
+  };
+  const int textLeft = bar.right() + 4;
+  const int textWidth = width() - textLeft;
+  painter.drawText(QRect(bar.left() - 8, plot.top() - 2, textWidth + 20, 14), Qt::AlignLeft, tr("E cm·°"));
+  painter.drawText(QRect(textLeft, bar.top() - 7, textWidth, 14), Qt::AlignLeft | Qt::AlignVCenter,
+                   QString::number(m_largest, 'f', m_largest < 10.0 ? 1 : 0));
+  painter.drawText(QRect(textLeft, bar.bottom() - 7, textWidth, 14), Qt::AlignLeft | Qt::AlignVCenter,
+                   QStringLiteral("0"));
+  if (m_threshold > 0.0 && m_threshold < m_largest) {
+    const int y = static_cast<int>(std::lround(yOf(m_threshold)));
+    painter.setPen(QPen(palette().color(QPalette::Text), 1.5));
+    painter.drawLine(bar.left() - 3, y, bar.right() + 3, y);
+    painter.drawText(QRect(textLeft + 2, y - 7, textWidth, 14), Qt::AlignLeft | Qt::AlignVCenter,
+                     tr("T %1").arg(m_threshold));
+  }
 }
 
 void ClusteringTableView::wheelEvent(QWheelEvent* event) {
   if (!m_table)
     return;
-  const double anchor = frameAtX(event->position().x());
-  const double factor = event->angleDelta().y() > 0 ? 0.8 : 1.25;
+  const int delta = event->angleDelta().y() != 0 ? event->angleDelta().y() : event->angleDelta().x();
+  if (delta == 0) { // a touchpad's phase event: no zoom either way
+    event->accept();
+    return;
+  }
+  const double anchor = frameAtX(event->position().x()); // the frame under the cursor stays there
+  const double factor = delta > 0 ? 0.8 : 1.25;
   const double frames = m_table->frameCount();
   m_span = std::clamp(m_span * factor, 8.0, frames);
   m_first = std::clamp(anchor - (anchor - m_first) * factor, 0.0, std::max(0.0, frames - m_span));

@@ -33,6 +33,8 @@ public:
   };
   std::optional<Entry> entryAt(QPoint position) const;
   bool hasTable() const { return m_table != nullptr; }
+  // The largest E in view (cm·degrees): the top of the colour scale drawn beside the table.
+  double scaleMaximum() const { return m_largest; }
   QImage renderedImage() const { return m_image; }
 
 signals:
@@ -49,6 +51,7 @@ protected:
 private:
   QRect plotRect() const;
   void renderImage();
+  void paintLegend(QPainter& painter, const QRect& plot) const;
   double frameAtX(double x) const;
   double frameAtY(double y) const;
 
@@ -58,6 +61,7 @@ private:
   const JointTrack* m_track = nullptr;
   std::unique_ptr<ClusteringTable> m_table;
   double m_threshold = 0.0;
+  double m_largest = 0.0;
   double m_first = 0.0, m_span = 1.0;
   QImage m_image;
   bool m_dirty = true;

@@ -21,6 +21,7 @@
 #include <QProgressDialog>
 #include <QPushButton>
 #include <QSettings>
+#include <QStandardPaths>
 #include <QSpinBox>
 #include <QToolButton>
 #include <QUrl>
@@ -133,6 +134,7 @@ ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* 
   connect(m_exportButton, &QPushButton::clicked, this, &ExportDialog::startExport);
   connect(browseButton, &QToolButton::clicked, this, &ExportDialog::browse);
   connect(m_plugin, &QComboBox::currentIndexChanged, this, [this] {
+    m_result->clear(); // the last result was another format's
     rebuildOptions();
     // keep the output's name, change its suffix to the plugin's
     const PluginInfo* info = nullptr;
@@ -152,7 +154,13 @@ ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* 
   m_plugin->setCurrentIndex(lastIndex >= 0 ? lastIndex : 0);
   rebuildOptions();
   if (m_asset >= 0 && m_plugin->count() > 0) {
-    const QString folder = QSettings().value("export/lastDir", QFileInfo(document->assetFilePath(m_asset)).absolutePath()).toString();
+    // A folder the export can be written to: the last one chosen, the project's, else
+    // Documents; never the source's folder just because the asset is there (often read-only).
+    const QString folder = firstWritableFolder(
+        {QSettings().value("export/lastDir").toString(),
+         document->fileName().isEmpty() ? QString() : QFileInfo(document->fileName()).absolutePath(),
+         QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation),
+         QStandardPaths::writableLocation(QStandardPaths::HomeLocation), QDir::tempPath()});
     const QString suffix = m_host->plugins().value(m_plugin->currentIndex()).suffixes.value(0);
     m_output->setText(QDir(folder).filePath(QFileInfo(document->assetFilePath(m_asset)).completeBaseName() + '.' + suffix));
   }
@@ -164,6 +172,15 @@ ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* 
                           .arg(reasons.isEmpty() ? QString() : QStringLiteral("<br>") + reasons.join(QStringLiteral("<br>"))));
   }
   m_exportButton->setEnabled(m_asset >= 0 && m_plugin->count() > 0);
+}
+
+QString firstWritableFolder(const QStringList& candidates) {
+  for (const QString& folder : candidates) {
+    const QFileInfo info(folder);
+    if (!folder.isEmpty() && info.isDir() && info.isWritable())
+      return info.absoluteFilePath();
+  }
+  return QDir::currentPath();
 }
 
 ExportDialog::~ExportDialog() {
@@ -221,6 +238,17 @@ void ExportDialog::rebuildOptions() {
       break;
     }
     }
+    // Any change of an option makes the last result stale.
+    if (auto* box = qobject_cast<QCheckBox*>(editor))
+      connect(box, &QCheckBox::toggled, m_result, &QLabel::clear);
+    else if (auto* spin = qobject_cast<QSpinBox*>(editor))
+      connect(spin, &QSpinBox::valueChanged, m_result, &QLabel::clear);
+    else if (auto* dspin = qobject_cast<QDoubleSpinBox*>(editor))
+      connect(dspin, &QDoubleSpinBox::valueChanged, m_result, &QLabel::clear);
+    else if (auto* line = qobject_cast<QLineEdit*>(editor))
+      connect(line, &QLineEdit::textEdited, m_result, &QLabel::clear);
+    else if (auto* combo = qobject_cast<QComboBox*>(editor))
+      connect(combo, &QComboBox::currentIndexChanged, m_result, &QLabel::clear);
     editor->setObjectName(QStringLiteral("option_") + option.key);
     editor->setToolTip(option.help);
     auto* label = new QLabel(option.key + ':', m_optionsBox);
@@ -277,9 +305,22 @@ void ExportDialog::startExport() {
   Exporter* exporter = m_host->exporter(m_plugin->currentData().toString());
   if (!exporter)
     return showResult(false, tr("Choose an exporter plugin."));
-  const QString path = m_output->text().trimmed();
+  QString path = m_output->text().trimmed();
   if (path.isEmpty())
     return showResult(false, tr("Choose the output file."));
+  // The file's suffix says its format: none gets the plugin's; another format's is refused
+  // (a .glb written as a runtime bundle would mislead every tool that opens it).
+  const QStringList suffixes = exporter->suffixes();
+  const QString suffix = QFileInfo(path).suffix();
+  if (suffix.isEmpty() && !suffixes.isEmpty()) {
+    path += '.' + suffixes.first();
+    m_output->setText(path);
+  } else if (!suffixes.isEmpty() && !suffixes.contains(suffix, Qt::CaseInsensitive)) {
+    return showResult(false, tr("%1 ends in .%2, which is not what %3 writes (.%4): change the file's suffix or "
+                                "the plugin.")
+                                 .arg(QFileInfo(path).fileName().toHtmlEscaped(), suffix.toHtmlEscaped(),
+                                      m_plugin->currentText().toHtmlEscaped(), suffixes.join(QStringLiteral(", ."))));
+  }
   QVariantMap options;
   QString error;
   if (!currentOptions(&options, &error))

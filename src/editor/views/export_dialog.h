@@ -30,6 +30,10 @@ class Document;
 class PluginHost;
 struct ExportResult;
 
+// The first of `candidates` that is a folder this user can write to (the current folder
+// when none is).
+QString firstWritableFolder(const QStringList& candidates);
+
 class ExportDialog : public QDialog {
   Q_OBJECT
 public:

@@ -154,6 +154,41 @@ TEST(Project, VersionOneGetsTheOriginalLevelInFront) {
   EXPECT_TRUE(*projectFromJson(saved) == *read);
 }
 
+// Guards the view of a hand-edited or damaged file: every "current" field out of range reads as
+// the nearest valid view (a level of the set, an asset of the project, a clip >= 0), not as a
+// refusal and not as an index that crashes the editor (2^31 read as -2^31 did).
+TEST(Project, CurrentFieldsOutOfRangeAreBroughtInRange) {
+  struct Case {
+    const char* current;
+    ProjectView expected;
+  };
+  for (const Case& c : {Case{R"({"asset": 2147483648, "clip": 2147483648, "level": 2147483648, "joint": "x"})",
+                             {0, 1073741823, 3, "x"}},
+                        Case{R"({"asset": -5, "clip": -1, "level": -1, "joint": ""})", {0, 0, 0, ""}},
+                        Case{R"({"asset": -1, "clip": 7, "level": 4, "joint": ""})", {-1, 7, 3, ""}},
+                        Case{R"({"asset": 18446744073709551615, "clip": -9223372036854775808, "level": 2,)"
+                             R"( "joint": ""})",
+                             {0, 0, 2, ""}}}) {
+    SCOPED_TRACE(c.current);
+    std::string text = projectToJson(sampleProject());
+    const std::size_t at = text.find("\"current\": ");
+    ASSERT_NE(at, std::string::npos);
+    text = text.substr(0, at) + "\"current\": " + c.current + text.substr(text.find('}', at) + 1);
+    const Result<Project> read = projectFromJson(text);
+    ASSERT_TRUE(read) << read.message();
+    EXPECT_EQ(read->view.asset, c.expected.asset);
+    EXPECT_EQ(read->view.clip, c.expected.clip);
+    EXPECT_EQ(read->view.level, c.expected.level);
+    EXPECT_EQ(read->view.joint, c.expected.joint);
+  }
+  // A value that is no integer is still refused: the file is not what it claims.
+  std::string text = projectToJson(sampleProject());
+  const std::size_t at = text.find("\"level\": 2");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 10, "\"level\": \"2\"");
+  EXPECT_FALSE(projectFromJson(text));
+}
+
 // Guards mappings: they follow their assets when one is removed or inserted, and a mapping
 // to an asset that is not there is refused.
 TEST(Project, MappingsFollowTheirAssets) {

@@ -7,6 +7,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace mlod {
 namespace {
 
@@ -79,9 +81,13 @@ TEST(BvhImport, RootTranslationAndUnitScale) {
 // Guards End Sites as leaf joints without a rotation channel, and the frame rate taken
 // from "Frame Time" (0.0333333 s is 30 fps, not 30.0000003).
 TEST(BvhImport, EndSitesFramesAndRate) {
-  const Asset asset = importText("endsite.bvh", test::makeBvh(kRoot6, "Zrotation Yrotation Xrotation", 3, "0.0333333",
-                                                              "0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 1 0 0\n"
-                                                              "0 0 0 0 0 0 2 0 0\n"));
+  ImportOptions options; // a stated unit: no guess, so no warning that the guess failed
+  options.unitScale = 1.0;
+  const Asset asset = importText("endsite.bvh",
+                                 test::makeBvh(kRoot6, "Zrotation Yrotation Xrotation", 3, "0.0333333",
+                                               "0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 1 0 0\n"
+                                               "0 0 0 0 0 0 2 0 0\n"),
+                                 options);
   ASSERT_EQ(asset.skeleton.jointCount(), 3);
   EXPECT_EQ(asset.skeleton.joints[2].name, "EndSite_Chest");
   EXPECT_EQ(asset.skeleton.joints[2].parent, 1);
@@ -117,6 +123,54 @@ TEST(BvhImport, ZeroLengthBones) {
   ASSERT_EQ(asset.skeleton.jointCount(), 4);
   EXPECT_EQ(asset.skeleton.joints[1].rest.translation, glm::vec3(0.0f));
   EXPECT_EQ(asset.clips.at(0).fps, 120.0);
+}
+
+// Guards the unit guess (docs/architecture.md section 3): the preset that puts the height nearest
+// 170 cm, only within 100-250 cm.
+TEST(UnitScale, GuessPicksThePresetNearestAHumanHeight) {
+  const auto guess = [](double height) {
+    const UnitPreset* preset = guessUnitPreset(height);
+    return preset ? std::string(preset->name) : std::string("none");
+  };
+  EXPECT_EQ(guess(1.8), "m");     // 180 cm
+  EXPECT_EQ(guess(170.0), "cm");  // the file is in cm already
+  EXPECT_EQ(guess(1750.0), "mm"); // 175 cm
+  EXPECT_EQ(guess(70.0), "inch"); // 177.8 cm (cmu would make 395 cm)
+  EXPECT_EQ(guess(30.0), "cmu");  // 169.3 cm (inch would make 76 cm)
+  EXPECT_EQ(guess(15.0), "none"); // 38 cm in inches, 85 cm in CMU units: no human
+  EXPECT_EQ(guess(5000.0), "none");
+  EXPECT_EQ(guess(0.0), "none");
+  EXPECT_EQ(guess(std::nan("")), "none");
+}
+
+// Guards the guess on import: a file without a unit is scaled to the guessed preset and says
+// so; one that no preset makes human stays at 1 cm per unit with a warning; an option wins.
+TEST(BvhImport, UnitIsGuessedFromTheStandingHeight) {
+  // Hips at 0, chest 10 above, head end 20 above the chest: 30 units tall, a CMU-sized figure.
+  const std::string text = "HIERARCHY\nROOT Hips\n{\n OFFSET 0 0 0\n CHANNELS 6 " + std::string(kRoot6) +
+                           "\n JOINT Chest\n {\n  OFFSET 0 10 0\n  CHANNELS 3 Zrotation Yrotation Xrotation\n"
+                           "  End Site\n  {\n   OFFSET 0 20 0\n  }\n }\n}\nMOTION\nFrames: 1\nFrame Time: 0.0083333\n"
+                           "1 2 3 0 0 0 0 0 0\n";
+  const Asset guessed = importText("cmu_sized.bvh", text);
+  EXPECT_EQ(guessed.unitSource, "guessed");
+  EXPECT_NEAR(guessed.unitScale, 2.54 / 0.45, 1e-9);
+  EXPECT_NEAR(standingHeightCm(guessed), 30.0 * 2.54 / 0.45, 1e-3);
+  EXPECT_NEAR(guessed.clips.at(0).translation(0, 0).z, 3.0 * 2.54 / 0.45, 1e-4); // every length follows
+  EXPECT_TRUE(guessed.warnings.empty());
+
+  const Asset small = importText(
+      "small.bvh", test::makeBvh(kRoot6, "Zrotation Yrotation Xrotation", 1, "0.0333333", "0 0 0 0 0 0 0 0 0\n"));
+  EXPECT_EQ(small.unitSource, "guessed");
+  EXPECT_EQ(small.unitScale, 1.0);
+  ASSERT_EQ(small.warnings.size(), 1u);
+  EXPECT_NE(small.warnings[0].find("states no unit"), std::string::npos);
+
+  ImportOptions options;
+  options.unitScale = 1.0;
+  const Asset chosen = importText("cmu_sized.bvh", text, options);
+  EXPECT_EQ(chosen.unitSource, "option");
+  EXPECT_EQ(chosen.unitScale, 1.0);
+  EXPECT_NEAR(standingHeightCm(chosen), 30.0, 1e-4);
 }
 
 // Guards the unit presets users pick for files without a unit.

@@ -181,6 +181,24 @@ TEST(RealFiles, CommittedCountsFollowFromTheFiles) {
   }
 }
 
+// Guards the unit guess on real files that state no unit (the issue: BCN_Epileptic.X read
+// at 1 cm per unit was a 1.8 cm character): each becomes a human height.
+TEST(RealFiles, UnitsAreGuessedToAHumanHeight) {
+  struct Case {
+    const char* path;
+    double unitCm;
+  };
+  for (const Case& c :
+       {Case{"X/BCN_Epileptic.X", 100.0}, Case{"BVH/01_01.bvh", 2.54 / 0.45}, Case{"BVH/01_03.bvh", 2.54 / 0.45}}) {
+    SCOPED_TRACE(c.path);
+    const Asset asset = importModel(c.path);
+    EXPECT_EQ(asset.unitSource, "guessed");
+    EXPECT_NEAR(asset.unitScale, c.unitCm, 1e-9);
+    EXPECT_GT(standingHeightCm(asset), 140.0);
+    EXPECT_LT(standingHeightCm(asset), 200.0);
+  }
+}
+
 // Guards CMU 01_01 against the file's own text: the header's frame count, the End Sites,
 // the zero-length hips and the first motion row (root position and ZYX rotation, degrees).
 TEST(RealFiles, Cmu0101AgreesWithItsText) {
