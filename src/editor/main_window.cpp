@@ -550,7 +550,11 @@ void MainWindow::buildActions() {
   undo->setShortcut(QKeySequence::Undo);
   QAction* redo = stack->createRedoAction(this, tr("&Redo"));
   redo->setObjectName("actionRedo");
-  redo->setShortcut(QKeySequence::Redo);
+  // The platform's redo keys (Ctrl+Y on some, Ctrl+Shift+Z on others), and Ctrl+Shift+Z on all.
+  QList<QKeySequence> redoKeys = QKeySequence::keyBindings(QKeySequence::Redo);
+  if (!redoKeys.contains(QKeySequence("Ctrl+Shift+Z")))
+    redoKeys.append(QKeySequence("Ctrl+Shift+Z"));
+  redo->setShortcuts(redoKeys);
   QMenu* edit = new QMenu(tr("&Edit"), this);
   menuBar()->insertMenu(m_ui->menuView->menuAction(), edit);
   edit->addAction(undo);

@@ -24,10 +24,12 @@
 #include <QDoubleSpinBox>
 #include <QFile>
 #include <QInputDialog>
+#include <QHeaderView>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QLineEdit>
+#include <QLineSeries>
 #include <QMessageBox>
 #include <QProcess>
 #include <QProgressDialog>
@@ -41,6 +43,7 @@
 #include <QToolButton>
 #include <QTreeView>
 #include <QUndoStack>
+#include <QWheelEvent>
 
 using namespace mlod;
 
@@ -103,6 +106,18 @@ class TestEditor : public QObject {
     return window;
   }
 
+  // A window shortcut: the window is made active first (on the offscreen platform nothing
+  // gives activation back once another window had it, and shortcuts need it).
+  static void press(MainWindow& window, Qt::Key key, Qt::KeyboardModifiers modifiers = {}) {
+    if (QApplication::activeWindow() != &window) {
+      window.activateWindow();
+      QVERIFY(QTest::qWaitForWindowActive(&window));
+      if (QApplication::activeWindow() != &window) // offscreen, after a modal box: the window's handle is
+        QApplication::setActiveWindow(&window);    // active but the application was not told
+    }
+    QTest::keyClick(&window, key, modifiers);
+  }
+
   int jointIndex(MainWindow& window, const char* name) {
     return window.document()->currentAssetPtr()->skeleton.find(name);
   }
@@ -126,7 +141,9 @@ class TestEditor : public QObject {
     view->selectionModel()->setCurrentIndex(index, selected ? QItemSelectionModel::NoUpdate
                                                             : QItemSelectionModel::ClearAndSelect | QItemSelectionModel::Rows);
     QTest::keyClick(view, Qt::Key_F2);
-    auto* editor = view->findChild<QDoubleSpinBox*>("thresholdEditor");
+    // The editor of this very cell: findChild() could return the last edit's editor, closed
+    // but not deleted yet (deleteLater), and the value typed into it went nowhere.
+    auto* editor = qobject_cast<QDoubleSpinBox*>(view->indexWidget(index));
     if (!editor)
       return false;
     editor->selectAll();
@@ -240,11 +257,11 @@ private slots:
     QVERIFY(waitForFigures(document));
     const Figures after = figuresOf(*document);
     QVERIFY(after != before);
-    QTest::keyClick(window.get(), Qt::Key_Z, Qt::ControlModifier);
+    press(*window, Qt::Key_Z, Qt::ControlModifier);
     QVERIFY(waitForFigures(document));
     QVERIFY(figuresOf(*document) == before);
     QCOMPARE(tableText(window->statisticsView()), tableBefore);
-    QTest::keyClick(window.get(), Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+    press(*window, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
     QVERIFY(waitForFigures(document));
     QVERIFY(figuresOf(*document) == after);
   }
@@ -292,7 +309,7 @@ private slots:
       QCOMPARE(level.joints[std::size_t(joint)].clusters, 0);
     }
     QCOMPARE(lock.data(Qt::CheckStateRole).toInt(), int(Qt::Checked));
-    QTest::keyClick(window.get(), Qt::Key_L, Qt::ControlModifier);
+    press(*window, Qt::Key_L, Qt::ControlModifier);
     QVERIFY(waitForFigures(document));
     QVERIFY(!document->project().assets[0].joints.count("Spine"));
     QVERIFY(document->analysis()->levels[4].joints[std::size_t(joint)].clusters > 0);
@@ -325,7 +342,7 @@ private slots:
     const int joint = jointIndex(*window, "LeftUpLeg");
     QVERIFY(editThreshold(*window, joint, "60"));
     clickJoint(*window, joint);
-    QTest::keyClick(window.get(), Qt::Key_C, Qt::ControlModifier | Qt::ShiftModifier);
+    press(*window, Qt::Key_C, Qt::ControlModifier | Qt::ShiftModifier);
     QVERIFY(waitForFigures(document));
     const auto& joints = document->project().assets[0].joints;
     for (const char* name : {"LeftLeg", "LeftFoot", "LeftToeBase"}) {
@@ -456,8 +473,8 @@ private slots:
     QVERIFY(window);
     Document* document = window->document();
     clickJoint(*window, jointIndex(*window, "LeftUpLeg"));
-    QTest::keyClick(window.get(), Qt::Key_PageDown);
-    QTest::keyClick(window.get(), Qt::Key_PageDown);
+    press(*window, Qt::Key_PageDown);
+    press(*window, Qt::Key_PageDown);
     QCOMPARE(document->currentLevel(), 3);
     QCOMPARE(window->levelsView()->currentIndex().row(), 3);
     QCOMPARE(window->jointModel()->headerData(JointTreeModel::ThresholdColumn, Qt::Horizontal).toString(),
@@ -486,6 +503,56 @@ private slots:
     QCOMPARE(entry->error, track.error(entry->t, entry->ref));
     QTest::mouseClick(view, Qt::RightButton, {}, centre); // right click resets the zoom
     QCOMPARE(view->visibleFrames(), 480.0);
+    // The colour scale beside the table runs to the largest E in view (cm·°); a wheel event
+    // without a vertical or horizontal step (a touchpad's phase) zooms neither way.
+    view->grab();
+    QVERIFY(view->scaleMaximum() >= entry->error);
+    QVERIFY(view->scaleMaximum() > 0.0);
+    QWheelEvent still(centre, view->mapToGlobal(centre), {}, QPoint(0, 0), Qt::NoButton, Qt::NoModifier,
+                      Qt::ScrollUpdate, false);
+    QApplication::sendEvent(view, &still);
+    QCOMPARE(view->visibleFrames(), 480.0);
+  }
+
+  // The per-frame chart carries a playhead at the frame the 3D views show.
+  void perFrameChartHasThePlayhead() {
+    auto window = openSample();
+    QVERIFY(window);
+    StatisticsView* statistics = window->statisticsView();
+    statistics->setPlayhead(120);
+    QLineSeries* playhead = nullptr;
+    for (QAbstractSeries* series : statistics->frameChart()->series())
+      if (series->objectName() == "playhead")
+        playhead = qobject_cast<QLineSeries*>(series);
+    QVERIFY(playhead);
+    QCOMPARE(playhead->count(), 2);
+    QCOMPARE(playhead->at(0).x(), 120.0);
+    QCOMPARE(playhead->at(1).x(), 120.0);
+    QVERIFY(playhead->at(1).y() > playhead->at(0).y());
+    statistics->setPlayhead(-1);
+    QCOMPARE(playhead->count(), 0);
+  }
+
+  // Joint names are readable: the figure columns are as wide as their headers, the name
+  // column fits the names (up to 240 px) and elides in the middle; every LOD level is in
+  // sight without scrolling.
+  void skeletonAndLevelsDocksAreReadable() {
+    auto window = openSample();
+    QVERIFY(window);
+    QTreeView* tree = window->skeletonView();
+    QCOMPARE(tree->textElideMode(), Qt::ElideMiddle);
+    for (int column = 1; column < JointTreeModel::ColumnCount; ++column)
+      QVERIFY2(tree->columnWidth(column) >= tree->header()->sectionSizeHint(column),
+               qPrintable(QString("column %1: %2 < %3")
+                              .arg(column)
+                              .arg(tree->columnWidth(column))
+                              .arg(tree->header()->sectionSizeHint(column))));
+    QVERIFY(tree->columnWidth(JointTreeModel::NameColumn) >= 120);
+    QTableView* levels = window->levelsView();
+    const int rows = levels->model()->rowCount();
+    QVERIFY(rows >= 5);
+    QVERIFY(levels->minimumHeight() >=
+            levels->horizontalHeader()->sizeHint().height() + rows * levels->verticalHeader()->defaultSectionSize());
   }
 
   // Dragging rotates the trajectory sphere.
@@ -627,6 +694,7 @@ private slots:
       // the after-change timer never sees (set far away) is still saved within a period.
       autosave->setDelays(60 * 60 * 1000, 100);
       QVERIFY(editThreshold(*window, jointIndex(*window, "RightArm"), "260"));
+      QCOMPARE(*window->document()->project().assets[0].joints.at("RightArm").thresholds[1], 260.0);
       QVERIFY(saved.wait(10000));
       QVERIFY(waitForFigures(window->document()));
       QVERIFY(saved.wait(10000)); // and again one period later: the changes are still unsaved
@@ -930,7 +998,7 @@ private slots:
     QCOMPARE(window->assetModel()->assetCount(), 0);
     QVERIFY(!document->analysis());
     QCOMPARE(dock->windowTitle(), QString("Assets — 0 characters, 0 motions"));
-    QTest::keyClick(window.get(), Qt::Key_Z, Qt::ControlModifier);
+    press(*window, Qt::Key_Z, Qt::ControlModifier);
     QVERIFY(waitForFigures(document));
     QCOMPARE(document->assetCount(), 1);
     QVERIFY(figuresOf(*document) == before);
@@ -950,7 +1018,7 @@ private slots:
     QVERIFY(waitForFigures(document));
     for (std::size_t l = 0; l < greedyLevels.size(); ++l)
       QVERIFY(document->analysis()->levels[l].simplifiedPercent >= greedyLevels[l].simplifiedPercent);
-    QTest::keyClick(window.get(), Qt::Key_Z, Qt::ControlModifier);
+    press(*window, Qt::Key_Z, Qt::ControlModifier);
     QVERIFY(waitForFigures(document));
     QCOMPARE(mode->currentIndex(), 0);
     QVERIFY(figuresOf(*document) == greedy);
@@ -994,7 +1062,7 @@ private slots:
     document->setCurrentAsset(0);
     QVERIFY(waitForFigures(document));
     const int steps = document->undoStack()->count();
-    QTest::keyClick(window.get(), Qt::Key_M, Qt::ControlModifier | Qt::ShiftModifier);
+    press(*window, Qt::Key_M, Qt::ControlModifier | Qt::ShiftModifier);
     QCOMPARE(document->undoStack()->count(), steps + 1);
     QCOMPARE(document->project().mappings.size(), std::size_t(1));
     const ProjectMapping mapping = document->project().mappings[0];
@@ -1039,10 +1107,10 @@ private slots:
     QVERIFY(spy.wait(60000));
     document->setCurrentAsset(0);
     QVERIFY(waitForFigures(document));
-    QTest::keyClick(window.get(), Qt::Key_M, Qt::ControlModifier | Qt::ShiftModifier); // assign
+    press(*window, Qt::Key_M, Qt::ControlModifier | Qt::ShiftModifier); // assign
     QCOMPARE(document->project().mappings.size(), std::size_t(1));
     const MotionMapping automatic = document->project().mappings[0].mapping;
-    QTest::keyClick(window.get(), Qt::Key_M, Qt::ControlModifier | Qt::AltModifier);
+    press(*window, Qt::Key_M, Qt::ControlModifier | Qt::AltModifier);
     auto* dialog = window->findChild<MappingDialog*>("mappingDialog");
     QVERIFY(dialog);
     QVERIFY(QTest::qWaitForWindowExposed(dialog));

@@ -24,6 +24,7 @@
 #include <QLabel>
 #include <QSignalSpy>
 #include <QSlider>
+#include <QSpinBox>
 #include <QSurfaceFormat>
 #include <QTest>
 #include <QToolButton>
@@ -352,6 +353,30 @@ private slots:
     QVERIFY(playback->isPlaying());
     QTest::keyClick(panel->timeline()->slider(), Qt::Key_Space);
     QVERIFY(!playback->isPlaying());
+    // Frame keys wherever the focus is in the panel: → and . step on, ← and , back, Home and
+    // End to the ends; a typed frame number goes there.
+    panel->sceneView()->setFocus();
+    playback->setFrame(40);
+    QTest::keyClick(panel->sceneView(), Qt::Key_Right);
+    QCOMPARE(playback->frame(), 41);
+    QTest::keyClick(panel->sceneView(), Qt::Key_Period);
+    QCOMPARE(playback->frame(), 42);
+    QTest::keyClick(panel->sceneView(), Qt::Key_Left);
+    QTest::keyClick(panel->sceneView(), Qt::Key_Comma);
+    QCOMPARE(playback->frame(), 40);
+    QTest::keyClick(panel->sceneView(), Qt::Key_End);
+    QCOMPARE(playback->frame(), 99);
+    QTest::keyClick(panel->sceneView(), Qt::Key_Right); // stays on the last frame
+    QCOMPARE(playback->frame(), 99);
+    QTest::keyClick(panel->sceneView(), Qt::Key_Home);
+    QCOMPARE(playback->frame(), 0);
+    QCOMPARE(panel->timeline()->frameBox()->value(), 0);
+    panel->timeline()->frameBox()->setFocus();
+    panel->timeline()->frameBox()->selectAll();
+    QTest::keyClicks(panel->timeline()->frameBox(), "73");
+    QCOMPARE(playback->frame(), 0); // applied on Enter, not digit by digit
+    QTest::keyClick(panel->timeline()->frameBox(), Qt::Key_Return);
+    QCOMPARE(playback->frame(), 73);
     // camera: a drag orbits, the wheel dollies, F frames
     const float yaw = panel->sceneView()->camera().yawRadians;
     QTest::mousePress(panel->sceneView(), Qt::LeftButton, {}, QPoint(300, 300));

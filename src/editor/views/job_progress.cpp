@@ -8,6 +8,9 @@ namespace mlod {
 JobProgress::JobProgress(const QString& title, const QString& cancelText, QWidget* parent) : QProgressDialog(parent) {
   setWindowTitle(title);
   setCancelButtonText(cancelText.isEmpty() ? QString() : cancelText);
+  // Work runs in the background and the window stays usable: the dialog never takes the
+  // keyboard from it (edits and shortcuts go on while it shows).
+  setAttribute(Qt::WA_ShowWithoutActivating);
   setAutoClose(false);
   setAutoReset(false);
   // note: QProgressDialog shows itself once its own timer fires (armed at construction and
