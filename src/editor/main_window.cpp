@@ -14,6 +14,7 @@
 #include "editor/viewport/viewport_panel.h"
 #include "editor/views/clustering_table_view.h"
 #include "editor/views/export_dialog.h"
+#include "editor/views/help_browser.h"
 #include "editor/views/job_progress.h"
 #include "editor/views/mapping_dialog.h"
 #include "editor/views/trajectory_view.h"
@@ -57,6 +58,21 @@ MainWindow::MainWindow(QWidget* parent)
   connect(m_ui->actionOpen, &QAction::triggered, this, &MainWindow::chooseFile);
   connect(m_ui->actionQuit, &QAction::triggered, this, &QWidget::close);
   connect(m_ui->actionAbout, &QAction::triggered, this, &MainWindow::showAbout);
+  auto* guide = new QAction(tr("&User Guide"), this);
+  guide->setObjectName("actionUserGuide");
+  guide->setShortcut(QKeySequence::HelpContents);
+  guide->setToolTip(tr("The user guide, with pictures"));
+  connect(guide, &QAction::triggered, this, [this] {
+    auto* help = findChild<HelpBrowser*>("helpBrowser");
+    if (!help) {
+      help = new HelpBrowser(this);
+      help->setAttribute(Qt::WA_DeleteOnClose);
+    }
+    help->show();
+    help->raise();
+  });
+  m_ui->menuHelp->insertAction(m_ui->actionAbout, guide);
+  addAction(guide);
   connect(m_import, &ImportJob::finished, this, &MainWindow::onImported);
   connect(m_import, &ImportJob::failed, this, &MainWindow::onImportFailed);
   connect(m_ui->assetTree->selectionModel(), &QItemSelectionModel::currentChanged, this,
@@ -118,6 +134,19 @@ MainWindow::MainWindow(QWidget* parent)
       showAsset(*asset);
   });
   connect(m_document, &Document::message, this, &MainWindow::log);
+  connect(m_document->undoStack(), &QUndoStack::indexChanged, this, [this](int index) {
+    // What each step does, as the Edit menu names it: edits, undos and redos alike.
+    const QUndoStack* stack = m_document->undoStack();
+    if (stack->count() == 0) { // cleared (a project opened)
+      m_loggedIndex = 0;
+      return;
+    }
+    if (index > m_loggedIndex)
+      log(tr("Edit: %1").arg(stack->text(index - 1)));
+    else if (index < m_loggedIndex)
+      log(tr("Undo: %1").arg(stack->text(index)));
+    m_loggedIndex = index;
+  });
 
   m_progress = new JobProgress(tr("Import"), tr("Cancel"), this);
   m_progress->setObjectName("importProgress");
@@ -127,6 +156,7 @@ MainWindow::MainWindow(QWidget* parent)
   connect(m_levelsProgress, &QProgressDialog::canceled, m_document, &Document::cancelLevelGeneration);
   connect(m_document, &Document::levelGenerationFinished, this, [this](bool ok, const QString& message) {
     m_levelsProgress->finish();
+    log(ok ? tr("Generated levels: %1").arg(message) : tr("Level generation: %1").arg(message));
     statusBar()->showMessage(ok ? message : tr("Level generation: %1").arg(message), 4000);
   });
 
@@ -192,6 +222,86 @@ void MainWindow::buildUnitMenu() {
     setImportUnitScale(action->data().toDouble());
     QSettings().setValue("import/unitScale", m_unitScale);
   });
+}
+
+void MainWindow::buildAssetUnitMenu(QMenu* edit) {
+  // The asset in view's unit: the presets, the current one checked (none when the unit is a
+  // number of its own), and Other… for any number of cm per file unit.
+  m_assetUnitMenu = edit->addMenu(tr("Asset &Unit"));
+  m_assetUnitMenu->setObjectName("menuAssetUnit");
+  m_assetUnitMenu->setToolTipsVisible(true);
+  auto* group = new QActionGroup(m_assetUnitMenu);
+  for (const UnitPreset& preset : unitPresets()) {
+    QAction* action = m_assetUnitMenu->addAction(
+        tr("%1 (%2 cm per unit)").arg(QString::fromUtf8(preset.description)).arg(preset.cmPerUnit, 0, 'g', 5));
+    action->setObjectName(QString("actionAssetUnit_%1").arg(preset.name));
+    action->setCheckable(true);
+    action->setData(preset.cmPerUnit);
+    action->setToolTip(tr("Import the asset in view again with lengths in %1; every length and figure follows")
+                           .arg(QString::fromUtf8(preset.description)));
+    group->addAction(action);
+    connect(action, &QAction::triggered, this, [this, action] {
+      if (m_document->currentAssetPtr())
+        m_document->setAssetUnitScale(m_document->currentAsset(), action->data().toDouble());
+      refreshAssetUnitMenu();
+    });
+  }
+  m_assetUnitMenu->addSeparator();
+  QAction* other = m_assetUnitMenu->addAction(tr("&Other…"));
+  other->setObjectName("actionAssetUnit");
+  other->setToolTip(tr("Any number of cm per file unit"));
+  connect(other, &QAction::triggered, this, [this] {
+    const Asset* asset = m_document->currentAssetPtr();
+    if (!asset)
+      return;
+    bool ok = false;
+    const double scale = QInputDialog::getDouble(this, tr("Asset unit"), tr("cm per file unit (CMU mocap: 5.6444):"),
+                                                 asset->unitScale, 1e-6, 1e6, 6, &ok);
+    if (ok)
+      m_document->setAssetUnitScale(m_document->currentAsset(), scale);
+  });
+  connect(m_assetUnitMenu, &QMenu::aboutToShow, this, &MainWindow::refreshAssetUnitMenu);
+  connect(m_document, &Document::currentChanged, this, &MainWindow::refreshAssetUnitMenu);
+  connect(m_document, &Document::unitScaleChanged, this, &MainWindow::refreshAssetUnitMenu);
+  connect(m_document, &Document::assetsChanged, this, &MainWindow::refreshAssetUnitMenu);
+  refreshAssetUnitMenu();
+}
+
+void MainWindow::refreshAssetUnitMenu() {
+  const Asset* asset = m_document->currentAssetPtr();
+  m_assetUnitMenu->setEnabled(asset != nullptr);
+  for (QAction* action : m_assetUnitMenu->actions()) {
+    if (!action->isCheckable())
+      continue;
+    const double preset = action->data().toDouble();
+    action->setChecked(asset && std::abs(asset->unitScale - preset) <= 1e-9 * preset);
+  }
+}
+
+void MainWindow::offerToRegenerateDistances() {
+  // Switch distances and pixel errors are lengths measured at the old unit: stale now.
+  const LodSet& lods = m_document->project().lods;
+  double pixels = 0.0;
+  for (const LodLevel& level : lods.levels)
+    if (level.switchDistanceCm > 0.0 && pixels <= 0.0)
+      pixels = level.pixelError > 0.0 ? level.pixelError : 1.0;
+  if (pixels <= 0.0)
+    return; // no distances yet: nothing went stale
+  log(tr("The switch distances were computed at the old unit and are stale: regenerate them (Budget…)."));
+  auto* box = new QMessageBox(QMessageBox::Question, tr("Switch distances are stale"),
+                              tr("The LOD levels' switch distances were computed at the old unit."),
+                              QMessageBox::NoButton, this);
+  box->setObjectName("staleDistancesBox");
+  box->setInformativeText(tr("Regenerate the levels from the same pixel budget (%1 px, %2 levels)?")
+                              .arg(pixels)
+                              .arg(m_document->project().levelCount()));
+  QPushButton* regenerate = box->addButton(tr("Regenerate"), QMessageBox::AcceptRole);
+  regenerate->setObjectName("regenerateButton");
+  box->addButton(tr("Keep"), QMessageBox::RejectRole);
+  box->setAttribute(Qt::WA_DeleteOnClose);
+  const int levels = m_document->project().levelCount();
+  connect(regenerate, &QPushButton::clicked, this, [this, pixels, levels] { generateLevels(pixels, levels); });
+  box->open(); // non-modal: scripted sessions and tests are never blocked by it
 }
 
 void MainWindow::setImportUnitScale(double cmPerUnit) {
@@ -637,19 +747,12 @@ void MainWindow::buildActions() {
   action(edit, "actionEditMapping", tr("Edit Joint &Mapping…"), QKeySequence("Ctrl+Alt+M"),
          tr("Edit which motion joint drives each character joint, for the asset in view (motion or character)"),
          [this] { editMapping(); });
-  action(edit, "actionAssetUnit", tr("Asset &Unit…"), QKeySequence(),
-         tr("Import the asset in view again with another unit (cm per file unit); every length and figure follows"),
-         [this] {
-           const Asset* asset = m_document->currentAssetPtr();
-           if (!asset)
-             return;
-           bool ok = false;
-           const double scale = QInputDialog::getDouble(this, tr("Asset unit"), tr("cm per file unit (CMU mocap: 5.6444):"),
-                                                        asset->unitScale, 1e-6, 1e6, 6, &ok);
-           if (ok)
-             m_document->setAssetUnitScale(m_document->currentAsset(), scale);
-         });
-  connect(m_document, &Document::unitScaleChanged, this, [this](bool, const QString& text) { log(text); });
+  buildAssetUnitMenu(edit);
+  connect(m_document, &Document::unitScaleChanged, this, [this](bool ok, const QString& text) {
+    log(text);
+    if (ok)
+      offerToRegenerateDistances();
+  });
   edit->addSeparator();
   action(edit, "actionAddLevel", tr("&Add Level"), QKeySequence("Ctrl+Shift+L"),
          tr("Add a LOD level with twice the last threshold (cm·degrees)"), [this] {
@@ -707,6 +810,9 @@ void MainWindow::buildActions() {
                (void)loaded;
                auto* dialog = new ExportDialog(m_document, &plugins, this);
                dialog->setAttribute(Qt::WA_DeleteOnClose);
+               connect(dialog, &ExportDialog::exportFinished, this, [this](bool ok, const QString& message) {
+                 log(ok ? tr("Exported: %1").arg(message) : tr("Export failed: %1").arg(message));
+               });
                dialog->open();
              });
   file->insertSeparator(first);

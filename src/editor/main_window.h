@@ -100,6 +100,9 @@ private:
   void chooseFile();
   void showAbout();
   void buildUnitMenu();
+  void buildAssetUnitMenu(QMenu* edit);
+  void refreshAssetUnitMenu();
+  void offerToRegenerateDistances();
   void buildDocks();
   void buildActions();
   void refreshViews();
@@ -135,6 +138,8 @@ private:
   QDoubleSpinBox* m_alphaBox = nullptr;
   QComboBox* m_modeBox = nullptr;
   QMenu* m_recentMenu = nullptr;
+  QMenu* m_assetUnitMenu = nullptr;
+  int m_loggedIndex = 0; // the undo stack's index the log has told of
   QLabel* m_clipLabel = nullptr;
   QLabel* m_frameLabel = nullptr;
   QLabel* m_levelLabel = nullptr;

@@ -5,6 +5,7 @@
 #include "editor/import_job.h"
 #include "editor/main_window.h"
 #include "editor/models/asset_tree.h"
+#include "editor/views/help_browser.h"
 #include "editor/views/job_progress.h"
 
 #include <QAction>
@@ -14,6 +15,8 @@
 #include <QStatusBar>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QTextBrowser>
+#include <QTextDocument>
 #include <QTreeView>
 
 using mlod::AssetTreeModel;
@@ -143,6 +146,46 @@ private slots:
     MainWindow fromFile;
     QVERIFY(fromFile.findChild<QAction*>("actionUnitFromFile")->isChecked());
     QVERIFY(!fromFile.findChild<QAction*>("actionUnit_cmu")->isChecked());
+  }
+
+  // Edit > Asset Unit lists the presets with the unit of the asset in view checked; another
+  // preset imports the asset again at that unit (and the check follows).
+  void assetUnitMenuChecksTheAssetsUnit() {
+    MainWindow window;
+    window.findChild<QAction*>("actionUnitFromFile")->trigger();
+    QCOMPARE(importAndWait(window, MLOD_SAMPLE).value(0).toBool(), true);
+    auto* cmu = window.findChild<QAction*>("actionAssetUnit_cmu");
+    auto* metres = window.findChild<QAction*>("actionAssetUnit_m");
+    QVERIFY(cmu && metres);
+    QVERIFY(cmu->isChecked()); // the guessed unit
+    QVERIFY(!metres->isChecked());
+    QSignalSpy changed(window.document(), &mlod::Document::unitScaleChanged);
+    metres->trigger();
+    QVERIFY(changed.wait(60000));
+    QCOMPARE(changed.first().at(0).toBool(), true);
+    QCOMPARE(window.document()->asset(0)->unitScale, 100.0);
+    QVERIFY(metres->isChecked());
+    QVERIFY(!cmu->isChecked());
+    QVERIFY(window.logText().contains("Edit: "));
+  }
+
+  // Help > User Guide (F1) shows the guide with its pictures.
+  void helpShowsTheUserGuide() {
+    MainWindow window;
+    auto* guide = window.findChild<QAction*>("actionUserGuide");
+    QVERIFY(guide);
+    QCOMPARE(guide->shortcut(), QKeySequence(QKeySequence::HelpContents));
+    guide->trigger();
+    auto* help = window.findChild<mlod::HelpBrowser*>("helpBrowser");
+    QVERIFY(help);
+    QVERIFY(help->isVisible());
+    QVERIFY(help->browser()->toPlainText().contains("Motion LOD"));
+    const QString text = help->browser()->toPlainText(); // the whole guide, to its last section
+    QVERIFY2(text.contains("Troubleshooting") && text.contains("Importing, and units"),
+             qPrintable(QString("%1 characters: %2").arg(text.size()).arg(text.left(300))));
+    const QVariant picture =
+        help->browser()->document()->resource(QTextDocument::ImageResource, QUrl("images/studio-overview.png"));
+    QVERIFY(picture.isValid());
   }
 
   // A file that states no unit gets the preset that makes it a human height, and the
