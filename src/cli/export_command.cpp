@@ -6,7 +6,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 namespace mlod::cli {
@@ -19,6 +21,10 @@ void ExportCommand::attach(CLI::App& app) {
   command->add_option("-o,--output", job.output, "output file")->required();
   command->add_option("--levels", levels, "levels to export by index, e.g. 0,2,3 (default: all)");
   command->add_option("--option", options, "exporter option key=value (repeatable; motionlod plugins lists them)");
+  command->add_option("--mesh-ratio", meshRatios,
+                      "instead of the default LOD set: LOD0 plus one level per triangle ratio in (0, 1], "
+                      "comma-separated (0.5,0.25,0.1), each with the original motion (a file only)")
+      ->delimiter(',');
   command->add_option("--unit-scale", job.unitScale,
                       "cm per file unit, or a preset: cm, m, mm, inch, cmu (5.6444, CMU mocap); "
                       "default: the file's own unit (a project: each asset's)");
@@ -37,6 +43,15 @@ int ExportCommand::run() const {
   if (!levels.empty() && !parseLevelList(levels, filled.levels, reason)) {
     printError(input, reason);
     return kExitBadInput;
+  }
+  for (const std::string& text : meshRatios) {
+    char* end = nullptr;
+    const double ratio = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(ratio) || !(ratio > 0.0 && ratio <= 1.0)) {
+      printError(input, "--mesh-ratio '" + text + "': a triangle ratio must be a number in (0, 1]");
+      return kExitBadInput;
+    }
+    filled.meshRatios.push_back(ratio);
   }
   PluginHost host;
   host.loadDefault();

@@ -11,9 +11,10 @@ namespace CLI { class App; }
 namespace mlod::cli {
 
 // `motionlod export FILE|PROJECT.mlod --plugin ID -o OUT [--levels 0,2,3] [--option k=v …]
-//  [--unit-scale S] [--asset N] [--json]` (docs/architecture.md sections 6 and 8): a file gets the
-// default LOD set (LodSet::fromPixelBudget(asset, 1 pixel, 4 levels)); a project its own
-// levels, joint settings and the motions assigned to its character. The exporter writes
+//  [--mesh-ratio R[,R…]] [--unit-scale S] [--asset N] [--json]` (docs/architecture.md sections 6
+// and 8): a file gets the default LOD set (LodSet::fromPixelBudget(asset, 1 pixel, 4 levels)),
+// or with --mesh-ratio LOD0 plus one level per ratio with the original motion; a project its
+// own levels, joint settings and the motions assigned to its character. The exporter writes
 // through a temporary file: an error or Ctrl+C leaves nothing at OUT.
 // JSON: {"input","plugin","output","ok","message","bytes","levels","options",
 //        "seconds":{"import","package","export"}}.
@@ -25,6 +26,7 @@ struct ExportCommand {
   ExportJob job;                    // the options that map one to one; levels and options below
   std::string levels;               // "0,2,3", parsed into job.levels
   std::vector<std::string> options; // key=value, checked against the plugin into job.options
+  std::vector<std::string> meshRatios; // "0.5", "0.25" ..., parsed into job.meshRatios
   bool json = false;
   bool quiet = false; // no progress line on the terminal
 

@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <fcntl.h>
 #include <optional>
@@ -212,6 +213,12 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
     unitScale = *scale;
   }
 
+  for (double ratio : job.meshRatios)
+    if (!std::isfinite(ratio) || !(ratio > 0.0 && ratio <= 1.0))
+      return failure(kExitBadInput, job.input, "--mesh-ratio " + std::to_string(ratio) + ": a triangle ratio must be in (0, 1]");
+  if (!job.meshRatios.empty() && isProjectFile(job.input))
+    return failure(kExitBadInput, job.input, "--mesh-ratio applies to a file; a project exports its own levels");
+
   ExportOutcome out;
   const auto tell = [&](std::string_view stage, double fraction, std::string_view detail) {
     if (report)
@@ -304,8 +311,10 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
       std::vector<const Clip*> clips;
       for (const Clip& clip : asset->clips)
         clips.push_back(&clip);
-      // a file gets the default set of 4 levels (docs/architecture.md section 6)
-      const int levels = job.levels.empty() ? 4 : int(job.levels.size());
+      // a file gets the default set of 4 levels (docs/architecture.md section 6), or LOD0
+      // and one level per --mesh-ratio
+      const int all = job.meshRatios.empty() ? 4 : int(job.meshRatios.size()) + 1;
+      const int levels = job.levels.empty() ? all : int(job.levels.size());
       const bool original = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
       if (std::string problem = bundleBudgetProblem(clips, asset->skeleton.jointCount(), levels, original);
           !problem.empty())
@@ -313,7 +322,20 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
     }
     start = Clock::now();
     try {
-      package = buildLodPackage(*asset, job.levels, progress);
+      if (job.meshRatios.empty()) {
+        package = buildLodPackage(*asset, job.levels, progress);
+      } else {
+        // LOD0 and one level per ratio, all with the original motion
+        LodSet lods;
+        lods.levels.resize(job.meshRatios.size() + 1);
+        for (std::size_t i = 0; i < lods.levels.size(); ++i) {
+          lods.levels[i].name = "LOD" + std::to_string(i);
+          lods.levels[i].meshRatio = i == 0 ? 1.0 : job.meshRatios[i - 1];
+        }
+        JpcSettings jpc;
+        jpc.zeroLength = 1e-6 * asset->unitScale; // docs/architecture.md section 4: 1e-6 file units
+        package = buildLodPackage(*asset, lods, jpc, job.levels, progress);
+      }
     } catch (const std::bad_alloc&) {
       return failure(kExitFailure, job.input, "not enough memory to build its LOD package");
     }

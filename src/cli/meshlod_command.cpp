@@ -4,7 +4,6 @@
 #include "core/mesh/mesh_lod_report.h"
 
 #include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,16 +14,16 @@ namespace mlod::cli {
 
 void MeshLodCommand::attach(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
-      "meshlod", "Mesh LOD per joint segment: triangles, vertices and error (cm) per triangle ratio, shared and "
-                 "border vertices locked");
+      "meshlod", "Mesh LOD of the whole skinned mesh, simplified with the poses of its clips in view: triangles, "
+                 "vertices and error (cm, bind pose and other animated frames) per triangle ratio");
   command->add_option("FILE", file, "character file with a mesh (any format Assimp reads)")->required();
   command->add_option("--ratio", ratios, "triangle ratio per level, in (0, 1], comma-separated: 0.75,0.5,0.25")
       ->required()
       ->delimiter(',');
   command->add_flag("--json", json,
-                    "print one JSON document on stdout (\"max_error\" in cm over the bind pose and animated poses of "
-                    "the file's clips; \"seconds\": segmentation and progressive mesh, shared by the levels, plus the "
-                    "level's extraction; measuring excluded)");
+                    "print one JSON document on stdout (\"max_error\" and \"error_cm\" in cm: bind pose, and max and "
+                    "mean over animated frames other than those the simplification saw; \"seconds\": the "
+                    "simplification, shared by the levels, plus the level's extraction; measuring excluded)");
   addImportOptions(*command, import);
 }
 
@@ -97,18 +96,19 @@ int MeshLodCommand::run() const {
     std::cout << meshLodReportJson(report) << std::endl;
     return kExitOk;
   }
-  std::printf("file:      %s\nmesh:      %s, %zu vertices, %zu triangles, %d joints\n", file.c_str(), mesh->name.c_str(),
-              report.vertices, report.triangles, mesh->boneCount());
-  std::printf("locked:    %d vertices (shared between joints, 0 < w < 1, or on a segment or mesh border)\n",
+  std::printf("file:      %s\nmesh:      %s, %zu vertices, %zu triangles, %d joints\n", file.c_str(),
+              mesh->name.c_str(), report.vertices, report.triangles, mesh->boneCount());
+  std::printf("welded:    %d vertices, %d locked (non-manifold)\n", lod->progressive().weldedVertexCount(),
               report.lockedVertices);
-  std::printf("segments:  %d (one per dominant joint); error: symmetric max distance, cm, bind pose and %zu "
-              "animated poses\n\n",
-              lod->segmentation().segmentCount(), lod->posePositions().size() - 1);
-  std::printf("%8s %10s %10s %14s %10s %10s\n", "ratio", "triangles", "vertices", "max error cm", "locked ok",
-              "seconds");
+  std::printf("poses:     simplified with the bind pose and %zu animated poses; error (symmetric max distance, cm) "
+              "in the bind pose and %zu other animated poses\n\n",
+              lod->simplifyPoses().size() - 1, lod->measurePoses().size());
+  std::printf("%8s %10s %10s %12s %12s %12s %14s %10s\n", "ratio", "triangles", "vertices", "bind cm", "anim max cm",
+              "anim mean cm", "max error cm", "seconds");
   for (const MeshLodReport::Level& level : report.levels)
-    std::printf("%8.3f %10zu %10zu %14.4f %10s %10.4f\n", level.ratio, level.triangles, level.vertices,
-                level.maxErrorCm, level.sharedVerticesPreserved ? "yes" : "NO", level.seconds);
+    std::printf("%8.3f %10zu %10zu %12.4f %12.4f %12.4f %14.4f %10.4f\n", level.ratio, level.triangles, level.vertices,
+                level.bindErrorCm, level.animatedMaxErrorCm, level.animatedMeanErrorCm, level.maxErrorCm,
+                level.seconds);
   for (const MeshLodReport::Level& level : report.levels)
     if (!level.warning.empty())
       std::printf("warning:   %s\n", level.warning.c_str());

@@ -78,6 +78,8 @@ Error Project::validate() const {
           return Error(where + ", joint " + name + ": a threshold must be a finite number >= 0 (cm·degrees)");
       if (!joint.thresholds.empty() && joint.thresholds.front())
         return Error(where + ", joint " + name + ": level 0 is the original; it has no threshold to override");
+      if (!std::isfinite(joint.meshImportance) || !(joint.meshImportance > 0.0))
+        return Error(where + ", joint " + name + ": the mesh importance must be a finite number > 0");
     }
   }
   for (std::size_t m = 0; m < mappings.size(); ++m) {
@@ -124,6 +126,7 @@ std::string projectToJson(const Project& project, int indent) {
         thresholds.push_back(t ? json(*t) : json(nullptr));
       entry["thresholds"] = std::move(thresholds);
       entry["locked"] = settings.locked;
+      entry["mesh_importance"] = settings.meshImportance;
       joints[name] = std::move(entry);
     }
     assets.push_back({{"path", asset.path}, {"unit_scale", asset.unitScale}, {"joints", std::move(joints)}});
@@ -285,6 +288,8 @@ Result<Project> projectFromJson(std::string_view textIn) {
         if (!locked.is_boolean())
           return Error(jointWhere + " \"locked\" is not true or false");
         settings.locked = locked.get<bool>();
+        if (entry.contains("mesh_importance")) // absent before issue 14: 1
+          settings.meshImportance = number(entry["mesh_importance"], jointWhere + " mesh_importance");
         asset.joints[name] = std::move(settings);
       }
       project.assets.push_back(std::move(asset));

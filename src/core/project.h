@@ -42,7 +42,8 @@ inline constexpr const char* kProjectFormat = "motionlod-project";
 
 // Per-joint settings compare by value (JointSettings has no operator== of its own).
 inline bool operator==(const JointSettings& a, const JointSettings& b) {
-  return a.alpha == b.alpha && a.thresholds == b.thresholds && a.locked == b.locked;
+  return a.alpha == b.alpha && a.thresholds == b.thresholds && a.locked == b.locked &&
+         a.meshImportance == b.meshImportance;
 }
 
 struct ProjectAsset {

@@ -1,142 +1,99 @@
-// bench_meshlod: mesh LOD per joint segment (OpenMesh's Decimater, core/mesh) against
-// meshoptimizer 0.18 (meshopt_simplify with meshopt_SimplifyLockBorder) on the same
-// per-segment submeshes of BCN_Epileptic, at the same triangle counts: both errors (cm,
-// sampled symmetric max distance, bind pose and animated poses, measured by the same code)
-// and both times.
+// bench_meshlod: the mesh LOD (core/mesh: whole mesh welded by position, quadrics over the
+// bind pose and K clip poses) against meshoptimizer 0.18's meshopt_simplify on the
+// position-welded indices, on the same meshes, at the same target triangle counts, posed by
+// the same skin and frames, measured by the same code (MeshLod::errorsOf: sampled symmetric
+// max distance in the bind pose, and max and mean over animated frames that neither
+// simplifier saw). Errors in cm and in % of the bind-pose bounding-box diagonal.
 //
-// meshoptimizer 0.18 has no per-vertex lock: its simplifier treats a position shared by more
-// than two vertices as "complex" and never moves it, so every locked (shared or border)
-// vertex gets two unreferenced copies in its submesh. The table says whether every lock held.
+// Before the timed benchmarks, a table per character at 50%, 25% and 10%. The characters:
+// BCN_Epileptic, or the files given in MLOD_MESHLOD_FILES (space-separated paths) with an
+// optional unit scale after a colon (path:100).
 //
-// Before the timed benchmarks, a table compares the two at each ratio:
-//   matched:  meshopt given our per-segment triangle counts, ours taken at the counts it reached;
-//   uniform:  meshopt with one ratio for every segment (its natural mode), ours at its total.
+// Timed (one thread): the whole simplification (ProgressiveMesh::build, which serves every
+// level) plus one level's extraction, on BCN_Epileptic and on a synthetic skinned tube of 5k
+// and 50k triangles; meshopt_simplify on the same for reference.
 
+#include "../unit/core/mesh_lod_fixtures.h"
 #include "core/mesh/mesh_lod.h"
-#include "core/mesh/mesh_segments.h"
 #include "core/mesh/progressive_mesh.h"
 #include "io/importer.h"
 
 #include <benchmark/benchmark.h>
-#include <meshoptimizer.h>
-
-#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
-#include <map>
 #include <memory>
+#include <meshoptimizer.h>
+#include <sstream>
 
 namespace {
 
 using namespace mlod;
 
+Asset importOrExit(const std::string& path, double unitScale) {
+  ImportOptions options;
+  if (unitScale > 0.0)
+    options.unitScale = unitScale;
+  Result<Asset> imported = importAsset(path, options);
+  if (!imported) {
+    std::fprintf(stderr, "%s: %s\n", path.c_str(), imported.message().c_str());
+    std::exit(1);
+  }
+  return std::move(imported).value();
+}
+
 const Asset& bcn() {
-  static const Asset asset = [] {
-    ImportOptions options;
-    options.unitScale = 100.0; // metres in the file
-    Result<Asset> imported = importAsset(std::string(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", options);
-    if (!imported) {
-      std::fprintf(stderr, "BCN_Epileptic.X: %s\n", imported.message().c_str());
-      std::exit(1);
-    }
-    return std::move(imported).value();
-  }();
+  static const Asset asset = importOrExit(std::string(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 100.0);
   return asset;
 }
 
-const SkinnedMesh& bcnMesh() { return bcn().meshes.at(0); }
-
-// One segment's triangles as meshoptimizer takes them: local vertices (locked ones followed
-// by two unreferenced copies each, see above) and local indices.
-struct Submesh {
-  std::vector<std::uint32_t> vertices; // local -> original vertex
-  std::vector<float> positions;        // xyz per local vertex, copies included
-  std::vector<std::uint32_t> indices;
-};
-
-std::vector<Submesh> submeshes(const SkinnedMesh& mesh, const MeshSegmentation& segmentation,
-                               const std::vector<std::uint8_t>& locked) {
-  std::vector<Submesh> out(segmentation.segments.size());
-  for (std::size_t s = 0; s < out.size(); ++s) {
-    Submesh& sub = out[s];
-    std::map<std::uint32_t, std::uint32_t> local;
-    for (std::uint32_t t : segmentation.segments[s].triangles)
-      for (std::size_t k = 0; k < 3; ++k) {
-        const std::uint32_t v = mesh.indices[std::size_t(t) * 3 + k];
-        auto [it, inserted] = local.emplace(v, static_cast<std::uint32_t>(sub.vertices.size()));
-        if (inserted) {
-          sub.vertices.push_back(v);
-          sub.positions.insert(sub.positions.end(), {mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z});
-        }
-        sub.indices.push_back(it->second);
-      }
-    const std::size_t real = sub.vertices.size();
-    for (std::size_t i = 0; i < real; ++i)
-      if (locked[sub.vertices[i]])
-        for (int copy = 0; copy < 2; ++copy)
-          sub.positions.insert(sub.positions.end(), {sub.positions[i * 3], sub.positions[i * 3 + 1], sub.positions[i * 3 + 2]});
-  }
-  return out;
+const SkinnedMesh* characterMesh(const Asset& asset) {
+  for (const SkinnedMesh& mesh : asset.meshes)
+    if (mesh.skinned())
+      return &mesh;
+  return asset.meshes.empty() ? nullptr : &asset.meshes.front();
 }
 
-// meshopt_simplify on every submesh with its own target triangle count; the result in
-// original vertex indices, triangles tagged with a triangle of their segment.
-MeshLevelIndices meshoptLevel(const std::vector<Submesh>& subs, const MeshSegmentation& segmentation,
-                              const std::vector<std::size_t>& targets) {
+// Per vertex: the lowest vertex at its position (position welding alone, as meshopt is fed).
+std::vector<std::uint32_t> positionWeld(const SkinnedMesh& mesh) {
+  std::vector<std::uint32_t> remap(mesh.vertexCount()), first(mesh.vertexCount(), ~0u), weld(mesh.vertexCount());
+  meshopt_generateVertexRemap(remap.data(), nullptr, mesh.vertexCount(), &mesh.positions[0].x, mesh.vertexCount(),
+                              sizeof(glm::vec3));
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    if (first[remap[v]] == ~0u)
+      first[remap[v]] = std::uint32_t(v);
+    weld[v] = first[remap[v]];
+  }
+  return weld;
+}
+
+// meshopt_simplify on the position-welded indices (every corner replaced by the lowest vertex
+// at its position), to `target` triangles; the result in original vertex indices.
+MeshLevelIndices meshoptLevel(const SkinnedMesh& mesh, const std::vector<std::uint32_t>& weld, std::size_t target) {
+  std::vector<std::uint32_t> welded(mesh.indices.size());
+  for (std::size_t i = 0; i < welded.size(); ++i)
+    welded[i] = weld[mesh.indices[i]];
+  std::vector<std::uint32_t> destination(welded.size());
+  const std::size_t count = meshopt_simplify(destination.data(), welded.data(), welded.size(), &mesh.positions[0].x,
+                                             mesh.vertexCount(), sizeof(glm::vec3), target * 3, FLT_MAX, 0, nullptr);
   MeshLevelIndices out;
-  std::vector<std::uint32_t> destination;
-  for (std::size_t s = 0; s < subs.size(); ++s) {
-    const Submesh& sub = subs[s];
-    destination.resize(sub.indices.size());
-    const std::size_t count =
-        meshopt_simplify(destination.data(), sub.indices.data(), sub.indices.size(), sub.positions.data(),
-                         sub.positions.size() / 3, sizeof(float) * 3, targets[s] * 3, FLT_MAX,
-                         meshopt_SimplifyLockBorder, nullptr);
-    for (std::size_t i = 0; i < count; ++i)
-      out.indices.push_back(sub.vertices[destination[i]]);
-    for (std::size_t i = 0; i < count / 3; ++i)
-      out.triangles.push_back(segmentation.segments[s].triangles.front());
-  }
+  out.indices.assign(destination.begin(), destination.begin() + std::ptrdiff_t(count));
+  out.triangles.resize(count / 3);
   return out;
 }
 
-std::vector<std::size_t> segmentCounts(const MeshLevelIndices& level, const MeshSegmentation& segmentation) {
-  std::vector<std::size_t> counts(segmentation.segments.size(), 0);
-  for (std::uint32_t t : level.triangles)
-    ++counts[static_cast<std::size_t>(segmentation.triangleSegment[t])];
-  return counts;
+double diagonalOf(const SkinnedMesh& mesh) {
+  glm::vec3 lo(FLT_MAX), hi(-FLT_MAX);
+  for (const glm::vec3& p : mesh.positions)
+    lo = glm::min(lo, p), hi = glm::max(hi, p);
+  return double(glm::length(hi - lo));
 }
 
-// Our level with each segment at the fewest collapses that reach `counts` (or all of them).
-MeshLevelIndices oursAtCounts(const ProgressiveMesh& pm, const std::vector<std::size_t>& counts) {
-  std::vector<std::size_t> perSegment(counts.size());
-  for (std::size_t s = 0; s < counts.size(); ++s) {
-    std::size_t k = 0;
-    while (k < pm.segmentCollapseCount(int(s)) && pm.segmentTrianglesAfter(int(s), k) > counts[s])
-      ++k;
-    perSegment[s] = k;
-  }
-  return pm.levelPerSegment(perSegment);
-}
-
-int brokenLocks(const MeshLevelIndices& level, const SkinnedMesh& mesh, const std::vector<std::uint8_t>& locked) {
-  std::vector<std::uint8_t> used(mesh.vertexCount(), 0), kept(mesh.vertexCount(), 0);
-  for (std::uint32_t v : mesh.indices)
-    used[v] = 1;
-  for (std::uint32_t v : level.indices)
-    kept[v] = 1;
-  int broken = 0;
-  for (std::size_t v = 0; v < used.size(); ++v)
-    broken += used[v] && locked[v] && !kept[v];
-  return broken;
-}
-
-// Best of `repeats` runs, in milliseconds of this thread's CPU time (the machines these
-// run on are shared: wall time measures the neighbours too).
-template <typename F>
-double millisecondsOf(F&& f, int repeats = 20) {
+// Best of `repeats` runs, in milliseconds of this thread's CPU time (the machines these run
+// on are shared: wall time measures the neighbours too).
+template <typename F> double millisecondsOf(F&& f, int repeats = 5) {
   const auto now = [] {
     timespec t{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
@@ -151,109 +108,137 @@ double millisecondsOf(F&& f, int repeats = 20) {
   return best;
 }
 
-void printComparison() {
-  const Asset& asset = bcn();
-  const SkinnedMesh& mesh = bcnMesh();
-  Result<MeshLod> lod = MeshLod::build(mesh, &asset.skeleton, asset.clips);
+void compare(const std::string& path, double unitScale) {
+  const Asset asset = importOrExit(path, unitScale);
+  const SkinnedMesh* mesh = characterMesh(asset);
+  if (!mesh) {
+    std::printf("%s: no mesh\n", path.c_str());
+    return;
+  }
+  const Skeleton* skeleton = mesh->skinned() && !asset.skeleton.empty() ? &asset.skeleton : nullptr;
+  Result<MeshLod> lod =
+      MeshLod::build(*mesh, skeleton, skeleton ? std::span<const Clip>(asset.clips) : std::span<const Clip>());
   if (!lod) {
-    std::fprintf(stderr, "%s\n", lod.message().c_str());
-    std::exit(1);
+    std::printf("%s: %s\n", path.c_str(), lod.message().c_str());
+    return;
   }
+  const double diagonal = diagonalOf(*mesh);
   const ProgressiveMesh& pm = lod->progressive();
-  const MeshSegmentation& segmentation = lod->segmentation();
-  const std::vector<Submesh> subs = submeshes(mesh, segmentation, pm.locked());
-  std::printf("BCN_Epileptic: %zu vertices, %zu triangles, %d segments, %d locked vertices; error = sampled symmetric "
-              "max distance (cm) per segment, bind pose / %zu animated poses\n",
-              mesh.vertexCount(), mesh.triangleCount(), segmentation.segmentCount(), pm.lockedCount(),
-              lod->posePositions().size() - 1);
+  const std::vector<std::uint32_t> weld = positionWeld(*mesh);
   const double buildMs = millisecondsOf([&] {
-    const MeshSegmentation seg = segmentMesh(mesh);
-    benchmark::DoNotOptimize(ProgressiveMesh::build(mesh, seg));
+    const std::vector<float> importance = vertexImportance(*mesh, {});
+    benchmark::DoNotOptimize(ProgressiveMesh::build(*mesh, lod->simplifyPoses(), importance));
   });
-  std::printf("OpenMesh progressive mesh (segmentation + decimation of every segment to the end): %.2f ms\n\n", buildMs);
-  std::printf("%-8s %-8s | %-34s | %-45s\n", "ratio", "mode", "OpenMesh (ours): tris  bind   anim   ms",
-              "meshopt 0.18: tris  bind   anim   ms  locks broken");
-  for (double ratio : {0.9, 0.75, 0.6, 0.5}) {
-    const std::size_t target = static_cast<std::size_t>(std::llround(ratio * double(mesh.triangleCount())));
-    const std::size_t k = pm.collapsesFor(target);
-    // matched: meshopt gets our per-segment counts
-    const std::vector<std::size_t> ourCounts = segmentCounts(pm.level(k), segmentation);
-    MeshLevelIndices theirs = meshoptLevel(subs, segmentation, ourCounts);
-    const double theirMs = millisecondsOf([&] { benchmark::DoNotOptimize(meshoptLevel(subs, segmentation, ourCounts)); });
-    MeshLevelIndices ours = oursAtCounts(pm, segmentCounts(theirs, segmentation));
-    const double ourMs = buildMs + millisecondsOf([&] { benchmark::DoNotOptimize(pm.level(k)); });
-    MeshLod::Errors e1 = lod->errorsOf(ours), e2 = lod->errorsOf(theirs);
-    std::printf("%-8.2f %-8s | %19zu %6.3f %6.3f %6.2f | %14zu %6.3f %6.3f %6.2f %5d\n", ratio, "matched",
-                ours.triangles.size(), e1.bindCm, e1.animatedCm, ourMs, theirs.triangles.size(), e2.bindCm,
-                e2.animatedCm, theirMs, brokenLocks(theirs, mesh, pm.locked()));
-    // uniform: meshopt's own split, one ratio for every segment; ours at the same total
-    std::vector<std::size_t> uniform(subs.size());
-    for (std::size_t s = 0; s < subs.size(); ++s)
-      uniform[s] = static_cast<std::size_t>(std::llround(ratio * double(segmentation.segments[s].triangles.size())));
-    theirs = meshoptLevel(subs, segmentation, uniform);
-    const double uniformMs = millisecondsOf([&] { benchmark::DoNotOptimize(meshoptLevel(subs, segmentation, uniform)); });
-    const std::size_t k2 = pm.collapsesFor(theirs.triangles.size());
-    ours = pm.level(k2);
-    e1 = lod->errorsOf(ours);
-    e2 = lod->errorsOf(theirs);
-    std::printf("%-8.2f %-8s | %19zu %6.3f %6.3f %6.2f | %14zu %6.3f %6.3f %6.2f %5d\n", ratio, "uniform",
-                ours.triangles.size(), e1.bindCm, e1.animatedCm, ourMs, theirs.triangles.size(), e2.bindCm,
-                e2.animatedCm, uniformMs, brokenLocks(theirs, mesh, pm.locked()));
+  std::printf("\n%s: %zu triangles, %d welded vertices (%d locked), diagonal %.1f cm; simplified over bind + %zu "
+              "poses, measured in bind + %zu other poses; ours: %.1f ms for every level\n",
+              path.c_str(), mesh->triangleCount(), pm.weldedVertexCount(), pm.lockedCount(), diagonal,
+              lod->simplifyPoses().size() - 1, lod->measurePoses().size(), buildMs);
+  std::printf("%6s | %-49s | %-49s | %s\n", "ratio", "ours: tris  bind cm (%diag)  anim max (%)  anim mean",
+              "meshopt: tris  bind cm (%diag)  anim max (%)  anim mean", "ms meshopt");
+  for (double ratio : {0.5, 0.25, 0.1}) {
+    const std::size_t target =
+        std::max<std::size_t>(1, std::size_t(std::llround(ratio * double(mesh->triangleCount()))));
+    const MeshLevelIndices ours = pm.level(pm.collapsesFor(target));
+    const MeshLevelIndices theirs = meshoptLevel(*mesh, weld, target);
+    const double theirMs = millisecondsOf([&] { benchmark::DoNotOptimize(meshoptLevel(*mesh, weld, target)); });
+    const MeshLod::Errors a = lod->errorsOf(ours), b = lod->errorsOf(theirs);
+    const auto pct = [&](double cm) { return diagonal > 0.0 ? 100.0 * cm / diagonal : 0.0; };
+    std::printf("%6.2f | %10zu %7.3f (%5.2f) %7.3f (%5.2f) %7.3f | %13zu %7.3f (%5.2f) %7.3f (%5.2f) %7.3f | %6.2f\n",
+                ratio, ours.triangles.size(), a.bindCm, pct(a.bindCm), a.animatedMaxCm, pct(a.animatedMaxCm),
+                a.animatedMeanCm, theirs.indices.size() / 3, b.bindCm, pct(b.bindCm), b.animatedMaxCm,
+                pct(b.animatedMaxCm), b.animatedMeanCm, theirMs);
   }
-  std::printf("\n(ms: best of 20, thread CPU time; ours = progressive mesh build + extraction of the level; meshopt = "
-              "all segments simplified to their targets)\n\n");
 }
 
-// Segmentation, progressive mesh of every segment and the level at `ratio` percent.
-void BM_OpenMeshLevel(benchmark::State& state) {
-  const SkinnedMesh& mesh = bcnMesh();
-  const double ratio = double(state.range(0)) / 100.0;
+void printComparisons() {
+  const char* files = std::getenv("MLOD_MESHLOD_FILES");
+  if (!files) {
+    compare(std::string(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 100.0);
+    std::printf("\n");
+    return;
+  }
+  std::istringstream list(files);
+  std::string entry;
+  while (list >> entry) {
+    const std::size_t colon = entry.rfind(':');
+    if (colon != std::string::npos && colon > 0)
+      compare(entry.substr(0, colon), std::atof(entry.substr(colon + 1).c_str()));
+    else
+      compare(entry, 0.0);
+  }
+  std::printf("\n");
+}
+
+// A skinned tube of about `triangles` triangles bending at its middle joint, and its poses:
+// the synthetic character of the speed goals.
+struct Synthetic {
+  test::Tube tube;
+  std::vector<std::vector<glm::vec3>> poses;
+};
+
+const Synthetic& synthetic(int triangles) {
+  static std::map<int, std::unique_ptr<Synthetic>> cache;
+  auto& entry = cache[triangles];
+  if (!entry) {
+    entry = std::make_unique<Synthetic>();
+    const int sides = triangles >= 20000 ? 100 : 32;
+    const int rings = triangles / (2 * sides) + 1;
+    entry->tube = test::makeTube(rings, sides, 40.0f / float(rings - 1));
+    const Clip bend = test::tubeBendClip(entry->tube.skeleton, 24, 90.0f);
+    Result<MeshLod> lod = MeshLod::build(entry->tube.mesh, &entry->tube.skeleton, std::span<const Clip>(&bend, 1));
+    entry->poses = lod->simplifyPoses();
+  }
+  return *entry;
+}
+
+// The whole simplification and the level at 25%: what one level costs.
+void BM_OursLevel(benchmark::State& state, const SkinnedMesh& mesh, const std::vector<std::vector<glm::vec3>>& poses) {
   std::size_t triangles = 0;
   for (auto _ : state) {
-    const MeshSegmentation segmentation = segmentMesh(mesh);
-    const ProgressiveMesh pm = ProgressiveMesh::build(mesh, segmentation);
-    const MeshLevelIndices level = pm.level(pm.collapsesFor(std::size_t(std::llround(ratio * double(mesh.triangleCount())))));
+    const ProgressiveMesh pm = ProgressiveMesh::build(mesh, poses);
+    const MeshLevelIndices level = pm.level(pm.collapsesFor(mesh.triangleCount() / 4));
     triangles = level.triangles.size();
     benchmark::DoNotOptimize(level);
   }
-  state.counters["triangles"] = double(triangles);
+  state.counters["triangles_in"] = double(mesh.triangleCount());
+  state.counters["triangles_out"] = double(triangles);
+  state.counters["poses"] = double(poses.size());
 }
-BENCHMARK(BM_OpenMeshLevel)->Arg(90)->Arg(75)->Arg(50)->Unit(benchmark::kMillisecond);
 
-// Segmentation and meshopt_simplify of every segment to `ratio` percent of its triangles.
-void BM_MeshoptLevel(benchmark::State& state) {
-  const SkinnedMesh& mesh = bcnMesh();
-  const double ratio = double(state.range(0)) / 100.0;
+void BM_MeshoptLevel(benchmark::State& state, const SkinnedMesh& mesh) {
+  const std::vector<std::uint32_t> weld = positionWeld(mesh);
   std::size_t triangles = 0;
   for (auto _ : state) {
-    const MeshSegmentation segmentation = segmentMesh(mesh);
-    const std::vector<Submesh> subs = submeshes(mesh, segmentation, segmentation.locked);
-    std::vector<std::size_t> targets(subs.size());
-    for (std::size_t s = 0; s < subs.size(); ++s)
-      targets[s] = std::size_t(std::llround(ratio * double(segmentation.segments[s].triangles.size())));
-    const MeshLevelIndices level = meshoptLevel(subs, segmentation, targets);
-    triangles = level.triangles.size();
+    const MeshLevelIndices level = meshoptLevel(mesh, weld, mesh.triangleCount() / 4);
+    triangles = level.indices.size() / 3;
     benchmark::DoNotOptimize(level);
   }
-  state.counters["triangles"] = double(triangles);
+  state.counters["triangles_in"] = double(mesh.triangleCount());
+  state.counters["triangles_out"] = double(triangles);
 }
-BENCHMARK(BM_MeshoptLevel)->Arg(90)->Arg(75)->Arg(50)->Unit(benchmark::kMillisecond);
 
-// Measuring one level's error: 54 segments, the bind pose and 8 animated poses.
-void BM_LevelError(benchmark::State& state) {
-  const Asset& asset = bcn();
-  static const std::unique_ptr<MeshLod> lod = [&] {
-    Result<MeshLod> built = MeshLod::build(bcnMesh(), &asset.skeleton, asset.clips);
-    return std::make_unique<MeshLod>(std::move(built).value());
+void registerBenchmarks() {
+  static const std::vector<std::vector<glm::vec3>> bcnPoses = [] {
+    const Asset& asset = bcn();
+    Result<MeshLod> lod = MeshLod::build(asset.meshes.at(0), &asset.skeleton, asset.clips);
+    return lod->simplifyPoses();
   }();
-  const double ratio = double(state.range(0)) / 100.0;
-  const std::size_t k = lod->progressive().collapsesFor(std::size_t(ratio * double(bcnMesh().triangleCount())));
-  double error = 0.0;
-  for (auto _ : state)
-    error = lod->errorsAt(k).maxCm();
-  state.counters["max_error_cm"] = error;
+  benchmark::RegisterBenchmark("BM_OursLevel/BCN_Epileptic", [](benchmark::State& s) {
+    BM_OursLevel(s, bcn().meshes.at(0), bcnPoses);
+  })->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("BM_MeshoptLevel/BCN_Epileptic", [](benchmark::State& s) {
+    BM_MeshoptLevel(s, bcn().meshes.at(0));
+  })->Unit(benchmark::kMillisecond);
+  for (int triangles : {5000, 50000}) {
+    const std::string name = "/tube" + std::to_string(triangles / 1000) + "k";
+    benchmark::RegisterBenchmark(("BM_OursLevel" + name).c_str(), [triangles](benchmark::State& s) {
+      BM_OursLevel(s, synthetic(triangles).tube.mesh, synthetic(triangles).poses);
+    })->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("BM_MeshoptLevel" + name).c_str(), [triangles](benchmark::State& s) {
+      BM_MeshoptLevel(s, synthetic(triangles).tube.mesh);
+    })->Unit(benchmark::kMillisecond);
+  }
 }
-BENCHMARK(BM_LevelError)->Arg(75)->Arg(50)->Unit(benchmark::kMillisecond);
 
 } // namespace
 
@@ -261,7 +246,8 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv))
     return 1;
-  printComparison();
+  printComparisons();
+  registerBenchmarks();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -23,6 +23,7 @@
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
+#include <QFont>
 #include <QInputDialog>
 #include <QHeaderView>
 #include <QJsonArray>
@@ -313,6 +314,30 @@ private slots:
     QVERIFY(waitForFigures(document));
     QVERIFY(!document->project().assets[0].joints.count("Spine"));
     QVERIFY(document->analysis()->levels[4].joints[std::size_t(joint)].clusters > 0);
+  }
+
+  // The Skeleton dock's mesh importance column: an edit is one undo step saved in the
+  // project's joint settings, another joint's edit keeps it, undo takes it back.
+  void meshImportanceIsAnUndoableJointSetting() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const int head = jointIndex(*window, "Head");
+    const QModelIndex cell = window->jointModel()->indexOfJoint(head, JointTreeModel::ImportanceColumn);
+    QCOMPARE(cell.data(Qt::EditRole).toDouble(), 1.0);
+    const int steps = document->undoStack()->count();
+    QVERIFY(window->jointModel()->setData(cell, 4.0, Qt::EditRole));
+    QCOMPARE(document->undoStack()->count(), steps + 1);
+    QCOMPARE(document->project().assets[0].joints.at("Head").meshImportance, 4.0);
+    QCOMPARE(document->project().jpcSettings(0, 1.0).meshImportanceFor("Head"), 4.0);
+    QVERIFY(cell.data(Qt::FontRole).value<QFont>().bold());
+    QVERIFY(!window->jointModel()->setData(cell, 0.0, Qt::EditRole)); // importance must be > 0
+    document->setJointAlpha({jointIndex(*window, "Spine")}, 2.0);
+    QCOMPARE(document->project().assets[0].joints.at("Head").meshImportance, 4.0);
+    document->undoStack()->undo();
+    document->undoStack()->undo();
+    QVERIFY(!document->project().assets[0].joints.count("Head"));
+    QCOMPARE(cell.data(Qt::EditRole).toDouble(), 1.0);
   }
 
   // With two joints selected (Ctrl+click), one edit sets both.

@@ -52,6 +52,11 @@ bool JpcSettings::lockedFor(const std::string& name) const {
   return found != joints.end() && found->second.locked;
 }
 
+double JpcSettings::meshImportanceFor(const std::string& name) const {
+  const auto found = joints.find(name);
+  return found != joints.end() ? found->second.meshImportance : 1.0;
+}
+
 Error validateThreshold(double threshold, const std::string& what) {
   return validateNonNegative(threshold, what, "cm·degrees");
 }
@@ -67,6 +72,8 @@ Error JpcSettings::validate(const Skeleton& skeleton) const {
     if (settings.alpha)
       if (Error error = validateNonNegative(*settings.alpha, "alpha of joint '" + name + "'", "cm"))
         return error;
+    if (!std::isfinite(settings.meshImportance) || !(settings.meshImportance > 0.0))
+      return Error("the mesh importance of joint '" + name + "' must be a finite number > 0");
     for (std::size_t level = 0; level < settings.thresholds.size(); ++level)
       if (settings.thresholds[level])
         if (Error error = validateThreshold(*settings.thresholds[level],

@@ -34,6 +34,9 @@ struct JointSettings {
   // or a level past the end, uses that level's threshold.
   std::vector<std::optional<double>> thresholds;
   bool locked = false; // never simplified, whatever the threshold
+  // Mesh importance (finite, > 0): scales the collapse cost of the vertices the joint
+  // influences, weighted by the skin (core/mesh/mesh_lod.h); raise it for the face or hands.
+  double meshImportance = 1.0;
 };
 
 struct JpcSettings {
@@ -51,9 +54,11 @@ struct JpcSettings {
   // `levelThreshold` (cm·degrees).
   double thresholdFor(const std::string& name, int level, double levelThreshold) const;
   bool lockedFor(const std::string& name) const;
+  double meshImportanceFor(const std::string& name) const; // 1 for a joint not listed
 
   // Rules: alpha finite and >= 0; zeroLength finite and >= 0; every joint name exists in
-  // `skeleton`; every per-joint alpha and threshold finite and >= 0.
+  // `skeleton`; every per-joint alpha and threshold finite and >= 0; mesh importances
+  // finite and > 0.
   Error validate(const Skeleton& skeleton) const;
 };
 

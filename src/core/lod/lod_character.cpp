@@ -107,7 +107,17 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
 Result<MeshLod> LodCharacter::meshLodFor(const LevelMotion& motion) const {
   if (!motion.mesh)
     return Error("LOD: the character has no mesh");
-  return MeshLod::build(*motion.mesh, &motion.bones.skeleton, motion.clips, m_meshSettings);
+  MeshLodSettings settings = m_meshSettings;
+  if (settings.jointImportance.empty()) { // the joints' mesh importance, on the level's skeleton
+    const std::vector<Joint>& joints = motion.bones.skeleton.joints;
+    bool any = false;
+    for (const Joint& joint : joints)
+      any = any || m_jpc.meshImportanceFor(joint.name) != 1.0;
+    if (any)
+      for (const Joint& joint : joints)
+        settings.jointImportance.push_back(static_cast<float>(m_jpc.meshImportanceFor(joint.name)));
+  }
+  return MeshLod::build(*motion.mesh, &motion.bones.skeleton, motion.clips, settings);
 }
 
 Result<LevelBuild> LodCharacter::build(double threshold, double meshRatio, int level) const {

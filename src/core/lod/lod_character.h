@@ -9,9 +9,9 @@
 //     rebound to their active ancestors;
 //  3. the level's motion: M' with the removed joints at their frozen pose, on the reduced
 //     skeleton;
-//  4. the mesh LOD of the *rebound* mesh (mesh_lod.h): vertices whose joints all collapsed
-//     into one are no longer shared between joints, so coarser motion levels unlock more of
-//     the mesh; its errors are measured in the level's own animated poses.
+//  4. the mesh LOD of the *rebound* mesh (mesh_lod.h), its collapse costs and errors in the
+//     level's own animated poses, each joint's mesh importance (JointSettings) scaling the
+//     cost of the vertices it moves.
 // Motion error: the largest displacement of a skin vertex (of a joint, for a skeleton
 // without mesh) between the original render (full skeleton, original clip, original mesh)
 // and the level's full-resolution render, over every frame of every clip, cm. Mesh error:

@@ -52,7 +52,8 @@ Result<LodSet> meshOnly(const Asset& asset, double pixels, int levels, const Lod
   for (int i = 1; i < levels; ++i) {
     const double aimedSize = options.projection.viewportHeightPixels / std::pow(2.0, i);
     const double aimedDistance = distanceForScreenSize(out.boundingRadiusCm, aimedSize, options.projection);
-    const MeshLodLevel level = lod->levelForError(deviationForPixels(pixels, aimedDistance, out.boundingRadiusCm, options.projection));
+    const MeshLodLevel level = lod->levelForErrorAmong(
+        deviationForPixels(pixels, aimedDistance, out.boundingRadiusCm, options.projection), options.meshRatios);
     LodLevel entry = original;
     entry.name = "LOD" + std::to_string(i);
     entry.meshRatio = double(level.triangles()) / double(mesh->triangleCount());
@@ -82,6 +83,10 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
   for (double threshold : options.thresholds)
     if (Error error = validateThreshold(threshold, "candidate threshold"))
       return error;
+  for (std::size_t i = 0; i < options.meshRatios.size(); ++i)
+    if (!(options.meshRatios[i] > 0.0 && options.meshRatios[i] <= 1.0) ||
+        (i > 0 && !(options.meshRatios[i] < options.meshRatios[i - 1])))
+      return Error("LOD: candidate mesh ratios must fall, each in (0, 1]");
   std::vector<Clip> clips = asset.clips;
   clips.insert(clips.end(), options.clips.begin(), options.clips.end());
   if (clips.empty() || asset.skeleton.empty())
@@ -181,7 +186,7 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
       Result<MeshLod> lod = character->meshLodFor(*chosen);
       if (!lod)
         return lod.error();
-      const MeshLodLevel mesh = lod->levelForError(std::max(0.0, budget - chosen->motionErrorCm));
+      const MeshLodLevel mesh = lod->levelForErrorAmong(std::max(0.0, budget - chosen->motionErrorCm), options.meshRatios);
       level.meshRatio = double(mesh.triangles()) / double(lod->original().triangleCount());
       level.meshErrorCm = mesh.maxErrorCm;
       level.triangles = static_cast<int>(mesh.triangles());

@@ -9,8 +9,9 @@
 // there N pixels allow a deviation delta_i (error_budget.h). The motion takes the largest
 // candidate threshold whose motion error stays within motionShare x delta_i (bone reduction
 // included, lod_character.h; where that would repeat the previous level's threshold, the
-// largest whole threshold below the first candidate that misses), the mesh the fewest triangles whose error fits in what is
-// left, measured on the level's own rebound mesh. The level then switches in at the
+// largest whole threshold below the first candidate that misses), the mesh the smallest of
+// the candidate ratios (down to 10%) whose measured error (bind pose and animated frames the
+// simplification did not see, mesh_lod.h) fits in what is left, on the level's own rebound mesh. The level then switches in at the
 // smallest distance where its measured deviation (motion + mesh error) spans at most N
 // pixels: never nearer than the previous level's. Every figure stays editable; validate()
 // checks an edited set.
@@ -58,6 +59,8 @@ struct LodBudgetOptions {
   // The thresholds tried for the motion (cm·degrees, ascending): the paper's Table 1 values and
   // the steps between.
   std::vector<double> thresholds = {0.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 300.0, 500.0, 1000.0};
+  // The mesh ratios tried for each level (falling, each in (0, 1]).
+  std::vector<double> meshRatios = {0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.25, 0.2, 0.15, 0.1};
 };
 
 class LodSet {

@@ -1,29 +1,58 @@
 #include "core/mesh/mesh_lod.h"
 
 #include "core/mesh/skinning.h"
-#include "core/mesh/surface_distance.h"
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <limits>
+#include <thread>
 
 namespace mlod {
 
 Error MeshLodSettings::validate() const {
-  const double normal = decimation.maxNormalDeviationDegrees;
-  if (!(normal > 0.0 && normal <= 180.0))
-    return Error("mesh LOD: the largest normal deviation per collapse must be in (0, 180] degrees");
-  const double aspect = decimation.maxAspectRatio;
-  if (!std::isfinite(aspect) || !(aspect == 0.0 || aspect >= 1.0))
-    return Error("mesh LOD: the aspect-ratio guard must be 0 (off) or at least 1");
+  const ProgressiveMeshSettings& s = simplification;
+  for (double weight : {s.borderWeight, s.seamWeight, s.skinWeight})
+    if (!std::isfinite(weight) || weight < 0.0)
+      return Error("mesh LOD: the border, seam and skin weights must be finite and >= 0");
   if (!std::isfinite(samplingSpacingCm) || samplingSpacingCm < 0.0)
     return Error("mesh LOD: the sampling spacing must be finite and >= 0 cm");
-  if (posesPerClip < 0)
-    return Error("mesh LOD: poses per clip must be >= 0");
+  if (simplifyPoses < 0 || measurePoses < 0)
+    return Error("mesh LOD: pose counts must be >= 0");
+  for (float importance : jointImportance)
+    if (!std::isfinite(importance) || !(importance > 0.0f))
+      return Error("mesh LOD: a joint's mesh importance must be finite and > 0");
   return {};
+}
+
+std::vector<float> vertexImportance(const SkinnedMesh& mesh, std::span<const float> jointImportance) {
+  std::vector<float> out(mesh.vertexCount(), 1.0f);
+  if (!mesh.skinned() || jointImportance.empty())
+    return out;
+  for (std::size_t v = 0; v < out.size(); ++v) {
+    float sum = 0.0f;
+    for (int i = 0; i < kMaxInfluences; ++i)
+      if (mesh.weights[v][i] > 0.0f)
+        sum += mesh.weights[v][i] * jointImportance[mesh.joints[v][i]];
+    out[v] = sum > 0.0f ? sum : 1.0f;
+  }
+  return out;
+}
+
+std::vector<std::pair<int, int>> spreadFrames(std::span<const int> frameCounts, int count,
+                                              std::span<const std::pair<int, int>> exclude) {
+  std::vector<std::pair<int, int>> all; // every frame of every clip, in order
+  for (std::size_t c = 0; c < frameCounts.size(); ++c)
+    for (int f = 0; f < frameCounts[c]; ++f)
+      if (std::find(exclude.begin(), exclude.end(), std::pair<int, int>(int(c), f)) == exclude.end())
+        all.emplace_back(int(c), f);
+  std::vector<std::pair<int, int>> out;
+  const std::size_t n = all.size();
+  const std::size_t k = std::min<std::size_t>(std::size_t(std::max(count, 0)), n);
+  for (std::size_t i = 0; i < k; ++i) // the middle of each of k equal stretches
+    out.push_back(all[std::min(n - 1, static_cast<std::size_t>((double(i) + 0.5) * double(n) / double(k)))]);
+  return out;
 }
 
 Result<MeshLod> MeshLod::build(const SkinnedMesh& mesh, const Skeleton* skeleton, std::span<const Clip> clips,
@@ -38,12 +67,13 @@ Result<MeshLod> MeshLod::build(const SkinnedMesh& mesh, const Skeleton* skeleton
   for (const Clip& clip : clips)
     if (Error error = clip.validate(*skeleton))
       return Error("clip '" + clip.name + "': " + error.message());
+  if (!settings.jointImportance.empty() &&
+      (!skeleton || int(settings.jointImportance.size()) != skeleton->jointCount()))
+    return Error("mesh LOD: one mesh importance per joint of the skeleton");
 
   MeshLod out;
   out.m_original = mesh;
   out.m_settings = settings;
-  out.m_segmentation = segmentMesh(mesh);
-  out.m_progressive = ProgressiveMesh::build(mesh, out.m_segmentation, settings.decimation);
 
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
   for (const glm::vec3& p : mesh.positions) {
@@ -51,67 +81,90 @@ Result<MeshLod> MeshLod::build(const SkinnedMesh& mesh, const Skeleton* skeleton
     hi = glm::max(hi, p);
   }
   const double diagonal = glm::length(glm::dvec3(hi) - glm::dvec3(lo));
-  out.m_spacing = settings.samplingSpacingCm > 0.0 ? settings.samplingSpacingCm : (diagonal > 0.0 ? 0.005 * diagonal : 1.0);
+  out.m_spacing =
+      settings.samplingSpacingCm > 0.0 ? settings.samplingSpacingCm : (diagonal > 0.0 ? 0.005 * diagonal : 1.0);
 
-  out.m_poses.push_back(mesh.positions);
-  out.m_poseFrames.emplace_back(-1, -1);
-  if (skeleton && mesh.skinned())
-    for (std::size_t c = 0; c < clips.size(); ++c) {
-      const Clip& clip = clips[c];
-      const int count = std::min(settings.posesPerClip, clip.frameCount);
-      int previous = -1;
-      for (int i = 0; i < count; ++i) {
-        const int frame = count == 1 ? 0 : static_cast<int>(std::lround(double(i) * (clip.frameCount - 1) / (count - 1)));
-        if (frame == previous)
-          continue;
-        previous = frame;
-        out.m_poses.push_back(posedPositions(mesh, *skeleton, clip, frame));
-        out.m_poseFrames.emplace_back(static_cast<int>(c), frame);
-      }
+  out.m_simplifyPoses.push_back(mesh.positions);
+  out.m_simplifyFrames.emplace_back(-1, -1);
+  if (skeleton && mesh.skinned() && !clips.empty()) {
+    std::vector<int> frameCounts;
+    int total = 0;
+    for (const Clip& clip : clips) {
+      frameCounts.push_back(clip.frameCount);
+      total += clip.frameCount;
     }
-
-  out.m_segmentIndices.resize(out.m_segmentation.segments.size());
-  for (std::size_t s = 0; s < out.m_segmentation.segments.size(); ++s)
-    for (std::uint32_t t : out.m_segmentation.segments[s].triangles)
-      for (std::size_t k = 0; k < 3; ++k)
-        out.m_segmentIndices[s].push_back(mesh.indices[std::size_t(t) * 3 + k]);
+    // note: at most half the frames shape the mesh, so that others are left to measure it in
+    const int simplify = std::min(settings.simplifyPoses, settings.measurePoses > 0 ? total / 2 : total);
+    const std::vector<std::pair<int, int>> fitted = spreadFrames(frameCounts, simplify);
+    const std::vector<std::pair<int, int>> measured = spreadFrames(frameCounts, settings.measurePoses, fitted);
+    for (const auto& [c, frame] : fitted) {
+      out.m_simplifyPoses.push_back(posedPositions(mesh, *skeleton, clips[std::size_t(c)], frame));
+      out.m_simplifyFrames.emplace_back(c, frame);
+    }
+    for (const auto& [c, frame] : measured) {
+      out.m_measurePoses.push_back(posedPositions(mesh, *skeleton, clips[std::size_t(c)], frame));
+      out.m_measureFrames.emplace_back(c, frame);
+    }
+  }
+  auto trees = std::make_shared<std::vector<TriangleTree>>();
+  trees->emplace_back(mesh.positions, mesh.indices);
+  for (const std::vector<glm::vec3>& pose : out.m_measurePoses)
+    trees->emplace_back(pose, mesh.indices);
+  out.m_originalTrees = std::move(trees);
+  const std::vector<float> importance = vertexImportance(mesh, settings.jointImportance);
+  out.m_progressive = ProgressiveMesh::build(mesh, out.m_simplifyPoses, importance, settings.simplification);
   return out;
 }
 
-double MeshLod::poseError(std::size_t pose, const MeshLevelIndices& level, double floorCm) const {
-  const std::vector<glm::vec3>& positions = m_poses[pose];
-  std::vector<std::vector<std::uint32_t>> levelIndices(m_segmentIndices.size());
-  for (std::size_t i = 0; i < level.triangles.size(); ++i) {
-    const auto s = static_cast<std::size_t>(m_segmentation.triangleSegment[level.triangles[i]]);
-    levelIndices[s].insert(levelIndices[s].end(), level.indices.begin() + std::ptrdiff_t(i * 3),
-                           level.indices.begin() + std::ptrdiff_t(i * 3 + 3));
+MeshLod::Errors MeshLod::errorsOf(const MeshLevelIndices& level) const {
+  // one pose: the symmetric max distance, the original's tree built once (build())
+  const std::vector<std::uint32_t>& original = m_original.indices;
+  const auto poseError = [&](std::size_t pose) {
+    const std::vector<glm::vec3>& positions = pose == 0 ? m_original.positions : m_measurePoses[pose - 1];
+    const TriangleTree levelTree(positions, level.indices);
+    const double toLevel = oneSidedMaxDistance(positions, original, level.indices, levelTree, m_spacing);
+    return oneSidedMaxDistance(positions, level.indices, original, (*m_originalTrees)[pose], m_spacing, toLevel);
+  };
+  // note: the poses are independent, so they are measured on as many threads as there are
+  // cores (up to one per pose); each result goes to its own slot
+  const std::size_t poses = 1 + m_measurePoses.size();
+  std::vector<double> errors(poses, 0.0);
+  const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, poses);
+  std::vector<std::thread> workers;
+  for (std::size_t t = 1; t < threads; ++t)
+    workers.emplace_back([&, t] {
+      for (std::size_t p = t; p < poses; p += threads)
+        errors[p] = poseError(p);
+    });
+  for (std::size_t p = 0; p < poses; p += threads)
+    errors[p] = poseError(p);
+  for (std::thread& worker : workers)
+    worker.join();
+  Errors out;
+  out.bindCm = errors[0];
+  double sum = 0.0;
+  for (std::size_t p = 1; p < poses; ++p) {
+    out.animatedMaxCm = std::max(out.animatedMaxCm, errors[p]);
+    sum += errors[p];
   }
-  // note: segments in falling order of the progressive mesh's estimate, so that the largest
-  // distance is found early and every later sample nearer than it is settled at once
-  std::vector<std::pair<double, std::size_t>> order;
-  for (std::size_t s = 0; s < m_segmentIndices.size(); ++s) {
-    if (levelIndices[s] == m_segmentIndices[s])
-      continue; // untouched segment
-    const std::size_t removed = m_segmentIndices[s].size() / 3 - levelIndices[s].size() / 3;
-    std::size_t collapses = 0; // each collapse of a segment removes two of its triangles
-    while (collapses < m_progressive.segmentCollapseCount(int(s)) &&
-           m_progressive.segmentTrianglesAfter(int(s), collapses) > m_segmentIndices[s].size() / 3 - removed)
-      ++collapses;
-    order.emplace_back(m_progressive.segmentCostAt(int(s), collapses), s);
-  }
-  std::sort(order.begin(), order.end(), std::greater<>());
-  double worst = floorCm;
-  for (const auto& [estimate, s] : order)
-    worst = symmetricMaxDistance(positions, m_segmentIndices[s], levelIndices[s], m_spacing, worst);
-  return worst;
+  out.animatedMeanCm = m_measurePoses.empty() ? 0.0 : sum / double(m_measurePoses.size());
+  return out;
 }
 
-MeshLod::Errors MeshLod::errorsOf(const MeshLevelIndices& level) const {
-  Errors errors;
-  errors.bindCm = poseError(0, level, 0.0);
-  for (std::size_t pose = 1; pose < m_poses.size(); ++pose)
-    errors.animatedCm = poseError(pose, level, errors.animatedCm);
-  return errors;
+bool MeshLod::exceeds(const MeshLevelIndices& level, double maxErrorCm) const {
+  // note: with the bound as the floor, a sample nearer than it is settled by the first
+  // triangle found within it (surface_distance.h), so a level that fits costs far less than
+  // measuring it, and one that does not stops at the first pose that shows it
+  const std::vector<std::uint32_t>& original = m_original.indices;
+  for (std::size_t pose = 0; pose <= m_measurePoses.size(); ++pose) {
+    const std::vector<glm::vec3>& positions = pose == 0 ? m_original.positions : m_measurePoses[pose - 1];
+    const TriangleTree levelTree(positions, level.indices);
+    if (oneSidedMaxDistance(positions, original, level.indices, levelTree, m_spacing, maxErrorCm) > maxErrorCm ||
+        oneSidedMaxDistance(positions, level.indices, original, (*m_originalTrees)[pose], m_spacing, maxErrorCm) >
+            maxErrorCm)
+      return true;
+  }
+  return false;
 }
 
 MeshLod::Errors MeshLod::errorsAt(std::size_t collapses) const {
@@ -171,7 +224,8 @@ MeshLodLevel MeshLod::makeLevel(std::size_t collapses, double ratio, std::size_t
   level.mesh = compact(indices, &level.sourceVertices);
   const Errors errors = collapses == 0 ? Errors{} : errorsOf(indices);
   level.bindErrorCm = errors.bindCm;
-  level.animatedErrorCm = errors.animatedCm;
+  level.animatedErrorCm = errors.animatedMaxCm;
+  level.animatedMeanErrorCm = errors.animatedMeanCm;
   level.maxErrorCm = errors.maxCm();
 
   // every locked vertex the original uses must still be used, where it was
@@ -180,12 +234,12 @@ MeshLodLevel MeshLod::makeLevel(std::size_t collapses, double ratio, std::size_t
     used[v] = 1;
   for (std::size_t i = 0; i < level.sourceVertices.size(); ++i) {
     const std::uint32_t v = level.sourceVertices[i];
-    kept[v] = level.mesh.positions[i] == m_original.positions[v] ? 1 : 0;
+    kept[m_progressive.weld()[v]] = level.mesh.positions[i] == m_original.positions[v] ? 1 : 0;
   }
   const std::vector<std::uint8_t>& locked = m_progressive.locked();
   for (std::size_t v = 0; v < used.size(); ++v)
-    if (used[v] && locked[v] && !kept[v])
-      level.sharedVerticesPreserved = false;
+    if (used[v] && locked[v] && !kept[m_progressive.weld()[v]])
+      level.lockedVerticesPreserved = false;
   return level;
 }
 
@@ -206,10 +260,10 @@ MeshLodLevel MeshLod::levelForRatio(double ratio) const {
   if (reached > target) {
     char text[320];
     std::snprintf(text, sizeof text,
-                  "ratio %g asks for %zu triangles; the locked vertices (%d of %zu: shared between joints or on a "
-                  "border) allow no fewer than %zu (ratio %.3f)",
-                  ratio, target, m_progressive.lockedCount(), m_original.vertexCount(), reached,
-                  double(reached) / double(total));
+                  "ratio %g asks for %zu triangles; collapses that keep the surface manifold stop at %zu (ratio %.3f; "
+                  "%d of %d welded vertices locked as non-manifold)",
+                  ratio, target, reached, double(reached) / double(total), m_progressive.lockedCount(),
+                  m_progressive.weldedVertexCount());
     level.warning = text;
   }
   return level;
@@ -230,6 +284,26 @@ MeshLodLevel MeshLod::levelForError(double maxErrorCm) const {
       bad = mid;
   }
   return levelAt(good);
+}
+
+MeshLodLevel MeshLod::levelForErrorAmong(double maxErrorCm, std::span<const double> ratios) const {
+  assert(maxErrorCm >= 0.0);
+  const std::size_t total = m_progressive.triangleCount();
+  const auto collapsesOf = [&](double ratio) {
+    assert(ratio > 0.0 && ratio <= 1.0);
+    return m_progressive.collapsesFor(std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(ratio * double(total)))));
+  };
+  // note: bisection over the candidates (the error grows as the ratio falls, if not
+  // strictly): the largest index that fits, in about log2(n) measurements
+  std::size_t fits = 0, misses = ratios.size() + 1; // in 1-based candidate positions; 0 = the original
+  while (misses - fits > 1) {
+    const std::size_t mid = fits + (misses - fits) / 2;
+    if (!exceeds(m_progressive.level(collapsesOf(ratios[mid - 1])), maxErrorCm))
+      fits = mid;
+    else
+      misses = mid;
+  }
+  return levelAt(fits == 0 ? 0 : collapsesOf(ratios[fits - 1]));
 }
 
 } // namespace mlod

@@ -10,7 +10,10 @@ MeshLodReport::Level reportLevel(const MeshLodLevel& level, double seconds) {
   out.triangles = level.triangles();
   out.vertices = level.vertices();
   out.maxErrorCm = level.maxErrorCm;
-  out.sharedVerticesPreserved = level.sharedVerticesPreserved;
+  out.bindErrorCm = level.bindErrorCm;
+  out.animatedMaxErrorCm = level.animatedErrorCm;
+  out.animatedMeanErrorCm = level.animatedMeanErrorCm;
+  out.lockedVerticesPreserved = level.lockedVerticesPreserved;
   out.warning = level.warning;
   out.seconds = seconds;
   return out;
@@ -29,7 +32,11 @@ std::string meshLodReportJson(const MeshLodReport& report, int indent) {
                       {"triangles", level.triangles},
                       {"vertices", level.vertices},
                       {"max_error", level.maxErrorCm},
-                      {"shared_vertices_preserved", level.sharedVerticesPreserved},
+                      {"error_cm",
+                       {{"bind", level.bindErrorCm},
+                        {"animated_max", level.animatedMaxErrorCm},
+                        {"animated_mean", level.animatedMeanErrorCm}}},
+                      {"shared_vertices_preserved", level.lockedVerticesPreserved},
                       {"warning", level.warning.empty() ? json(nullptr) : json(level.warning)},
                       {"seconds", level.seconds}});
   doc["levels"] = std::move(levels);

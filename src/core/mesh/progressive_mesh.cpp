@@ -1,544 +1,641 @@
 #include "core/mesh/progressive_mesh.h"
 
-#include "core/mesh/surface_distance.h"
-
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <OpenMesh/Core/System/omstream.hh>
-#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
-#include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
-#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
-#include <OpenMesh/Tools/Decimater/ModProgMeshT.hh>
-#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
-
 #include <algorithm>
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <limits>
-#include <mutex>
+#include <queue>
 #include <unordered_map>
 
 namespace mlod {
 
 namespace {
 
-struct DecimationTraits : OpenMesh::DefaultTraits {
-  VertexAttributes(OpenMesh::Attributes::Status);
-  EdgeAttributes(OpenMesh::Attributes::Status);
-  HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge);
-  FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
-};
-using DecimationMesh = OpenMesh::TriMesh_ArrayKernelT<DecimationTraits>;
-using Decimater = OpenMesh::Decimater::DecimaterT<DecimationMesh>;
-using CollapseInfo = OpenMesh::Decimater::CollapseInfoT<DecimationMesh>;
-using QuadricModule = OpenMesh::Decimater::ModQuadricT<DecimationMesh>;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-// The corners of one segment's faces: which OpenMesh vertex and which wedge (original
-// vertex) each holds, by face index. OpenMesh moves halfedges between faces when it
-// collapses, so corners are kept here rather than in halfedge properties.
-struct Corners {
-  std::vector<std::array<int, 3>> vertex;
-  std::vector<std::array<std::uint32_t, 3>> wedge;
-
-  std::uint32_t wedgeAt(OpenMesh::FaceHandle face, OpenMesh::VertexHandle v) const {
-    const auto f = static_cast<std::size_t>(face.idx());
-    for (std::size_t k = 0; k < 3; ++k)
-      if (vertex[f][k] == v.idx())
-        return wedge[f][k];
-    assert(false && "vertex not in face");
-    return wedge[f][0];
-  }
+// A symmetric 4x4 quadric (Garland & Heckbert): error(p) = p^T A p + 2 b.p + c, with the
+// area weight it was built from.
+struct Quadric {
+  double a00 = 0, a11 = 0, a22 = 0, a10 = 0, a20 = 0, a21 = 0;
+  double b0 = 0, b1 = 0, b2 = 0, c = 0;
+  double w = 0;
 };
 
-// What one collapse does to wedges, and what it costs.
-struct WedgePlan {
-  std::uint32_t from[2] = {0, 0};
-  std::uint32_t to[2] = {0, 0};
-  std::uint8_t wedges = 0;
-};
-
-struct Record {
-  WedgePlan plan;
-  std::uint8_t removedTriangles = 0;
-  double distanceCm = 0.0; // the farthest removed vertex from the surface right after it
-};
-
-// A binary module: allows a collapse only where every corner of v0 has one clear wedge of
-// v1 to become (see progressive_mesh.h); after each collapse it rewrites the corners and
-// records the wedge mapping and the error estimate.
-template <class MeshT>
-class ModWedgeT : public OpenMesh::Decimater::ModBaseT<MeshT> {
-public:
-  DECIMATING_MODULE(ModWedgeT, MeshT, Wedge);
-
-  explicit ModWedgeT(MeshT& mesh) : Base(mesh, true) {}
-
-  // `normals`: per wedge (original vertex), the direction the surface faces there.
-  void setup(Corners* corners, const std::vector<glm::vec3>* normals, const TriangleTree* original,
-             std::vector<Record>* out_records) {
-    m_corners = corners;
-    m_original = original;
-    m_normals = normals;
-    m_facePoints.assign(corners->vertex.size(), {});
-    m_records = out_records;
-  }
-
-  float collapse_priority(const CollapseInfo& ci) override {
-    WedgePlan plan;
-    return this->planCollapse(ci, plan) ? float(Base::LEGAL_COLLAPSE) : float(Base::ILLEGAL_COLLAPSE);
-  }
-
-  void preprocess_collapse(const CollapseInfo& ci) override {
-    m_pending = Record{};
-    [[maybe_unused]] const bool legal = this->planCollapse(ci, m_pending.plan);
-    assert(legal); // the one-ring of a collapse is re-examined after it, so a legal plan stays legal
-    m_pending.removedTriangles = static_cast<std::uint8_t>(int(ci.fl.is_valid()) + int(ci.fr.is_valid()));
-  }
-
-  void postprocess_collapse(const CollapseInfo& ci) override {
-    MeshT& mesh = Base::mesh();
-    const int v0 = ci.v0.idx();
-    for (auto face : mesh.vf_range(ci.v1)) {
-      const auto f = static_cast<std::size_t>(face.idx());
-      for (std::size_t k = 0; k < 3; ++k) {
-        if (m_corners->vertex[f][k] != v0)
-          continue;
-        m_corners->vertex[f][k] = ci.v1.idx();
-        std::uint32_t& wedge = m_corners->wedge[f][k];
-        for (int i = 0; i < m_pending.plan.wedges; ++i)
-          if (wedge == m_pending.plan.from[i]) {
-            wedge = m_pending.plan.to[i];
-            break;
-          }
-      }
-    }
-    m_pending.distanceCm = std::max(redistributePoints(ci), distanceFromOriginal(ci));
-    m_records->push_back(m_pending);
-  }
-
-private:
-  bool planCollapse(const CollapseInfo& ci, WedgePlan& out_plan) {
-    if (!ci.fl.is_valid() || !ci.fr.is_valid())
-      return false; // v0 on a border: such vertices are locked anyway
-    const Corners& corners = *m_corners;
-    const std::uint32_t left0 = corners.wedgeAt(ci.fl, ci.v0), right0 = corners.wedgeAt(ci.fr, ci.v0);
-    const std::uint32_t left1 = corners.wedgeAt(ci.fl, ci.v1), right1 = corners.wedgeAt(ci.fr, ci.v1);
-    // seam edges at v0: changes of v0's wedge between consecutive faces around it
-    int changes = 0;
-    std::uint32_t first = 0, previous = 0;
-    bool any = false;
-    for (auto face : Base::mesh().vf_range(ci.v0)) {
-      const std::uint32_t wedge = corners.wedgeAt(face, ci.v0);
-      if (!any)
-        first = wedge;
-      else if (wedge != previous)
-        ++changes;
-      previous = wedge;
-      any = true;
-    }
-    if (any && previous != first)
-      ++changes;
-    if (changes == 0) {
-      if (left1 != right1)
-        return false; // v1's corners beside the edge differ: v0's corners would have no single wedge
-      out_plan.wedges = 1;
-      out_plan.from[0] = left0;
-      out_plan.to[0] = left1;
-      return keepsOrientation(ci, out_plan);
-    }
-    if (changes == 2 && left0 != right0 && left1 != right1) { // along the seam, each side onto its side
-      out_plan.wedges = 2;
-      out_plan.from[0] = left0;
-      out_plan.to[0] = left1;
-      out_plan.from[1] = right0;
-      out_plan.to[1] = right1;
-      return keepsOrientation(ci, out_plan);
-    }
-    return false;
-  }
-
-  // Every face the collapse reshapes keeps a real area and faces the way its corners'
-  // original normals say. ModNormalFlipping bounds the turn of one collapse; this bounds
-  // the sum of them, so no sequence of collapses turns a triangle inside out.
-  bool keepsOrientation(const CollapseInfo& ci, const WedgePlan& plan) {
-    MeshT& mesh = Base::mesh();
-    for (auto face : mesh.vf_range(ci.v0)) {
-      if (face == ci.fl || face == ci.fr)
-        continue;
-      const auto f = static_cast<std::size_t>(face.idx());
-      glm::dvec3 p[3];
-      glm::dvec3 shading(0.0);
-      for (std::size_t k = 0; k < 3; ++k) {
-        std::uint32_t wedge = m_corners->wedge[f][k];
-        if (m_corners->vertex[f][k] == ci.v0.idx()) {
-          p[k] = glm::dvec3(ci.p1[0], ci.p1[1], ci.p1[2]);
-          for (int i = 0; i < plan.wedges; ++i)
-            if (wedge == plan.from[i])
-              wedge = plan.to[i];
-        } else {
-          const auto& q = mesh.point(OpenMesh::VertexHandle(m_corners->vertex[f][k]));
-          p[k] = glm::dvec3(q[0], q[1], q[2]);
-        }
-        shading += glm::dvec3((*m_normals)[wedge]);
-      }
-      const glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
-      const double longest = std::max({glm::dot(p[1] - p[0], p[1] - p[0]), glm::dot(p[2] - p[1], p[2] - p[1]),
-                                       glm::dot(p[0] - p[2], p[0] - p[2])});
-      if (!(glm::length(n) > 1e-6 * longest)) // a sliver of no area
-        return false;
-      if (!(glm::dot(n, shading) > 0.0))
-        return false;
-    }
-    return true;
-  }
-
-  // As OpenMesh's ModHausdorff: every removed vertex stays attached to the face nearest to
-  // it; after a collapse the points of the faces around v1 (and of the two removed faces,
-  // and v0 itself) go to their nearest face around v1. Returns the largest of those
-  // distances (cm): how far the collapse leaves the original vertices from the surface.
-  double redistributePoints(const CollapseInfo& ci) {
-    MeshT& mesh = Base::mesh();
-    m_faces.clear();
-    m_points.clear();
-    const auto take = [&](OpenMesh::FaceHandle face) {
-      std::vector<glm::dvec3>& points = m_facePoints[static_cast<std::size_t>(face.idx())];
-      m_points.insert(m_points.end(), points.begin(), points.end());
-      points.clear();
-    };
-    for (auto face : mesh.vf_range(ci.v1)) {
-      m_faces.push_back(face);
-      take(face);
-    }
-    take(ci.fl);
-    take(ci.fr);
-    m_points.emplace_back(ci.p0[0], ci.p0[1], ci.p0[2]);
-    double worst = 0.0;
-    if (m_faces.empty())
-      return 0.0;
-    for (const glm::dvec3& point : m_points) {
-      double nearest = std::numeric_limits<double>::infinity();
-      OpenMesh::FaceHandle nearestFace = m_faces.front();
-      for (OpenMesh::FaceHandle face : m_faces) {
-        auto fv = mesh.cfv_iter(face);
-        const auto& a = mesh.point(*fv);
-        const auto& b = mesh.point(*(++fv));
-        const auto& c = mesh.point(*(++fv));
-        const double d = pointTriangleDistanceSquared(point, glm::dvec3(a[0], a[1], a[2]), glm::dvec3(b[0], b[1], b[2]),
-                                                      glm::dvec3(c[0], c[1], c[2]));
-        if (d < nearest) {
-          nearest = d;
-          nearestFace = face;
-        }
-      }
-      m_facePoints[static_cast<std::size_t>(nearestFace.idx())].push_back(point);
-      worst = std::max(worst, nearest);
-    }
-    return std::sqrt(worst);
-  }
-
-  // The other way round: how far the faces around v1 stray from the segment's original
-  // surface, at their centroids and edge midpoints (cm).
-  double distanceFromOriginal(const CollapseInfo& ci) {
-    MeshT& mesh = Base::mesh();
-    double worst = 0.0;
-    for (auto face : mesh.vf_range(ci.v1)) {
-      auto fv = mesh.cfv_iter(face);
-      glm::dvec3 p[3];
-      for (int k = 0; k < 3; ++k, ++fv) {
-        const auto& q = mesh.point(*fv);
-        p[k] = glm::dvec3(q[0], q[1], q[2]);
-      }
-      const glm::dvec3 samples[4] = {(p[0] + p[1] + p[2]) / 3.0, 0.5 * (p[0] + p[1]), 0.5 * (p[1] + p[2]),
-                                     0.5 * (p[2] + p[0])};
-      for (const glm::dvec3& sample : samples)
-        if (!m_original->anyWithin(sample, worst, &m_hint))
-          worst = m_original->nearestSquared(sample, std::numeric_limits<double>::infinity(), &m_hint);
-    }
-    return std::sqrt(worst);
-  }
-
-  Corners* m_corners = nullptr;
-  const TriangleTree* m_original = nullptr;
-  int m_hint = -1;
-  const std::vector<glm::vec3>* m_normals = nullptr;
-  std::vector<std::vector<glm::dvec3>> m_facePoints; // per face: the removed vertices nearest to it
-  std::vector<OpenMesh::FaceHandle> m_faces;
-  std::vector<glm::dvec3> m_points;
-  std::vector<Record>* m_records = nullptr;
-  Record m_pending;
-};
-
-using WedgeModule = ModWedgeT<DecimationMesh>;
-
-void silenceOpenMeshOnce() {
-  // note: OpenMesh reports faces it cannot add on its error stream; they are handled here
-  // (kept as they are, their vertices locked), so the stream stays quiet.
-  static std::once_flag once;
-  std::call_once(once, [] { omerr().disable(); });
+void quadricAdd(Quadric& q, const Quadric& r) {
+  q.a00 += r.a00, q.a11 += r.a11, q.a22 += r.a22, q.a10 += r.a10, q.a20 += r.a20, q.a21 += r.a21;
+  q.b0 += r.b0, q.b1 += r.b1, q.b2 += r.b2, q.c += r.c, q.w += r.w;
 }
 
-// Per vertex, the area-weighted normal of the faces around its welded vertex: the
-// orientation guard's reference for a mesh without normals.
-std::vector<glm::vec3> faceWeightedNormals(const SkinnedMesh& mesh, const MeshSegmentation& segmentation) {
-  std::vector<glm::vec3> sums(mesh.vertexCount(), glm::vec3(0.0f));
-  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-    const glm::vec3 a = mesh.positions[mesh.indices[t * 3]], b = mesh.positions[mesh.indices[t * 3 + 1]],
-                    c = mesh.positions[mesh.indices[t * 3 + 2]];
-    const glm::vec3 n = glm::cross(b - a, c - a);
-    for (std::size_t k = 0; k < 3; ++k)
-      sums[segmentation.weld[mesh.indices[t * 3 + k]]] += n;
-  }
-  std::vector<glm::vec3> out(mesh.vertexCount());
-  for (std::size_t v = 0; v < out.size(); ++v)
-    out[v] = sums[segmentation.weld[v]];
-  return out;
+// The plane n.p = d (n unit) with weight w.
+Quadric quadricFromPlane(const glm::dvec3& n, double d, double w) {
+  Quadric q;
+  q.a00 = w * n.x * n.x, q.a11 = w * n.y * n.y, q.a22 = w * n.z * n.z;
+  q.a10 = w * n.y * n.x, q.a20 = w * n.z * n.x, q.a21 = w * n.z * n.y;
+  q.b0 = -w * n.x * d, q.b1 = -w * n.y * d, q.b2 = -w * n.z * d;
+  q.c = w * d * d;
+  q.w = w;
+  return q;
 }
 
-struct SegmentResult {
-  std::vector<Record> records;
-  std::vector<std::uint32_t> newlyLocked; // welded vertices of triangles OpenMesh could not hold
+double quadricError(const Quadric& q, const glm::dvec3& p) {
+  const double rx = q.a00 * p.x + q.a10 * p.y + q.a20 * p.z + 2 * q.b0;
+  const double ry = q.a10 * p.x + q.a11 * p.y + q.a21 * p.z + 2 * q.b1;
+  const double rz = q.a20 * p.x + q.a21 * p.y + q.a22 * p.z + 2 * q.b2;
+  return std::fabs(rx * p.x + ry * p.y + rz * p.z + q.c);
+}
+
+// The triangle's plane, weighted by its area (cm^2).
+Quadric quadricFromTriangle(const glm::dvec3& p0, const glm::dvec3& p1, const glm::dvec3& p2, double scale) {
+  glm::dvec3 n = glm::cross(p1 - p0, p2 - p0);
+  const double length = glm::length(n);
+  if (!(length > 0.0))
+    return {};
+  n /= length;
+  return quadricFromPlane(n, glm::dot(n, p0), 0.5 * length * scale);
+}
+
+// The plane through the edge p0 p1 perpendicular to its triangle (p2 its third corner),
+// weighted by the edge's squared length: keeps a border or a seam where it is.
+Quadric quadricFromEdge(const glm::dvec3& p0, const glm::dvec3& p1, const glm::dvec3& p2, double scale) {
+  glm::dvec3 edge = p1 - p0;
+  const double length = glm::length(edge);
+  if (!(length > 0.0))
+    return {};
+  edge /= length;
+  glm::dvec3 n = (p2 - p0) - edge * glm::dot(p2 - p0, edge);
+  const double height = glm::length(n);
+  if (!(height > 0.0))
+    return {};
+  n /= height;
+  return quadricFromPlane(n, glm::dot(n, p0), length * length * scale);
+}
+
+// A corner's position bits and, on a skinned mesh, its influences: corners at one position
+// that a different skin moves apart are not one surface point.
+struct WeldKey {
+  std::uint32_t bits[3 + 2 * kMaxInfluences] = {};
+  bool operator==(const WeldKey& other) const { return std::memcmp(bits, other.bits, sizeof bits) == 0; }
 };
 
-SegmentResult decimateSegment(const std::vector<std::uint32_t>& indices, const MeshSegmentation& segmentation,
-                              const MeshSegment& segment, const std::vector<glm::vec3>& positions,
-                              const std::vector<glm::vec3>& normals, const ProgressiveMeshSettings& settings) {
-  SegmentResult result;
-  DecimationMesh mesh;
-  Corners corners;
-  std::unordered_map<std::uint32_t, OpenMesh::VertexHandle> handles; // welded vertex -> OpenMesh vertex
-  handles.reserve(segment.triangles.size() * 2);
-  const auto handleOf = [&](std::uint32_t welded) {
-    auto [it, inserted] = handles.try_emplace(welded);
-    if (inserted) {
-      const glm::vec3& p = positions[welded];
-      it->second = mesh.add_vertex(DecimationMesh::Point(p.x, p.y, p.z));
-      if (segmentation.locked[welded])
-        mesh.status(it->second).set_locked(true);
-    }
-    return it->second;
-  };
-  std::vector<std::uint32_t> failed;
-  for (std::uint32_t t : segment.triangles) {
-    std::array<std::uint32_t, 3> wedge{};
-    std::array<OpenMesh::VertexHandle, 3> v;
-    for (std::size_t k = 0; k < 3; ++k) {
-      wedge[k] = indices[std::size_t(t) * 3 + k];
-      v[k] = handleOf(segmentation.weld[wedge[k]]);
-    }
-    OpenMesh::FaceHandle face;
-    if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2])
-      face = mesh.add_face(v[0], v[1], v[2]);
-    if (!face.is_valid()) {
-      failed.push_back(t);
-      continue;
-    }
-    assert(static_cast<std::size_t>(face.idx()) == corners.vertex.size());
-    corners.vertex.push_back({v[0].idx(), v[1].idx(), v[2].idx()});
-    corners.wedge.push_back(wedge);
+struct WeldHash {
+  std::size_t operator()(const WeldKey& k) const {
+    std::size_t h = 0;
+    for (std::uint32_t b : k.bits)
+      h = h * 1000003u ^ b;
+    return h;
   }
-  for (std::uint32_t t : failed)
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::uint32_t welded = segmentation.weld[indices[std::size_t(t) * 3 + k]];
-      mesh.status(handleOf(welded)).set_locked(true);
-      if (!segmentation.locked[welded])
-        result.newlyLocked.push_back(welded);
-    }
-  if (mesh.n_faces() == 0)
-    return result;
-  mesh.update_face_normals();
+};
 
-  Decimater decimater(mesh);
-  QuadricModule::Handle quadric;
-  OpenMesh::Decimater::ModNormalFlippingT<DecimationMesh>::Handle normalFlipping;
-  OpenMesh::Decimater::ModAspectRatioT<DecimationMesh>::Handle aspectRatio;
-  OpenMesh::Decimater::ModProgMeshT<DecimationMesh>::Handle progMesh;
-  WedgeModule::Handle wedges;
-  decimater.add(quadric);
-  decimater.module(quadric).unset_max_err();
-  decimater.add(normalFlipping);
-  decimater.module(normalFlipping).set_max_normal_deviation(settings.maxNormalDeviationDegrees);
-  if (settings.maxAspectRatio > 0.0) {
-    decimater.add(aspectRatio);
-    decimater.module(aspectRatio).set_aspect_ratio(static_cast<float>(settings.maxAspectRatio));
-  }
-  decimater.add(progMesh);
-  decimater.add(wedges);
-  std::vector<std::uint32_t> originalIndices;
-  for (std::uint32_t t : segment.triangles)
-    for (std::size_t k = 0; k < 3; ++k)
-      originalIndices.push_back(indices[std::size_t(t) * 3 + k]);
-  const TriangleTree original(positions, originalIndices);
-  decimater.module(wedges).setup(&corners, &normals, &original, &result.records);
-  if (!decimater.initialize())
-    return result;
-  decimater.decimate(0); // to the end: the whole progressive mesh
-  assert(decimater.module(progMesh).pmi().size() == result.records.size());
-  return result;
+std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
+  return (std::uint64_t(a) << 32) | b;
 }
+
+// Weight mass that changes joint between two influence sets (0: same bones, same weights; 1:
+// no bone in common).
+double skinDistance(const glm::u16vec4& ja, const glm::vec4& wa, const glm::u16vec4& jb, const glm::vec4& wb) {
+  double common = 0.0;
+  for (int i = 0; i < kMaxInfluences; ++i)
+    for (int k = 0; k < kMaxInfluences; ++k)
+      if (ja[i] == jb[k])
+        common += std::min(wa[i], wb[k]);
+  return std::max(0.0, 1.0 - common);
+}
+
+struct Candidate {
+  std::uint32_t target = kNone; // welded vertex
+  double cost = 0.0;
+  bool attribute = false; // needs wedges the edge does not map
+};
+
+struct HeapEntry {
+  double cost;
+  std::uint32_t vertex;
+  std::uint32_t target;
+  std::uint32_t version;
+  bool attribute;
+  bool operator<(const HeapEntry& other) const { // std::priority_queue pops the largest
+    if (attribute != other.attribute)
+      return attribute; // clean collapses first
+    return cost > other.cost;
+  }
+};
 
 } // namespace
 
-ProgressiveMesh ProgressiveMesh::build(const SkinnedMesh& mesh, const MeshSegmentation& segmentation,
-                                       const ProgressiveMeshSettings& settings) {
-  assert(segmentation.weld.size() == mesh.vertexCount());
-  assert(settings.maxNormalDeviationDegrees > 0.0 && settings.maxNormalDeviationDegrees <= 180.0);
-  silenceOpenMeshOnce();
-  ProgressiveMesh out;
-  out.m_indices = mesh.indices;
-  out.m_weld = segmentation.weld;
-  out.m_locked = segmentation.locked;
-  out.m_triangleCount = mesh.triangleCount();
-  out.m_segments.resize(segmentation.segments.size());
-  std::vector<std::uint8_t> newlyLocked(mesh.vertexCount(), 0); // by welded vertex
-  const std::vector<glm::vec3> normals = mesh.normals.empty() ? faceWeightedNormals(mesh, segmentation) : mesh.normals;
+// Builds the collapse order: the state of a simplification in progress.
+class ProgressiveMeshBuilder {
+public:
+  ProgressiveMeshBuilder(const SkinnedMesh& mesh, std::span<const std::vector<glm::vec3>> poses,
+                         std::span<const float> importance, const ProgressiveMeshSettings& settings,
+                         ProgressiveMesh& out)
+      : m_mesh(mesh), m_settings(settings), m_out(out), m_poseCount(poses.size()) {
+    weld();
+    classify();
+    accumulateQuadrics(poses, importance);
+  }
 
-  for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
-    SegmentResult result =
-        decimateSegment(mesh.indices, segmentation, segmentation.segments[s], mesh.positions, normals, settings);
-    Segment& segment = out.m_segments[s];
-    segment.triangles = segmentation.segments[s].triangles.size();
-    double running = 0.0;
-    segment.collapses.reserve(result.records.size());
-    for (const Record& record : result.records) {
-      running = std::max(running, record.distanceCm);
-      Collapse collapse;
-      collapse.wedges = record.plan.wedges;
-      for (int i = 0; i < record.plan.wedges; ++i) {
-        collapse.from[i] = record.plan.from[i];
-        collapse.to[i] = record.plan.to[i];
-      }
-      collapse.removedTriangles = record.removedTriangles;
-      collapse.cost = running;
-      segment.collapses.push_back(collapse);
+  void run();
+
+private:
+  std::uint32_t welded(std::uint32_t v) const { return m_out.m_weld[v]; }
+  const glm::dvec3& position(std::uint32_t w, std::size_t pose) const {
+    return m_positions[std::size_t(w) * m_poseCount + pose];
+  }
+  Quadric& quadric(std::uint32_t w, std::size_t pose) { return m_quadrics[std::size_t(w) * m_poseCount + pose]; }
+
+  void weld();
+  void classify();
+  void accumulateQuadrics(std::span<const std::vector<glm::vec3>> poses, std::span<const float> importance);
+  // Drops dead triangles from w's fan.
+  std::vector<std::uint32_t>& fan(std::uint32_t w);
+  Candidate evaluate(std::uint32_t u);
+  // The wedge map of u -> v over u's fan; false when the edge's triangles map a wedge two ways.
+  bool wedgeMap(std::uint32_t u, std::uint32_t v, const std::vector<std::uint32_t>& fanU, bool& out_attribute);
+  bool linkHolds(std::uint32_t u, std::uint32_t v, int edgeTriangles);
+  bool flips(std::uint32_t u, std::uint32_t v, const std::vector<std::uint32_t>& fanU) const;
+  void collapse(std::uint32_t u, std::uint32_t v, double cost, bool attribute);
+  void push(std::uint32_t u);
+
+  const SkinnedMesh& m_mesh;
+  const ProgressiveMeshSettings& m_settings;
+  ProgressiveMesh& m_out;
+  std::size_t m_poseCount;
+
+  std::vector<std::uint32_t> m_corners;           // current wedge per corner
+  std::vector<std::uint8_t> m_alive;              // per triangle
+  std::vector<std::uint8_t> m_degenerate;         // per triangle: two corners welded together in the input
+  std::vector<std::vector<std::uint32_t>> m_fans; // per welded vertex: its triangles (some maybe dead)
+  std::vector<std::uint8_t> m_lockedWelded;       // per welded vertex
+  std::vector<std::uint8_t> m_removed;            // per welded vertex: collapsed away
+  std::vector<std::uint32_t> m_version;           // per welded vertex
+  std::vector<glm::dvec3> m_positions;            // [welded * poses + pose]
+  std::vector<Quadric> m_quadrics;                // [welded * poses + pose]
+  std::priority_queue<HeapEntry> m_heap;
+  std::size_t m_triangles = 0;
+  bool m_sawAttribute = false;
+
+  // scratch of evaluate()
+  std::vector<std::pair<std::uint32_t, int>> m_neighbours;    // welded neighbour, triangles on the edge
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_map; // wedge of u -> wedge of v
+  std::vector<std::uint32_t> m_scratch;
+};
+
+void ProgressiveMeshBuilder::weld() {
+  const std::size_t n = m_mesh.vertexCount();
+  m_out.m_weld.resize(n);
+  std::unordered_map<WeldKey, std::uint32_t, WeldHash> first;
+  first.reserve(n);
+  int count = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    WeldKey key;
+    std::memcpy(key.bits, &m_mesh.positions[v], 3 * sizeof(std::uint32_t));
+    if (m_mesh.skinned()) {
+      for (int i = 0; i < kMaxInfluences; ++i)
+        key.bits[3 + i] = m_mesh.joints[v][i];
+      std::memcpy(key.bits + 3 + kMaxInfluences, &m_mesh.weights[v], kMaxInfluences * sizeof(std::uint32_t));
     }
-    for (std::uint32_t welded : result.newlyLocked)
-      newlyLocked[welded] = 1;
+    const auto [it, inserted] = first.emplace(key, static_cast<std::uint32_t>(v));
+    m_out.m_weld[v] = it->second;
+    count += inserted ? 1 : 0;
   }
-  for (std::size_t v = 0; v < out.m_locked.size(); ++v)
-    if (newlyLocked[out.m_weld[v]])
-      out.m_locked[v] = 1;
-  out.m_lockedCount = static_cast<int>(std::count(out.m_locked.begin(), out.m_locked.end(), std::uint8_t(1)));
+  m_out.m_weldedCount = count;
+}
 
-  for (std::size_t s = 0; s < out.m_segments.size(); ++s)
-    for (std::size_t i = 0; i < out.m_segments[s].collapses.size(); ++i)
-      out.m_order.push_back(OrderEntry{static_cast<int>(s), static_cast<std::uint32_t>(i)});
-  std::sort(out.m_order.begin(), out.m_order.end(), [&](const OrderEntry& a, const OrderEntry& b) {
-    const double ca = out.m_segments[static_cast<std::size_t>(a.segment)].collapses[a.index].cost;
-    const double cb = out.m_segments[static_cast<std::size_t>(b.segment)].collapses[b.index].cost;
-    if (ca != cb)
-      return ca < cb;
-    if (a.segment != b.segment)
-      return a.segment < b.segment;
-    return a.index < b.index;
-  });
-  out.m_trianglesAfter.resize(out.m_order.size() + 1);
-  out.m_trianglesAfter[0] = out.m_triangleCount;
-  for (std::size_t k = 0; k < out.m_order.size(); ++k) {
-    const OrderEntry& entry = out.m_order[k];
-    out.m_trianglesAfter[k + 1] =
-        out.m_trianglesAfter[k] - out.m_segments[static_cast<std::size_t>(entry.segment)].collapses[entry.index].removedTriangles;
+void ProgressiveMeshBuilder::classify() {
+  const std::size_t n = m_mesh.vertexCount();
+  const std::size_t triangles = m_mesh.triangleCount();
+  m_out.m_indices = m_mesh.indices;
+  m_out.m_triangleCount = triangles;
+  m_corners = m_mesh.indices;
+  m_alive.assign(triangles, 1);
+  m_degenerate.assign(triangles, 0);
+  m_fans.resize(n);
+  m_lockedWelded.assign(n, 0);
+  m_removed.assign(n, 0);
+  m_version.assign(n, 0);
+  m_triangles = triangles;
+
+  // welded directed edges: how often each is used, and undirected counts
+  std::unordered_map<std::uint64_t, int> directed, undirected;
+  directed.reserve(triangles * 3);
+  undirected.reserve(triangles * 3);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    const std::uint32_t w[3] = {welded(m_corners[t * 3]), welded(m_corners[t * 3 + 1]), welded(m_corners[t * 3 + 2])};
+    if (w[0] == w[1] || w[1] == w[2] || w[2] == w[0]) {
+      m_degenerate[t] = 1; // kept as it is, its vertices locked
+      for (std::uint32_t x : w)
+        m_lockedWelded[x] = 1;
+      continue;
+    }
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = w[e], b = w[(e + 1) % 3];
+      ++directed[edgeKey(a, b)];
+      ++undirected[edgeKey(std::min(a, b), std::max(a, b))];
+    }
+    for (std::uint32_t x : w)
+      m_fans[x].push_back(static_cast<std::uint32_t>(t));
   }
+  // non-manifold guards: an edge of three or more triangles, or used twice in one
+  // direction (a fold or inconsistent orientation); more than two open edges at a vertex
+  std::vector<int> openEdges(n, 0);
+  for (const auto& [key, count] : undirected) {
+    const auto a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key);
+    if (count >= 3 || directed[edgeKey(a, b)] >= 2 || directed[edgeKey(b, a)] >= 2)
+      m_lockedWelded[a] = m_lockedWelded[b] = 1;
+    if (count == 1)
+      ++openEdges[a], ++openEdges[b];
+  }
+  for (std::size_t v = 0; v < n; ++v)
+    if (openEdges[v] > 2)
+      m_lockedWelded[v] = 1;
+
+  m_out.m_locked.assign(n, 0);
+  m_out.m_lockedCount = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    m_out.m_locked[v] = m_lockedWelded[welded(static_cast<std::uint32_t>(v))];
+    if (welded(static_cast<std::uint32_t>(v)) == v && m_lockedWelded[v])
+      ++m_out.m_lockedCount;
+  }
+}
+
+void ProgressiveMeshBuilder::accumulateQuadrics(std::span<const std::vector<glm::vec3>> poses,
+                                                std::span<const float> importance) {
+  const std::size_t n = m_mesh.vertexCount();
+  m_positions.resize(n * m_poseCount);
+  for (std::size_t v = 0; v < n; ++v)
+    if (welded(static_cast<std::uint32_t>(v)) == v)
+      for (std::size_t p = 0; p < m_poseCount; ++p)
+        m_positions[v * m_poseCount + p] = glm::dvec3(poses[p][v]);
+  std::vector<double> scale(n, 0.0); // per welded vertex: the largest importance of its wedges
+  for (std::size_t v = 0; v < n; ++v) {
+    double& s = scale[welded(static_cast<std::uint32_t>(v))];
+    s = std::max(s, importance.empty() ? 1.0 : double(importance[v]));
+  }
+  m_quadrics.assign(n * m_poseCount, Quadric{});
+
+  // wedge-level directed edges: a welded edge whose two triangles do not meet in the same
+  // wedges on both ends is an attribute seam
+  std::unordered_map<std::uint64_t, std::uint8_t> wedgeEdges;
+  std::unordered_map<std::uint64_t, int> weldedEdges;
+  for (std::size_t t = 0; t < m_mesh.triangleCount(); ++t) {
+    if (m_degenerate[t])
+      continue;
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = m_corners[t * 3 + e], b = m_corners[t * 3 + (e + 1) % 3];
+      wedgeEdges[edgeKey(a, b)] = 1;
+      const std::uint32_t wa = welded(a), wb = welded(b);
+      ++weldedEdges[edgeKey(std::min(wa, wb), std::max(wa, wb))];
+    }
+  }
+  for (std::size_t t = 0; t < m_mesh.triangleCount(); ++t) {
+    if (m_degenerate[t])
+      continue;
+    const std::uint32_t c[3] = {m_corners[t * 3], m_corners[t * 3 + 1], m_corners[t * 3 + 2]};
+    const std::uint32_t w[3] = {welded(c[0]), welded(c[1]), welded(c[2])};
+    for (std::size_t p = 0; p < m_poseCount; ++p)
+      for (std::uint32_t x : w)
+        quadricAdd(quadric(x, p), quadricFromTriangle(position(w[0], p), position(w[1], p), position(w[2], p), scale[x]));
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = c[e], b = c[(e + 1) % 3];
+      const std::uint32_t wa = w[e], wb = w[(e + 1) % 3], wc = w[(e + 2) % 3];
+      const int count = weldedEdges[edgeKey(std::min(wa, wb), std::max(wa, wb))];
+      double weight = 0.0;
+      if (count == 1)
+        weight = m_settings.borderWeight;
+      else if (count == 2 && !wedgeEdges.count(edgeKey(b, a)))
+        weight = m_settings.seamWeight;
+      if (!(weight > 0.0))
+        continue;
+      for (std::size_t p = 0; p < m_poseCount; ++p) {
+        quadricAdd(quadric(wa, p), quadricFromEdge(position(wa, p), position(wb, p), position(wc, p), weight * scale[wa]));
+        quadricAdd(quadric(wb, p), quadricFromEdge(position(wa, p), position(wb, p), position(wc, p), weight * scale[wb]));
+      }
+    }
+  }
+}
+
+std::vector<std::uint32_t>& ProgressiveMeshBuilder::fan(std::uint32_t w) {
+  std::vector<std::uint32_t>& f = m_fans[w];
+  f.erase(std::remove_if(f.begin(), f.end(), [&](std::uint32_t t) { return !m_alive[t]; }), f.end());
+  return f;
+}
+
+bool ProgressiveMeshBuilder::wedgeMap(std::uint32_t u, std::uint32_t v, const std::vector<std::uint32_t>& fanU,
+                                      bool& out_attribute) {
+  m_map.clear();
+  out_attribute = false;
+  // the edge's triangles map u's corner in them onto v's corner in them
+  for (std::uint32_t t : fanU) {
+    std::uint32_t cu = kNone, cv = kNone;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t c = m_corners[std::size_t(t) * 3 + k];
+      if (welded(c) == u)
+        cu = c;
+      else if (welded(c) == v)
+        cv = c;
+    }
+    if (cv == kNone)
+      continue;
+    const auto found = std::find_if(m_map.begin(), m_map.end(), [&](const auto& e) { return e.first == cu; });
+    if (found == m_map.end())
+      m_map.emplace_back(cu, cv);
+    else if (found->second != cv)
+      return false; // a corner that would have to go two ways: a half-seam
+  }
+  // wedges of u on no triangle of the edge: an attribute collapse, onto v's wedge with the
+  // nearest normal, then UV
+  for (std::uint32_t t : fanU)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t c = m_corners[std::size_t(t) * 3 + k];
+      if (welded(c) != u || std::any_of(m_map.begin(), m_map.end(), [&](const auto& e) { return e.first == c; }))
+        continue;
+      out_attribute = true;
+      m_scratch.clear();
+      for (std::uint32_t s : fan(v))
+        for (int j = 0; j < 3; ++j) {
+          const std::uint32_t d = m_corners[std::size_t(s) * 3 + j];
+          if (welded(d) == v && std::find(m_scratch.begin(), m_scratch.end(), d) == m_scratch.end())
+            m_scratch.push_back(d);
+        }
+      std::uint32_t best = kNone;
+      double bestScore = std::numeric_limits<double>::max();
+      for (std::uint32_t d : m_scratch) {
+        double score = 0.0;
+        if (!m_mesh.normals.empty())
+          score += 4.0 * (1.0 - double(glm::dot(m_mesh.normals[c], m_mesh.normals[d])));
+        if (!m_mesh.uvs.empty()) {
+          const glm::dvec2 delta = glm::dvec2(m_mesh.uvs[c]) - glm::dvec2(m_mesh.uvs[d]);
+          score += glm::dot(delta, delta);
+        }
+        if (score < bestScore)
+          bestScore = score, best = d;
+      }
+      assert(best != kNone);
+      m_map.emplace_back(c, best);
+    }
+  return true;
+}
+
+bool ProgressiveMeshBuilder::linkHolds(std::uint32_t u, std::uint32_t v, int edgeTriangles) {
+  // u's neighbours are in m_neighbours; count v's neighbours among them
+  int common = 0;
+  m_scratch.clear();
+  for (std::uint32_t t : fan(v))
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t w = welded(m_corners[std::size_t(t) * 3 + k]);
+      if (w == v || w == u || std::find(m_scratch.begin(), m_scratch.end(), w) != m_scratch.end())
+        continue;
+      m_scratch.push_back(w);
+      if (std::any_of(m_neighbours.begin(), m_neighbours.end(), [&](const auto& e) { return e.first == w; }))
+        ++common;
+    }
+  return common == edgeTriangles;
+}
+
+bool ProgressiveMeshBuilder::flips(std::uint32_t u, std::uint32_t v, const std::vector<std::uint32_t>& fanU) const {
+  // needs m_map, the wedge map of u -> v (wedgeMap())
+  const bool shaded = !m_mesh.normals.empty();
+  for (std::uint32_t t : fanU) {
+    std::uint32_t w[3], c[3];
+    int at = -1;
+    bool hasV = false;
+    for (int k = 0; k < 3; ++k) {
+      c[k] = m_corners[std::size_t(t) * 3 + std::size_t(k)];
+      w[k] = welded(c[k]);
+      hasV |= w[k] == v;
+      if (w[k] == u)
+        at = k;
+    }
+    if (hasV || at < 0)
+      continue; // the edge's own triangles go away
+    const std::uint32_t a = w[(at + 1) % 3], b = w[(at + 2) % 3];
+    for (std::size_t p = 0; p < m_poseCount; ++p) {
+      const glm::dvec3& pa = position(a, p);
+      const glm::dvec3& pb = position(b, p);
+      const glm::dvec3 before = glm::cross(pa - position(u, p), pb - position(u, p));
+      const glm::dvec3 after = glm::cross(pa - position(v, p), pb - position(v, p));
+      // note: a triangle already degenerate in a pose says nothing about a flip there
+      if (glm::length(before) * glm::length(after) > 0.0 && glm::dot(before, after) <= 0.0)
+        return true;
+      if (p != 0)
+        continue;
+      if (!(glm::dot(after, after) > 0.0) && glm::dot(before, before) > 0.0)
+        return true; // would become degenerate in the bind pose
+      if (!shaded)
+        continue;
+      // nor turn its back on its corners' normals (it would shade inside out), unless the
+      // input triangle already did
+      const std::uint32_t moved =
+          std::find_if(m_map.begin(), m_map.end(), [&](const auto& e) { return e.first == c[at]; })->second;
+      const glm::dvec3 shadingBefore = glm::dvec3(m_mesh.normals[c[0]] + m_mesh.normals[c[1]] + m_mesh.normals[c[2]]);
+      const glm::dvec3 shadingAfter =
+          shadingBefore - glm::dvec3(m_mesh.normals[c[at]]) + glm::dvec3(m_mesh.normals[moved]);
+      if (glm::dot(after, shadingAfter) < 0.0 && glm::dot(before, shadingBefore) >= 0.0)
+        return true;
+    }
+  }
+  return false;
+}
+
+Candidate ProgressiveMeshBuilder::evaluate(std::uint32_t u) {
+  Candidate best;
+  if (m_lockedWelded[u] || m_removed[u])
+    return best;
+  const std::vector<std::uint32_t>& fanU = fan(u);
+  if (fanU.empty())
+    return best;
+  m_neighbours.clear();
+  for (std::uint32_t t : fanU)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t w = welded(m_corners[std::size_t(t) * 3 + k]);
+      if (w == u)
+        continue;
+      auto found = std::find_if(m_neighbours.begin(), m_neighbours.end(), [&](const auto& e) { return e.first == w; });
+      if (found == m_neighbours.end())
+        m_neighbours.emplace_back(w, 1);
+      else
+        ++found->second;
+    }
+  bool border = false;
+  for (const auto& [w, count] : m_neighbours) {
+    if (count > 2)
+      return best; // not manifold here (a guard; the link condition keeps it from arising)
+    border |= count == 1;
+  }
+
+  struct Option {
+    double cost;
+    std::uint32_t v;
+    int edgeTriangles;
+  };
+  std::vector<Option> options;
+  const glm::dvec3& bindU = position(u, 0);
+  for (const auto& [v, count] : m_neighbours) {
+    if (border && count != 1)
+      continue; // a border vertex moves only along its border
+    double cost = 0.0;
+    for (std::size_t p = 0; p < m_poseCount; ++p)
+      cost += quadricError(quadric(u, p), position(v, p));
+    if (m_mesh.skinned() && m_settings.skinWeight > 0.0) {
+      const double d = skinDistance(m_mesh.joints[u], m_mesh.weights[u], m_mesh.joints[v], m_mesh.weights[v]);
+      const glm::dvec3 edge = position(v, 0) - bindU;
+      cost += m_settings.skinWeight * d * quadric(u, 0).w * glm::dot(edge, edge);
+    }
+    options.push_back({cost, v, count});
+  }
+  std::sort(options.begin(), options.end(), [](const Option& a, const Option& b) { return a.cost < b.cost; });
+  // the cheapest allowed clean collapse, else the cheapest allowed attribute collapse
+  for (const Option& option : options) {
+    bool attribute = false;
+    if (!wedgeMap(u, option.v, fanU, attribute))
+      continue;
+    if (attribute && best.target != kNone)
+      continue; // only better than another attribute collapse
+    if (!linkHolds(u, option.v, option.edgeTriangles) || flips(u, option.v, fanU))
+      continue;
+    if (!attribute)
+      return Candidate{option.v, option.cost, false};
+    best = Candidate{option.v, option.cost, true};
+  }
+  return best;
+}
+
+void ProgressiveMeshBuilder::push(std::uint32_t u) {
+  ++m_version[u];
+  const Candidate c = evaluate(u);
+  if (c.target != kNone)
+    m_heap.push(HeapEntry{c.cost, u, c.target, m_version[u], c.attribute});
+}
+
+void ProgressiveMeshBuilder::collapse(std::uint32_t u, std::uint32_t v, double cost, bool attribute) {
+  std::vector<std::uint32_t> fanU = fan(u);
+  bool mapAttribute = false;
+  [[maybe_unused]] const bool mapped = wedgeMap(u, v, fanU, mapAttribute);
+  assert(mapped && mapAttribute == attribute);
+  (void)attribute;
+  ProgressiveMesh::Collapse record;
+  record.firstWedge = static_cast<std::uint32_t>(m_out.m_from.size());
+  record.wedgeCount = static_cast<std::uint32_t>(m_map.size());
+  record.cost = cost;
+  for (const auto& [from, to] : m_map) {
+    m_out.m_from.push_back(from);
+    m_out.m_to.push_back(to);
+  }
+  std::vector<std::uint32_t>& fanV = m_fans[v];
+  for (std::uint32_t t : fanU) {
+    bool hasV = false;
+    for (int k = 0; k < 3; ++k)
+      hasV |= welded(m_corners[std::size_t(t) * 3 + k]) == v;
+    if (hasV) {
+      m_alive[t] = 0;
+      --m_triangles;
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t& c = m_corners[std::size_t(t) * 3 + k];
+      if (welded(c) == u)
+        c = std::find_if(m_map.begin(), m_map.end(), [&](const auto& e) { return e.first == c; })->second;
+    }
+    fanV.push_back(t);
+  }
+  m_fans[u].clear();
+  m_removed[u] = 1;
+  for (std::size_t p = 0; p < m_poseCount; ++p)
+    quadricAdd(quadric(v, p), quadric(u, p));
+  m_out.m_collapses.push_back(record);
+  m_out.m_trianglesAfter.push_back(m_triangles);
+
+  // v and its neighbours see a new fan: rank them again
+  m_scratch.clear();
+  for (std::uint32_t t : fan(v))
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t w = welded(m_corners[std::size_t(t) * 3 + k]);
+      if (std::find(m_scratch.begin(), m_scratch.end(), w) == m_scratch.end())
+        m_scratch.push_back(w);
+    }
+  const std::vector<std::uint32_t> around = m_scratch;
+  for (std::uint32_t w : around)
+    push(w);
+}
+
+void ProgressiveMeshBuilder::run() {
+  m_out.m_trianglesAfter.assign(1, m_triangles);
+  m_out.m_cleanCollapses = 0;
+  for (std::uint32_t v = 0; v < m_mesh.vertexCount(); ++v)
+    if (welded(v) == v)
+      push(v);
+  while (!m_heap.empty()) {
+    const HeapEntry top = m_heap.top();
+    m_heap.pop();
+    // note: an entry is current while its vertex's version is: every collapse ranks again
+    // the vertices whose fan, neighbours or wedges it changed, which is all a candidate's
+    // cost and validity depend on (positions never move)
+    if (top.version != m_version[top.vertex] || m_removed[top.vertex])
+      continue;
+    if (top.attribute && !m_sawAttribute) {
+      m_out.m_cleanCollapses = m_out.m_collapses.size();
+      m_sawAttribute = true;
+    }
+    collapse(top.vertex, top.target, top.cost, top.attribute);
+  }
+  if (!m_sawAttribute)
+    m_out.m_cleanCollapses = m_out.m_collapses.size();
+}
+
+ProgressiveMesh ProgressiveMesh::build(const SkinnedMesh& mesh, std::span<const std::vector<glm::vec3>> poses,
+                                       std::span<const float> vertexImportance,
+                                       const ProgressiveMeshSettings& settings) {
+  assert(!poses.empty());
+  assert(vertexImportance.empty() || vertexImportance.size() == mesh.vertexCount());
+  ProgressiveMesh out;
+  ProgressiveMeshBuilder builder(mesh, poses, vertexImportance, settings, out);
+  builder.run();
   return out;
 }
 
 std::size_t ProgressiveMesh::collapsesFor(std::size_t triangles) const {
-  // m_trianglesAfter is non-increasing
-  const auto it = std::partition_point(m_trianglesAfter.begin(), m_trianglesAfter.end(),
-                                       [&](std::size_t count) { return count > triangles; });
-  if (it == m_trianglesAfter.end())
-    return collapseCount();
-  return static_cast<std::size_t>(it - m_trianglesAfter.begin());
-}
-
-double ProgressiveMesh::costAt(std::size_t collapses) const {
-  assert(collapses <= collapseCount());
-  if (collapses == 0)
-    return 0.0;
-  const OrderEntry& entry = m_order[collapses - 1];
-  return m_segments[static_cast<std::size_t>(entry.segment)].collapses[entry.index].cost;
-}
-
-std::size_t ProgressiveMesh::segmentCollapseCount(int segment) const {
-  return m_segments[static_cast<std::size_t>(segment)].collapses.size();
-}
-
-std::size_t ProgressiveMesh::segmentTriangleCount(int segment) const {
-  return m_segments[static_cast<std::size_t>(segment)].triangles;
-}
-
-std::size_t ProgressiveMesh::segmentTrianglesAfter(int segment, std::size_t collapses) const {
-  const Segment& s = m_segments[static_cast<std::size_t>(segment)];
-  assert(collapses <= s.collapses.size());
-  std::size_t count = s.triangles;
-  for (std::size_t i = 0; i < collapses; ++i)
-    count -= s.collapses[i].removedTriangles;
-  return count;
-}
-
-double ProgressiveMesh::segmentCostAt(int segment, std::size_t collapses) const {
-  const Segment& s = m_segments[static_cast<std::size_t>(segment)];
-  assert(collapses <= s.collapses.size());
-  return collapses == 0 ? 0.0 : s.collapses[collapses - 1].cost;
-}
-
-std::vector<std::size_t> ProgressiveMesh::segmentCollapses(std::size_t collapses) const {
-  assert(collapses <= collapseCount());
-  std::vector<std::size_t> out(m_segments.size(), 0);
-  for (std::size_t k = 0; k < collapses; ++k)
-    ++out[static_cast<std::size_t>(m_order[k].segment)];
-  return out;
+  // m_trianglesAfter never rises
+  const auto found = std::find_if(m_trianglesAfter.begin(), m_trianglesAfter.end(),
+                                  [&](std::size_t count) { return count <= triangles; });
+  return found == m_trianglesAfter.end() ? collapseCount() : static_cast<std::size_t>(found - m_trianglesAfter.begin());
 }
 
 MeshLevelIndices ProgressiveMesh::level(std::size_t collapses) const {
-  return levelPerSegment(segmentCollapses(collapses));
-}
-
-MeshLevelIndices ProgressiveMesh::levelPerSegment(std::span<const std::size_t> perSegment) const {
-  assert(perSegment.size() == m_segments.size());
-  std::vector<std::uint32_t> target(m_weld.size());
-  for (std::size_t v = 0; v < target.size(); ++v)
-    target[v] = static_cast<std::uint32_t>(v);
-  for (std::size_t s = 0; s < m_segments.size(); ++s) {
-    const Segment& segment = m_segments[s];
-    assert(perSegment[s] <= segment.collapses.size());
-    for (std::size_t i = 0; i < perSegment[s]; ++i) {
-      const Collapse& collapse = segment.collapses[i];
-      for (int w = 0; w < collapse.wedges; ++w)
-        target[collapse.from[w]] = collapse.to[w];
-    }
+  assert(collapses <= collapseCount());
+  const std::size_t n = m_weld.size();
+  std::vector<std::uint32_t> remap(n);
+  for (std::size_t v = 0; v < n; ++v)
+    remap[v] = static_cast<std::uint32_t>(v);
+  for (std::size_t k = 0; k < collapses; ++k) {
+    const Collapse& c = m_collapses[k];
+    for (std::uint32_t i = c.firstWedge; i < c.firstWedge + c.wedgeCount; ++i)
+      remap[m_from[i]] = m_to[i];
   }
-  return extract(target);
-}
-
-MeshLevelIndices ProgressiveMesh::extract(const std::vector<std::uint32_t>& target) const {
-  std::vector<std::uint32_t> root = target;
-  const auto find = [&](std::uint32_t v) {
-    std::uint32_t r = v;
-    while (root[r] != r)
-      r = root[r];
-    while (root[v] != r) { // path compression
-      const std::uint32_t next = root[v];
-      root[v] = r;
-      v = next;
-    }
-    return r;
-  };
+  // a wedge's target may have collapsed later: follow to the end (collapses only ever move a
+  // wedge onto a live one, so every chain ends)
+  for (std::size_t v = 0; v < n; ++v) {
+    std::uint32_t r = remap[v];
+    while (remap[r] != r)
+      r = remap[r];
+    remap[v] = r;
+  }
   MeshLevelIndices out;
-  out.indices.reserve(m_indices.size());
-  out.triangles.reserve(m_triangleCount);
+  out.indices.reserve(m_trianglesAfter[collapses] * 3);
+  out.triangles.reserve(m_trianglesAfter[collapses]);
   for (std::size_t t = 0; t < m_triangleCount; ++t) {
-    const std::uint32_t a = find(m_indices[t * 3]), b = find(m_indices[t * 3 + 1]), c = find(m_indices[t * 3 + 2]);
+    const std::uint32_t a = remap[m_indices[t * 3]], b = remap[m_indices[t * 3 + 1]], c = remap[m_indices[t * 3 + 2]];
     const std::uint32_t wa = m_weld[a], wb = m_weld[b], wc = m_weld[c];
-    if (wa == wb || wb == wc || wa == wc) {
-      // collapsed away; a triangle that was degenerate from the start stays
-      const std::uint32_t oa = m_weld[m_indices[t * 3]], ob = m_weld[m_indices[t * 3 + 1]],
-                          oc = m_weld[m_indices[t * 3 + 2]];
-      if (!(oa == ob || ob == oc || oa == oc))
-        continue;
-    }
+    const bool degenerateBefore = m_weld[m_indices[t * 3]] == m_weld[m_indices[t * 3 + 1]] ||
+                                  m_weld[m_indices[t * 3 + 1]] == m_weld[m_indices[t * 3 + 2]] ||
+                                  m_weld[m_indices[t * 3 + 2]] == m_weld[m_indices[t * 3]];
+    if (!degenerateBefore && (wa == wb || wb == wc || wc == wa))
+      continue;
     out.indices.insert(out.indices.end(), {a, b, c});
     out.triangles.push_back(static_cast<std::uint32_t>(t));
   }
+  assert(out.triangles.size() == m_trianglesAfter[collapses]);
   return out;
 }
 

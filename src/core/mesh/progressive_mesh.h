@@ -1,124 +1,128 @@
 #pragma once
-// A progressive mesh of a skinned mesh, built per joint segment with OpenMesh's
-// Decimater (Ahn & Wohn, section 5: "applied progressive mesh [Hoppe 1996] to each joint
-// segment"; the collapse order is Garland & Heckbert's quadric error, "Surface
-// Simplification Using Quadric Error Metrics", 1997, as OpenMesh's ModQuadric computes it).
+// A progressive mesh of a whole skinned mesh, welded by position, simplified by halfedge
+// collapses whose cost sees the motion (docs/architecture.md section 1, Geometric LOD).
 //
-// Each segment of segmentMesh() is decimated to the end by halfedge collapses (a vertex
-// v0 merges into a neighbour v1 that keeps its position), guarded by ModNormalFlipping (no
-// face normal turns by more than maxNormalDeviationDegrees in one collapse) and
-// ModAspectRatio (no collapse makes a triangle thinner than maxAspectRatio where it was
-// not already); ModProgMesh records the sequence. Locked vertices (mesh_segments.h) never
-// collapse, so shared vertices and every border keep their place and no seam opens.
+// Garland & Heckbert, "Surface Simplification Using Quadric Error Metrics" (1997), with the
+// quadrics accumulated over several poses of the skinned surface instead of one: each vertex
+// keeps one quadric per pose (the bind pose and poses of the clips the character plays),
+// and a collapse u -> v costs sum over poses p of Q_u^p(x_v^p), so a collapse that looks
+// harmless in the bind pose but folds an elbow or a knee when it bends costs what it costs
+// there. Halfedge collapses keep the original vertices (v keeps its position, normal, UV and
+// skin weights), so every level is drawn with the original vertex data and skins exactly like
+// the original.
 //
-// Attributes stay valid by construction: a collapse only drops vertices, every remaining
-// corner is an original vertex with its own normal, UV and skin weights. Corners are
-// tracked per wedge (an original vertex index) on top of the welded topology: a vertex
-// with one wedge may collapse into any neighbour whose two corners beside the edge agree;
-// a vertex on an attribute seam (two wedges, two seam edges) only along its seam, each side
-// onto the matching side; anything more complex never collapses.
+// Topology is read on welded vertices: corners with the same position bits and, on a skinned
+// mesh, the same influences (corners at one place that different weights move apart are two
+// surface points: welding them would tear the skin in motion). The corners of one welded
+// vertex are its *wedges* (attribute seams: UV or normal splits). What may
+// collapse, after meshoptimizer's simplifier (Kapoulkine, src/simplifier.cpp):
+//  - a vertex collapses along an edge whose triangles map each of its wedges to exactly one
+//    wedge of the target: an interior vertex without a seam onto any neighbour; a seam vertex
+//    (two wedges) only along its seam, both sides at once, each onto its own side, so no
+//    crack and no T-junction opens along a seam;
+//  - seams are a cost, not a wall: once no such collapse is left (corners of three or more
+//    wedges, seams across a flat-shaded mesh), a collapse may also move a wedge that the
+//    edge's triangles do not map onto the target's wedge with the nearest attributes
+//    (normal, then UV). Such *attribute collapses* come strictly after every clean one that
+//    is allowed at the time (two tiers in the queue); positions stay welded, so they open no
+//    crack either, only an attribute discontinuity;
+//  - a vertex on an open border only along the border, onto a border vertex, so no interior
+//    edge becomes a border; the border is kept by edge quadrics of `borderWeight` (planes
+//    through each border edge, perpendicular to its triangle), a cost rather than a wall;
+//    seam edges get the same with `seamWeight`, so a seam keeps its line;
+//  - hard locks are non-manifold guards only: vertices on an edge with three or more
+//    triangles or used twice in one direction, on more than two open edges (bowties), or of
+//    a degenerate input triangle;
+//  - a collapse must keep the mesh manifold (link condition: the two vertices share no
+//    neighbour but the opposite corners of the edge's triangles) and flip no triangle's
+//    normal in the bind pose.
+// Beyond geometry, a collapse between vertices with different skin influences costs more:
+// skinWeight x (1 - sum_j min(w_u[j], w_v[j])) x area(u) x |u - v|^2 (the weight mass that
+// changes bone, times the quadric scale), so bones keep their own vertices. Per-vertex
+// importance (the joints' mesh importance, weighted by the skin) scales the vertex's
+// quadrics, and so the cost of removing it and of everything later merged into it.
 //
-// The segments' sequences merge into one global order by an error estimate in cm, both ways
-// round: as OpenMesh's ModHausdorff does, every removed vertex stays attached to its nearest
-// face, and a collapse costs the farthest of the re-attached vertices from the surface after
-// it, or the farthest centroid or edge midpoint of the faces around v1 from the segment's
-// original surface, whichever is larger; the running maximum of that within a segment keeps
-// each segment's own order. Quadric errors
-// are area-weighted sums (cm^4) that cannot be compared between segments; this estimate
-// can, and it follows the measured maximum distance. The first k collapses of the global
-// order give a mesh for any k, and so any triangle count between triangleCount() and
-// minTriangleCount().
+// The collapses run greedily by cost (a priority queue, re-ranked around each collapse)
+// until none is allowed; the first k give a mesh for any k, so one build serves every
+// triangle count down to minTriangleCount().
 
-#include "core/mesh/mesh_segments.h"
 #include "core/skinned_mesh.h"
 
 #include <cstddef>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <span>
 #include <vector>
 
 namespace mlod {
 
 struct ProgressiveMeshSettings {
-  double maxNormalDeviationDegrees = 90.0; // per collapse, degrees in (0, 180]; OpenMesh's default
-  // Longest edge over height a collapse may not exceed (where the triangle was not already
-  // worse); 0 = no aspect-ratio guard. OpenMesh's default, 5, stops BCN_Epileptic at 57% of
-  // its triangles where the locks allow 52%, and raises its error at equal triangle
-  // counts; 20 still forbids slivers.
-  double maxAspectRatio = 20.0;
+  // Edge quadric weight of open borders, relative to the triangles' plane quadrics (>= 0;
+  // 0 lets a border shrink freely).
+  double borderWeight = 10.0;
+  // Edge quadric weight of attribute seams (>= 0).
+  double seamWeight = 1.0;
+  // Weight of the skin term (>= 0; 0 = geometry alone).
+  double skinWeight = 1.0;
 };
 
 // Triangles of one level, in the original triangle order.
 struct MeshLevelIndices {
   std::vector<std::uint32_t> indices;   // into the original mesh's vertices
-  std::vector<std::uint32_t> triangles; // per triangle: the original triangle it comes from
+  std::vector<std::uint32_t> triangles; // per triangle: the original triangle it comes from, ascending
 };
 
 class ProgressiveMesh {
 public:
-  // Decimates every segment of `mesh` (which must validate; `segmentation` from
-  // segmentMesh(mesh)) to the end: BCN_Epileptic (5,126 triangles, 54 segments, 1,230
-  // collapses) in about 45 ms on one core.
-  static ProgressiveMesh build(const SkinnedMesh& mesh, const MeshSegmentation& segmentation,
+  // Simplifies `mesh` (which must validate) to the end. `poses`: skinned positions of every
+  // vertex of `mesh` per pose (cm; at least one, [0] the bind pose, each of mesh.vertexCount()
+  // entries). `vertexImportance`: per vertex, > 0, or empty for 1 everywhere.
+  static ProgressiveMesh build(const SkinnedMesh& mesh, std::span<const std::vector<glm::vec3>> poses,
+                               std::span<const float> vertexImportance = {},
                                const ProgressiveMeshSettings& settings = {});
 
   std::size_t triangleCount() const { return m_triangleCount; } // before any collapse
-  std::size_t collapseCount() const { return m_order.size(); }
-  // Triangles after the first `collapses` collapses of the global order.
+  std::size_t collapseCount() const { return m_collapses.size(); }
+  // Triangles after the first `collapses` collapses.
   std::size_t trianglesAfter(std::size_t collapses) const { return m_trianglesAfter[collapses]; }
   std::size_t minTriangleCount() const { return m_trianglesAfter.back(); }
   // The fewest collapses that leave at most `triangles` triangles; collapseCount() when
   // even all of them leave more.
   std::size_t collapsesFor(std::size_t triangles) const;
-  // The error estimate (cm) of the global order at `collapses`: the largest distance of a
-  // removed vertex from its segment's surface so far, over the segments collapsed; 0 for none.
-  double costAt(std::size_t collapses) const;
+  // The quadric cost of collapse k (0-based), in the sum over poses of cm^2 x cm^2 (area
+  // times squared distance): for ordering, not a distance.
+  double costOf(std::size_t collapse) const { return m_collapses[collapse].cost; }
+  // Collapses before the first attribute collapse (collapseCount() when there is none).
+  std::size_t cleanCollapseCount() const { return m_cleanCollapses; }
 
-  // Per vertex: 1 where it never collapses (the segmentation's locks, plus the vertices of
-  // triangles OpenMesh could not hold, such as non-manifold fans).
+  // Per vertex: its welded vertex (the lowest vertex index at the same position with the same
+  // influences).
+  const std::vector<std::uint32_t>& weld() const { return m_weld; }
+  // Per vertex: 1 where it never collapses (the non-manifold guards above).
   const std::vector<std::uint8_t>& locked() const { return m_locked; }
-  int lockedCount() const { return m_lockedCount; }
+  int lockedCount() const { return m_lockedCount; } // welded vertices locked
+  int weldedVertexCount() const { return m_weldedCount; }
 
-  int segmentCount() const { return static_cast<int>(m_segments.size()); }
-  std::size_t segmentCollapseCount(int segment) const;
-  std::size_t segmentTriangleCount(int segment) const;
-  std::size_t segmentTrianglesAfter(int segment, std::size_t collapses) const;
-  // The error estimate (cm) of a segment after its first `collapses` collapses; 0 for none.
-  double segmentCostAt(int segment, std::size_t collapses) const;
-  // How many of each segment's collapses the first `collapses` of the global order take.
-  std::vector<std::size_t> segmentCollapses(std::size_t collapses) const;
-
-  // The mesh after the first `collapses` collapses of the global order (<= collapseCount()).
+  // The mesh after the first `collapses` collapses (<= collapseCount()).
   MeshLevelIndices level(std::size_t collapses) const;
-  // The mesh after the first perSegment[s] collapses of each segment s.
-  MeshLevelIndices levelPerSegment(std::span<const std::size_t> perSegment) const;
 
 private:
   struct Collapse {
-    std::uint32_t from[2] = {0, 0}; // wedges (original vertices) that disappear
-    std::uint32_t to[2] = {0, 0};   // the wedge each one becomes
-    std::uint8_t wedges = 0;        // 1 or 2
-    std::uint8_t removedTriangles = 0;
-    double cost = 0.0; // cm: running maximum of the segment's error estimates
+    std::uint32_t firstWedge = 0; // into m_from / m_to: the wedges that disappear, and what each becomes
+    std::uint32_t wedgeCount = 0;
+    double cost = 0.0;
   };
-  struct Segment {
-    std::vector<Collapse> collapses;
-    std::size_t triangles = 0;
-  };
-  struct OrderEntry {
-    int segment = 0;
-    std::uint32_t index = 0;
-  };
-
-  MeshLevelIndices extract(const std::vector<std::uint32_t>& target) const;
+  friend class ProgressiveMeshBuilder;
 
   std::vector<std::uint32_t> m_indices; // the original triangles
-  std::vector<std::uint32_t> m_weld;    // per vertex
+  std::vector<std::uint32_t> m_weld;
   std::vector<std::uint8_t> m_locked;
   int m_lockedCount = 0;
+  int m_weldedCount = 0;
   std::size_t m_triangleCount = 0;
-  std::vector<Segment> m_segments;
-  std::vector<OrderEntry> m_order;           // global collapse order
+  std::vector<Collapse> m_collapses;
+  std::vector<std::uint32_t> m_from, m_to;
+  std::size_t m_cleanCollapses = 0;
   std::vector<std::size_t> m_trianglesAfter; // [k]: triangles after k collapses, k = 0 .. collapseCount()
 };
 

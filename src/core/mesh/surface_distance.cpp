@@ -289,6 +289,12 @@ double oneSidedMaxDistance(std::span<const glm::vec3> positions, std::span<const
   return maxDistanceToTree(positions, from, keysOf(to), tree, spacingCm, floorCm);
 }
 
+double oneSidedMaxDistance(std::span<const glm::vec3> positions, std::span<const std::uint32_t> from,
+                           std::span<const std::uint32_t> to, const TriangleTree& toTree, double spacingCm,
+                           double floorCm) {
+  return maxDistanceToTree(positions, from, keysOf(to), toTree, spacingCm, floorCm);
+}
+
 double symmetricMaxDistance(std::span<const glm::vec3> positions, std::span<const std::uint32_t> a,
                             std::span<const std::uint32_t> b, double spacingCm, double floorCm) {
   const double ab = oneSidedMaxDistance(positions, a, b, spacingCm, floorCm);

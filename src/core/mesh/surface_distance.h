@@ -67,6 +67,12 @@ int samplingSubdivisions(double longestEdgeCm, double spacingCm);
 double oneSidedMaxDistance(std::span<const glm::vec3> positions, std::span<const std::uint32_t> from,
                            std::span<const std::uint32_t> to, double spacingCm, double floorCm = 0.0);
 
+// The same with the surface `to` given with its tree (TriangleTree(positions, to)), built
+// once by a caller that measures many surfaces against it.
+double oneSidedMaxDistance(std::span<const glm::vec3> positions, std::span<const std::uint32_t> from,
+                           std::span<const std::uint32_t> to, const TriangleTree& toTree, double spacingCm,
+                           double floorCm = 0.0);
+
 // max(oneSidedMaxDistance(a -> b), oneSidedMaxDistance(b -> a), floorCm), cm.
 double symmetricMaxDistance(std::span<const glm::vec3> positions, std::span<const std::uint32_t> a,
                             std::span<const std::uint32_t> b, double spacingCm, double floorCm = 0.0);

@@ -24,6 +24,7 @@ enum CommandId {
   kCommandSetLevelThreshold,
   kCommandSetLevelMeshRatio,
   kCommandSetLevelSwitchDistance,
+  kCommandSetJointMeshImportance,
 };
 
 // Replaces one asset's per-joint settings (threshold, alpha, lock, apply to children).

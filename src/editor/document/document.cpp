@@ -245,7 +245,7 @@ void tidy(std::map<std::string, JointSettings>& joints) {
     auto& t = it->second.thresholds;
     while (!t.empty() && !t.back())
       t.pop_back();
-    if (!it->second.alpha && t.empty() && !it->second.locked)
+    if (!it->second.alpha && t.empty() && !it->second.locked && it->second.meshImportance == 1.0)
       it = joints.erase(it);
     else
       ++it;
@@ -302,6 +302,22 @@ void Document::setJointsLocked(const std::vector<int>& joints, bool locked) {
   const QString what = joints.size() == 1 ? QString::fromStdString(jointName(joints[0])) : tr("%1 joints").arg(joints.size());
   m_undo->push(new SetJointSettings(this, currentAsset(), jointSettings(currentAsset()), std::move(after),
                                     locked ? tr("Lock %1").arg(what) : tr("Unlock %1").arg(what)));
+}
+
+void Document::setJointMeshImportance(const std::vector<int>& joints, double importance) {
+  if (currentAsset() < 0 || joints.empty() || !std::isfinite(importance) || !(importance > 0.0))
+    return;
+  auto after = jointSettings(currentAsset());
+  for (int joint : joints)
+    after[jointName(joint)].meshImportance = importance;
+  tidy(after);
+  if (after == jointSettings(currentAsset()))
+    return;
+  const QString text = joints.size() == 1
+                           ? tr("Set mesh importance of %1").arg(QString::fromStdString(jointName(joints[0])))
+                           : tr("Set mesh importance of %1 joints").arg(joints.size());
+  m_undo->push(new SetJointSettings(this, currentAsset(), jointSettings(currentAsset()), std::move(after), text,
+                                    kCommandSetJointMeshImportance, joints));
 }
 
 void Document::applyToChildren(int joint) {

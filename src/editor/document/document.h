@@ -78,6 +78,9 @@ public:
   void setJointAlpha(const std::vector<int>& joints, std::optional<double> alpha);
   void setJointThreshold(const std::vector<int>& joints, int level, std::optional<double> threshold);
   void setJointsLocked(const std::vector<int>& joints, bool locked);
+  // Mesh importance (finite, > 0; 1 = as any other joint): scales the mesh LOD's cost of
+  // removing the vertices the joints influence (core/mesh/mesh_lod.h).
+  void setJointMeshImportance(const std::vector<int>& joints, double importance);
   void applyToChildren(int joint); // copies the joint's settings to every descendant
   // LOD levels (the project's LodSet; level 0 is the original: it keeps threshold 0, ratio 1
   // and distance 0, can be renamed, never removed or moved). A new level goes last, named

@@ -103,6 +103,7 @@ QVariant JointTreeModel::data(const QModelIndex& index, int role) const {
     case NameColumn: return QString::fromStdString(name);
     case AlphaColumn: return clusterable ? QString::number(alpha, 'g', 6) : QString();
     case ThresholdColumn: return clusterable ? QString::number(threshold, 'g', 6) : QString();
+    case ImportanceColumn: return QString::number(settings.meshImportance, 'g', 4);
     case SimplifiedColumn:
       if (!clusterable || !analysis || level >= analysis->levelCount())
         return QString();
@@ -115,13 +116,16 @@ QVariant JointTreeModel::data(const QModelIndex& index, int role) const {
       return alpha;
     if (index.column() == ThresholdColumn)
       return threshold;
+    if (index.column() == ImportanceColumn)
+      return settings.meshImportance;
     return data(index, Qt::DisplayRole);
   case Qt::CheckStateRole:
     if (index.column() == LockColumn && clusterable)
       return settings.locked ? Qt::Checked : Qt::Unchecked;
     return {};
   case Qt::FontRole:
-    if ((index.column() == AlphaColumn && settings.alpha) || (index.column() == ThresholdColumn && ownThreshold)) {
+    if ((index.column() == AlphaColumn && settings.alpha) || (index.column() == ThresholdColumn && ownThreshold) ||
+        (index.column() == ImportanceColumn && settings.meshImportance != 1.0)) {
       QFont bold;
       bold.setBold(true); // the joint's own value, not the project's or the level's
       return bold;
@@ -130,6 +134,10 @@ QVariant JointTreeModel::data(const QModelIndex& index, int role) const {
   case Qt::TextAlignmentRole:
     return index.column() == NameColumn ? QVariant() : QVariant(Qt::AlignRight | Qt::AlignVCenter);
   case Qt::ToolTipRole:
+    if (index.column() == ImportanceColumn)
+      return tr("Mesh importance of %1: the mesh LOD's cost of removing the vertices it moves is multiplied by it "
+                "(raise it for the face or hands). Bold: not 1.")
+          .arg(QString::fromStdString(name));
     if (!clusterable)
       return tr("%1 has no rotation channel in this clip (an end site): never clustered").arg(QString::fromStdString(name));
     switch (index.column()) {
@@ -165,6 +173,14 @@ bool JointTreeModel::setData(const QModelIndex& index, const QVariant& value, in
   }
   if (role != Qt::EditRole)
     return false;
+  if (index.column() == ImportanceColumn) {
+    bool ok = false;
+    const double importance = value.toDouble(&ok);
+    if (!ok || !std::isfinite(importance) || !(importance > 0.0))
+      return false;
+    m_document->setJointMeshImportance(targets(joint), importance);
+    return true;
+  }
   std::optional<double> number;
   if (!value.isNull() && !value.toString().isEmpty()) {
     bool ok = false;
@@ -194,6 +210,9 @@ Qt::ItemFlags JointTreeModel::flags(const QModelIndex& index) const {
     flags |= Qt::ItemIsEditable; // level 0 is the original: no threshold to override
   if (clusterable && index.column() == LockColumn)
     flags |= Qt::ItemIsUserCheckable;
+  const Asset* asset = m_document->currentAssetPtr();
+  if (index.column() == ImportanceColumn && asset && !asset->meshes.empty())
+    flags |= Qt::ItemIsEditable; // a joint of a character with a mesh
   return flags;
 }
 
@@ -207,6 +226,7 @@ QVariant JointTreeModel::headerData(int section, Qt::Orientation orientation, in
     case AlphaColumn: return tr("α (cm)");
     case ThresholdColumn: return tr("T L%1 (cm·°)").arg(level);
     case LockColumn: return tr("Lock");
+    case ImportanceColumn: return tr("Mesh ×");
     case SimplifiedColumn: return tr("Simpl. % L%1").arg(level);
     default: return {};
     }
@@ -215,6 +235,7 @@ QVariant JointTreeModel::headerData(int section, Qt::Orientation orientation, in
     switch (section) {
     case AlphaColumn: return tr("Orientation weight α, cm: one degree of twist counts like one degree of swing on an α cm segment");
     case ThresholdColumn: return tr("Error threshold at the current level, cm·degrees (E/57.3 ≈ cm)");
+    case ImportanceColumn: return tr("Mesh importance: how much the mesh LOD keeps of what the joint moves (1 = as any other)");
     case SimplifiedColumn: return tr("Simplified frames of the joint, % of the clip, at the current level");
     default: return {};
     }
@@ -223,6 +244,17 @@ QVariant JointTreeModel::headerData(int section, Qt::Orientation orientation, in
 }
 
 QWidget* JointDelegate::createEditor(QWidget* parent, const QStyleOptionViewItem& option, const QModelIndex& index) const {
+  if (index.column() == JointTreeModel::ImportanceColumn) {
+    auto* box = new QDoubleSpinBox(parent);
+    box->setObjectName("importanceEditor");
+    box->setDecimals(2);
+    box->setRange(0.1, 100.0);
+    box->setSingleStep(0.5);
+    box->setPrefix(QStringLiteral("×"));
+    box->setFrame(false);
+    box->setKeyboardTracking(false);
+    return box;
+  }
   if (index.column() != JointTreeModel::AlphaColumn && index.column() != JointTreeModel::ThresholdColumn)
     return QStyledItemDelegate::createEditor(parent, option, index);
   auto* box = new QDoubleSpinBox(parent);

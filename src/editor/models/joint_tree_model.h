@@ -1,6 +1,6 @@
 #pragma once
 // The Skeleton dock's model: the current asset's joints as a tree, with alpha, the threshold
-// at the current level, the lock and the simplified % at that level. Edits become document
+// at the current level, the lock, the mesh importance and the simplified % at that level. Edits become document
 // commands; an edit of a selected row applies to every selected row.
 
 #include <QAbstractItemModel>
@@ -16,7 +16,15 @@ class Document;
 class JointTreeModel : public QAbstractItemModel {
   Q_OBJECT
 public:
-  enum Column { NameColumn, AlphaColumn, ThresholdColumn, LockColumn, SimplifiedColumn, ColumnCount };
+  enum Column {
+    NameColumn,
+    AlphaColumn,
+    ThresholdColumn,
+    LockColumn,
+    ImportanceColumn,
+    SimplifiedColumn,
+    ColumnCount
+  };
   explicit JointTreeModel(Document* document, QObject* parent = nullptr);
 
   // The joints an edit of `joint` applies to (the selection when it holds the joint).
@@ -50,6 +58,7 @@ private:
 
 // Spin boxes with units for alpha (cm) and threshold (cm·degrees); an empty value clears
 // the joint's own setting (it falls back to the project's alpha or the level's threshold).
+// The mesh importance takes a factor (0.1 to 100).
 class JointDelegate : public QStyledItemDelegate {
   Q_OBJECT
 public:

@@ -153,7 +153,7 @@ TEST_F(PixelBudget, ProjectedAtItsSwitchDistanceEveryLevelStaysWithinTheBudget) 
     const MeshLodLevel simplified = lod->levelForRatio(level.meshRatio);
     ASSERT_EQ(int(simplified.triangles()), level.triangles);
     double worst = 0.0;
-    for (const auto& [clip, frame] : lod->poseFrames()) {
+    for (const auto& [clip, frame] : lod->measureFrames()) {
       if (clip < 0)
         continue; // the bind pose is not a pose the character plays
       const std::vector<glm::vec3> original = posedPositions(mesh, asset.skeleton, asset.clips.at(std::size_t(clip)), frame);

@@ -24,7 +24,8 @@ namespace mlod::test {
 // Rings below y = 16 cm follow "lower" alone (w = 1), rings above y = 24 cm "upper" alone,
 // rings in between blend linearly: those are the shared vertices (0 < w < 1). A UV seam
 // runs along the angle 0 (u = 0 and u = 1 there: two vertices at one position). Normals
-// point outwards. Both ends are open borders.
+// point outwards. Both ends are open borders. `bulge` (cm) swells the radius in the middle
+// (5 + bulge x sin(pi y / length)), so that removing a ring costs something.
 struct Tube {
   Skeleton skeleton;
   SkinnedMesh mesh;
@@ -33,7 +34,7 @@ struct Tube {
   int sharedRings = 0; // rings with 0 < w < 1
 };
 
-inline Tube makeTube(int rings = 41, int sides = 16, float step = 1.0f) {
+inline Tube makeTube(int rings = 41, int sides = 16, float step = 1.0f, float bulge = 0.0f) {
   Tube tube;
   tube.rings = rings;
   tube.sides = sides;
@@ -55,13 +56,14 @@ inline Tube makeTube(int rings = 41, int sides = 16, float step = 1.0f) {
   // sides + 1 vertices per ring: the last repeats the first with u = 1 (the seam)
   for (int r = 0; r < rings; ++r) {
     const float y = float(r) * step;
+    const float ringRadius = radius + bulge * std::sin(std::numbers::pi_v<float> * float(r) / float(rings - 1));
     const float upperWeight = std::clamp((y - 16.0f) / 8.0f, 0.0f, 1.0f);
     if (upperWeight > 0.0f && upperWeight < 1.0f)
       ++tube.sharedRings;
     for (int s = 0; s <= sides; ++s) {
       const float angle = 2.0f * std::numbers::pi_v<float> * float(s % sides) / float(sides);
       const glm::vec3 radial(std::cos(angle), 0.0f, std::sin(angle));
-      mesh.positions.push_back(glm::vec3(radius * radial.x, y, radius * radial.z));
+      mesh.positions.push_back(glm::vec3(ringRadius * radial.x, y, ringRadius * radial.z));
       mesh.normals.push_back(radial);
       mesh.uvs.push_back(glm::vec2(float(s) / float(sides), y / (float(rings - 1) * step)));
       const int joints[2] = {0, 1};

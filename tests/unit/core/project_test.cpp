@@ -38,6 +38,7 @@ Project sampleProject() {
   asset.joints["LeftUpLeg"].thresholds = {std::nullopt, std::nullopt, 12.5};
   asset.joints["Head"].alpha = 0.1;
   asset.joints["Spine"].locked = true;
+  asset.joints["Head"].meshImportance = 4.0;
   project.assets.push_back(asset);
   ProjectAsset character;
   character.path = "characters/BCN_Epileptic.X";
@@ -73,6 +74,8 @@ TEST(Project, JpcSettingsComeFromTheProject) {
   EXPECT_EQ(settings.thresholdFor("LeftUpLeg", 1, 5.0), 5.0);
   EXPECT_TRUE(settings.lockedFor("Spine"));
   EXPECT_EQ(settings.alphaFor("Head"), 0.1);
+  EXPECT_EQ(settings.meshImportanceFor("Head"), 4.0);
+  EXPECT_EQ(settings.meshImportanceFor("Spine"), 1.0);
 }
 
 // Guards refusal: each bad document gives a message that says what is wrong, never a crash.
@@ -147,6 +150,7 @@ TEST(Project, VersionOneGetsTheOriginalLevelInFront) {
   EXPECT_EQ(read->assets[0].joints.at("J").thresholds,
             (std::vector<std::optional<double>>{std::nullopt, std::nullopt, 20.0}));
   EXPECT_TRUE(read->assets[0].joints.at("K").thresholds.empty());
+  EXPECT_EQ(read->assets[0].joints.at("K").meshImportance, 1.0) << "absent before issue 14: 1";
   EXPECT_EQ(read->view.level, 2);
   // Saved again, it is version 2 and reads back equal.
   const std::string saved = projectToJson(*read);
