@@ -98,6 +98,23 @@ else
 fi
 
 if [ "$cheap" -eq 0 ]; then
+  echo "== The paper's Figure 12 (docs/user-guide.md, README.md): motionlod bench-crowd BCN_Epileptic.X --scene --motion 01_03.bvh --agents 1000 --frames 60 --threads 1 --repetitions 3 --json"
+  if "$motionlod" bench-crowd "$models/X/BCN_Epileptic.X" --scene --motion "$models/BVH/01_03.bvh" --agents 1000 \
+       --frames 60 --threads 1 --repetitions 3 --json >"$work/scene.json" 2>"$work/scene.err"; then
+    agents=$(jq -r '[.levels[1:][] | .agents | tostring] | join(", ")' "$work/scene.json")
+    exact docs/user-guide.md "12, 76 and 912 agents" "$(echo "$agents" | sed 's/, \([0-9]*\)$/ and \1/') agents" "agents per level"
+    for c in none skeletal mesh both; do
+      joints=$(thousands "$(jq ".configurations.$c.joints_evaluated | round" "$work/scene.json")")
+      row=$(grep -F "| $c | " docs/user-guide.md | head -1)
+      exact docs/user-guide.md "$(echo "$row" | awk -F' [|] ' '{print $5}')" "$joints" "$c: joints evaluated"
+      timing docs/user-guide.md "| $c | " "$(echo "$row" | awk -F' [|] ' '{print $2}')" \
+        "$(fmt %.2f "$(jq ".configurations.$c.frame_ms" "$work/scene.json")")" "$c: frame ms"
+    done
+  else
+    echo "FAILED       bench-crowd --scene: $(cat "$work/scene.err")"
+    stale=1
+  fi
+
   echo "== Export times (docs/farm.md): /usr/bin/time motionlod export ... (one job at a time)"
   t() { # seconds of one export
     local start end
