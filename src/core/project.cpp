@@ -316,8 +316,9 @@ Result<Project> projectFromJson(std::string_view textIn) {
       project.view.clip = viewIndex(field(current, "clip", "\"current\""), "current clip");
       project.view.level = viewIndex(field(current, "level", "\"current\""), "current level") + (version == 1 ? 1 : 0);
       project.view.joint = text(field(current, "joint", "\"current\""), "current joint");
-      clampView(project);
     }
+    // Without "current" too: the default view (level 1) may name a level the project lacks.
+    clampView(project);
   } catch (const std::exception& error) {
     return Error(error.what());
   }

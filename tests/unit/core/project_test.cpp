@@ -193,6 +193,27 @@ TEST(Project, CurrentFieldsOutOfRangeAreBroughtInRange) {
   EXPECT_FALSE(projectFromJson(text));
 }
 
+// Guards a fuzz finding (fuzz.project, crash-72f6eeaf): a project of one level without a
+// "current" object kept the default view's level 1, which it does not have; written and read
+// back it came back at level 0, so reading was not stable. The default view is clamped too.
+TEST(Project, DefaultViewIsClampedWithoutCurrent) {
+  Project project = sampleProject();
+  project.lods.levels.resize(1);
+  for (ProjectAsset& asset : project.assets)
+    for (auto& [name, joint] : asset.joints)
+      joint.thresholds.resize(std::min<std::size_t>(joint.thresholds.size(), 1));
+  std::string text = projectToJson(project);
+  const std::size_t at = text.find("\"current\": ");
+  ASSERT_NE(at, std::string::npos);
+  text = text.substr(0, at) + "\"no_current\": " + text.substr(at + 11);
+  const Result<Project> read = projectFromJson(text);
+  ASSERT_TRUE(read) << read.message();
+  EXPECT_EQ(read->view.level, 0);
+  const Result<Project> again = projectFromJson(projectToJson(*read));
+  ASSERT_TRUE(again) << again.message();
+  EXPECT_TRUE(*again == *read);
+}
+
 // Guards mappings: they follow their assets when one is removed or inserted, and a mapping
 // to an asset that is not there is refused.
 TEST(Project, MappingsFollowTheirAssets) {
