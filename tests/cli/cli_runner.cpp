@@ -2,8 +2,10 @@
 
 #include "test_files.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace mlod::test {
 
@@ -32,6 +34,22 @@ CliRun runMotionlod(const std::vector<std::string>& arguments, int timeoutSecond
   run.out = readText(out);
   run.err = readText(err);
   return run;
+}
+
+std::filesystem::path freshFolder(const std::string& suite, const std::string& name) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("mlod_cli_" + suite + "_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::vector<std::string> filesIn(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  for (const std::filesystem::directory_entry& entry : std::filesystem::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 } // namespace mlod::test

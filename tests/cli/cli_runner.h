@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,11 @@ CliRun runMotionlod(const std::vector<std::string>& arguments);
 // The same, stopped (SIGTERM, then SIGKILL 2 s later) after `timeoutSeconds`: a run that
 // could hang (a FIFO, a kill) must not hang the test. A stopped run has status 124 or 137.
 CliRun runMotionlod(const std::vector<std::string>& arguments, int timeoutSeconds);
+
+// An empty folder of its own for one test: <temp>/mlod_cli_<suite>_<pid>/<name>.
+std::filesystem::path freshFolder(const std::string& suite, const std::string& name);
+// The names of the files in `dir`, sorted.
+std::vector<std::string> filesIn(const std::filesystem::path& dir);
 
 // The keys of a JSON object, in the document's (sorted) order.
 inline std::vector<std::string> keysOf(const nlohmann::json& object) {

@@ -19,23 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::keysOf;
+using test::filesIn;
 using test::runMotionlod;
 
-// An empty folder of its own for one test.
-fs::path freshFolder(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("mlod_cli_export_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path freshFolder(const std::string& name) { return test::freshFolder("export", name); }
 
-std::vector<std::string> filesIn(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir))
-    names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
 
 nlohmann::json pluginList() {
   const test::CliRun run = runMotionlod({"plugins", "--json"});

@@ -28,12 +28,7 @@ using test::runMotionlod;
 
 const std::string kSample = MLOD_SAMPLE;
 
-fs::path freshFolder(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("mlod_cli_terminal_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path freshFolder(const std::string& name) { return test::freshFolder("terminal", name); }
 
 struct TerminalRun {
   int status = -1;

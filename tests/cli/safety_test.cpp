@@ -25,24 +25,13 @@ namespace mlod {
 namespace {
 
 namespace fs = std::filesystem;
+using test::filesIn;
 using test::runMotionlod;
 
 constexpr int kTimeout = 20; // seconds; every run here takes well under one
 
-fs::path freshFolder(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("mlod_cli_safety_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path freshFolder(const std::string& name) { return test::freshFolder("safety", name); }
 
-std::vector<std::string> filesIn(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir))
-    names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
 
 std::string bytesOf(const fs::path& file) {
   return test::readText(file.string());

@@ -100,19 +100,21 @@ LevelKeyBytes levelKeyBytes(const LodPackage& package, const LodPackageLevel& le
     std::vector<int> every(static_cast<std::size_t>(std::max(clip.frameCount, 0)));
     for (std::size_t f = 0; f < every.size(); ++f)
       every[f] = static_cast<int>(f);
+    const auto addRotations = [&](const HeldRotationTrack& held) {
+      std::vector<float> values;
+      for (const glm::quat& q : held.values)
+        values.insert(values.end(), {q.x, q.y, q.z, q.w});
+      arrays.add(values, '4');
+      arrays.times(held.frames, clip.fps);
+      out.rotationKeys += held.frames.size();
+    };
     bool any = false;
     for (int j = 0; j < joints; ++j) {
       const std::size_t jj = static_cast<std::size_t>(j);
       if (clip.hasRotation[jj]) {
-        const HeldRotationTrack held = heldRotationTrack(
+        addRotations(heldRotationTrack(
             clip, j, clusters ? std::span<const Cluster>(clusters->joints[jj]) : std::span<const Cluster>(),
-            reduced && bones.removed[jj], reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
-        std::vector<float> values;
-        for (const glm::quat& q : held.values)
-          values.insert(values.end(), {q.x, q.y, q.z, q.w});
-        arrays.add(values, '4');
-        arrays.times(held.frames, clip.fps);
-        out.rotationKeys += held.frames.size();
+            reduced && bones.removed[jj], reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f)));
         any = true;
       }
       for (const bool translation : {true, false}) {
@@ -128,15 +130,8 @@ LevelKeyBytes levelKeyBytes(const LodPackage& package, const LodPackageLevel& le
         any = true;
       }
     }
-    if (!any) { // a clip without channels: the writer keys the root's rest rotation
-      const HeldRotationTrack held = heldRotationTrack(clip, 0, {}, true, package.skeleton.joints[0].rest.rotation);
-      std::vector<float> values;
-      for (const glm::quat& q : held.values)
-        values.insert(values.end(), {q.x, q.y, q.z, q.w});
-      arrays.add(values, '4');
-      arrays.times(held.frames, clip.fps);
-      out.rotationKeys += held.frames.size();
-    }
+    if (!any) // a clip without channels: the writer keys the root's rest rotation
+      addRotations(heldRotationTrack(clip, 0, {}, true, package.skeleton.joints[0].rest.rotation));
   }
   out.bytes = arrays.bytes();
   return out;
