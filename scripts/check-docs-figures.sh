@@ -59,6 +59,18 @@ timing() {
   printf '%-12s %-24s documented %-14s today %-14s %s\n' "$state" "$file" "$documented" "$today" "$what"
 }
 
+# approx FILE TEXT DOCUMENTED TODAY [WHAT]: a size that moves a little with every change;
+# informational, flagged when it differs from the documented value by more than 10%.
+approx() {
+  local file=$1 text=$2 documented=$3 today=$4 what=${5:-}
+  local state=size
+  grep -qF -- "$text" "$file" || { state="NOT IN FILE"; stale=1; }
+  if [ "$state" = size ] && awk -v a="$documented" -v b="$today" 'BEGIN { exit !(b > 1.1 * a || 1.1 * b < a) }'; then
+    state="size >10%"
+  fi
+  printf '%-12s %-24s documented %-14s today %-14s %s\n' "$state" "$file" "$documented" "$today" "$what"
+}
+
 fmt() { # printf format, value
   LC_ALL=C printf "$1" "$2"
 }
@@ -97,6 +109,28 @@ else
   stale=1
 fi
 
+echo "== What Assimp reads of a motion-only glTF (docs/gltf-extension.md): motionlod export 01_01.bvh --plugin gltf; assimp info FILE -r"
+if command -v assimp >/dev/null; then
+  if "$motionlod" export "$models/BVH/01_01.bvh" --plugin gltf -o "$work/motion.glb" --quiet >/dev/null 2>"$work/export.err"; then
+    assimp info "$work/motion.glb" -r >"$work/assimp.txt" 2>&1
+    nodes=$(sed -n 's/^Nodes: *\([0-9]*\)$/\1/p' "$work/assimp.txt")
+    animations=$(sed -n 's/^Animations: *\([0-9]*\)$/\1/p' "$work/assimp.txt")
+    exact docs/gltf-extension.md "(38 nodes and 4 animations for CMU 01_01)" \
+      "($nodes nodes and $animations animations for CMU 01_01)" "assimp info -r of a motion-only file"
+    assimp info "$work/motion.glb" >"$work/assimp-plain.txt" 2>&1
+    if grep -qF "No materials remaining" "$work/assimp-plain.txt"; then
+      exact docs/gltf-extension.md '"No materials remaining"' '"No materials remaining"' "assimp info without -r"
+    else
+      exact docs/gltf-extension.md '"No materials remaining"' "(reads)" "assimp info without -r no longer fails"
+    fi
+  else
+    echo "FAILED       export of 01_01: $(cat "$work/export.err")"
+    stale=1
+  fi
+else
+  echo "skipped      assimp (package assimp-utils) is not installed"
+fi
+
 if [ "$cheap" -eq 0 ]; then
   echo "== The paper's Figure 12 (docs/user-guide.md, README.md): motionlod bench-crowd BCN_Epileptic.X --scene --motion 01_03.bvh --agents 1000 --frames 60 --threads 1 --repetitions 3 --json"
   if "$motionlod" bench-crowd "$models/X/BCN_Epileptic.X" --scene --motion "$models/BVH/01_03.bvh" --agents 1000 \
@@ -112,6 +146,49 @@ if [ "$cheap" -eq 0 ]; then
     done
   else
     echo "FAILED       bench-crowd --scene: $(cat "$work/scene.err")"
+    stale=1
+  fi
+
+  echo "== Peak memory (docs/user-guide.md): /usr/bin/time -f %M motionlod info|simplify --threshold 50 on CMU 01_01 repeated"
+  long_bvh() { # FRAMES OUT: CMU 01_01's frames repeated to FRAMES frames
+    awk -v n="$1" '
+      /^Frames:/ { print "Frames: " n; next }
+      !m { print; if ($0 ~ /^Frame Time:/) m = 1; next }
+      { f[c++] = $0 }
+      END { for (i = 0; i < n; i++) print f[i % c] }' "$models/BVH/01_01.bvh" >"$2"
+  }
+  peak_mib() { # COMMAND...: the peak resident set in MiB
+    /usr/bin/time -f %M -o "$work/rss" "$@" >/dev/null 2>&1 || { echo failed; return; }
+    awk '{ printf "%.0f", $1 / 1024 }' "$work/rss"
+  }
+  doc_mib() { # ROW COLUMN: the MiB documented in the memory table's row, column 3 or 4
+    grep -F -- "| $1 |" docs/user-guide.md | head -1 | awk -F' [|] ' -v c="$2" '{ sub(/ MiB.*/, "", $c); print $c }'
+  }
+  for row in "sample excerpt (480 frames)|" "50,000 frames (36 MiB BVH)|50000" "200,000 frames (143 MiB BVH)|200000"; do
+    text=${row%%|*}
+    frames=${row#*|}
+    input=$sample
+    [ -n "$frames" ] && { input=$work/long.bvh; long_bvh "$frames" "$input"; }
+    timing docs/user-guide.md "| $text |" "$(doc_mib "$text" 3)" \
+      "$(peak_mib "$motionlod" info "$input" --unit-scale cmu)" "info MiB, $text"
+    timing docs/user-guide.md "| $text |" "$(doc_mib "$text" 4)" \
+      "$(peak_mib "$motionlod" simplify "$input" --unit-scale cmu --threshold 50)" "simplify MiB, $text"
+  done
+  rm -f "$work/long.bvh"
+
+  echo "== Package sizes (docs/install.md): cpack -G \"DEB;TGZ\" in $build"
+  if (cd "$build" && cpack -G "DEB;TGZ" -B "$work/pkg" >/dev/null 2>"$work/cpack.err"); then
+    deb=$(ls "$work"/pkg/*.deb | head -1)
+    tgz=$(ls "$work"/pkg/*.tar.gz | head -1)
+    line=$(grep -F "the \`.deb\` is" docs/install.md | head -1)
+    approx docs/install.md "the \`.deb\` is" "$(echo "$line" | sed -n 's/.*the `.deb` is \([0-9.]*\) MB.*/\1/p')" \
+      "$(fmt %.1f "$(stat -c %s "$deb" | awk '{ print $1 / 1e6 }')")" ".deb MB"
+    approx docs/install.md "the \`.deb\` is" "$(echo "$line" | sed -n 's/.*installs \([0-9,]*\) KiB.*/\1/p' | tr -d ,)" \
+      "$(dpkg-deb -f "$deb" Installed-Size)" ".deb installed KiB"
+    approx docs/install.md "the \`.tar.gz\` is" "$(echo "$line" | sed -n 's/.*the `.tar.gz` is \([0-9.]*\) MB.*/\1/p')" \
+      "$(fmt %.1f "$(stat -c %s "$tgz" | awk '{ print $1 / 1e6 }')")" ".tar.gz MB"
+  else
+    echo "FAILED       cpack: $(tail -3 "$work/cpack.err")"
     stale=1
   fi
 
