@@ -56,6 +56,8 @@ bool checkSource(const LodClipSource& source, std::string* out_error) {
     if (std::abs(glm::length(source.rotations[i]) - 1.0f) > 1e-3f)
       return fail(out_error, "a rotation is not a unit quaternion");
   }
+  if (source.blendFrames < 0 || source.blendFrames > 10000)
+    return fail(out_error, "blend frames " + std::to_string(source.blendFrames) + " is not in [0, 10000]");
   if (source.clusterBegin.empty()) {
     if (!source.clusters.empty())
       return fail(out_error, "clusters are given without clusterBegin");
@@ -227,7 +229,8 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   clip.m_segmentBegin[joints] = static_cast<std::uint32_t>(clip.m_segments.size());
   clip.m_clusterBegin[joints] = static_cast<std::uint32_t>(clip.m_clusters.size());
 
-  buildPlans(clip);
+  clip.m_blendFrames = std::clamp(source.blendFrames, 0, 10000);
+  clip.buildPlans();
   return clip;
 }
 
@@ -238,106 +241,156 @@ std::size_t LodClip::byteSize() const {
          m_scaleTrack.size() * sizeof(std::int32_t) + m_tracks.size() * sizeof(glm::vec3) +
          m_segmentBegin.size() * sizeof(std::uint32_t) + m_segments.size() * sizeof(Segment) +
          m_clusterBegin.size() * sizeof(std::uint32_t) + m_clusters.size() * sizeof(Cluster) +
-         m_rotations.size() * sizeof(glm::quat) + m_pairs.size() * sizeof(glm::vec3) +
-         m_constantLocals.size() * sizeof(float) + planByteSize() + m_endBegin.size() * sizeof(std::uint32_t) +
-         m_ends.size() * sizeof(std::int32_t);
+         m_rotations.size() * sizeof(glm::quat) + m_staticLocals.size() * sizeof(float) + planByteSize();
 }
 
 std::size_t LodClip::planByteSize() const {
-  return m_planBegin.size() * sizeof(std::uint32_t) + m_planSamples.size() * sizeof(PlanSample) +
-         m_planLocals.size() * sizeof(std::uint32_t);
+  return m_planBegin.size() * sizeof(std::uint32_t) + m_plans.size() * sizeof(float);
 }
 
-void LodClip::buildPlans(LodClip& clip) {
-  const std::size_t joints = static_cast<std::size_t>(clip.m_jointCount);
-  const std::size_t frames = static_cast<std::size_t>(clip.m_frameCount);
-  const std::int32_t planFrames = std::max(clip.m_frameCount - 1, 1);
-  // translations and scales as (base, step): value at i0 = pairs[base + step * i0], the next follows
-  std::vector<std::int32_t> translationBase(joints), translationStep(joints), scaleBase(joints), scaleStep(joints);
-  clip.m_pairs.clear();
-  const auto channel = [&](const glm::vec3* track, const glm::vec3& value, std::int32_t& base, std::int32_t& step) {
-    base = static_cast<std::int32_t>(clip.m_pairs.size());
-    if (track) {
-      clip.m_pairs.insert(clip.m_pairs.end(), track, track + frames);
-      clip.m_pairs.push_back(track[frames - 1]); // i0 + 1 of a one-frame clip
-      step = 1;
-    } else {
-      clip.m_pairs.push_back(value);
-      clip.m_pairs.push_back(value);
-      step = 0;
-    }
-  };
-  clip.m_scaled = false;
-  for (std::size_t j = 0; j < joints; ++j) {
-    const int joint = static_cast<int>(j);
-    channel(clip.translationTrack(joint), clip.m_staticTranslation[j], translationBase[j], translationStep[j]);
-    channel(clip.scaleTrack(joint), clip.m_staticScale[j], scaleBase[j], scaleStep[j]);
-    clip.m_scaled = clip.m_scaled || (clip.m_flags[j] & kScaled);
-  }
+void LodClip::setBlendFrames(int frames) {
+  frames = std::clamp(frames, 0, 10000);
+  if (frames == m_blendFrames)
+    return;
+  m_blendFrames = frames;
+  if (!m_clusters.empty())
+    buildPlans();
+}
 
-  // every constant local matrix in lane layout
-  const std::size_t constants = clip.m_locals.size();
-  clip.m_constantLocals.assign(((constants + kLanes - 1) / kLanes) * kLanes * kLocalArrays, 0.0f);
-  for (std::size_t m = 0; m < constants; ++m) {
-    const glm::mat4& local = clip.m_locals[m];
-    float* lane = clip.m_constantLocals.data() + laneOffset(static_cast<std::uint32_t>(m));
+bool LodClip::inUnfreezeWindow(int joint, int i0, int blendFrames) const {
+  if (blendFrames <= 0 || !(flags(joint) & kRotationAnimated))
+    return false;
+  // the latest cluster that ended at or before the segment's first frame: windows of older
+  // ones end earlier (clusters are sorted); a cluster that reaches the clip's end has
+  // last > i0
+  const int latest = segments(joint)[static_cast<std::size_t>(findSegment(joint, i0))].previous;
+  return latest >= 0 && clusters(joint)[static_cast<std::size_t>(latest)].last + blendFrames > i0;
+}
+
+void LodClip::buildPlans() {
+  const std::size_t joints = static_cast<std::size_t>(m_jointCount);
+  const std::int32_t planFrames = std::max(m_frameCount - 1, 1);
+  const int blendFrames = m_blendFrames;
+  m_scaled = false;
+  for (std::size_t j = 0; j < joints; ++j)
+    m_scaled = m_scaled || (m_flags[j] & kScaled);
+
+  // every joint's static local matrix in lane layout
+  m_staticLocals.assign(((joints + kLanes - 1) / kLanes) * kLanes * kLocalArrays, 0.0f);
+  const auto writeLane = [](float* lane, const glm::mat4& local) {
     const float values[kLocalArrays] = {local[0][0], local[0][1], local[0][2], local[1][0], local[1][1], local[1][2],
                                         local[2][0], local[2][1], local[2][2], local[3][0], local[3][1], local[3][2]};
     for (int e = 0; e < kLocalArrays; ++e)
       lane[kLanes * e] = values[e];
-  }
+  };
+  for (std::size_t j = 0; j < joints; ++j)
+    writeLane(m_staticLocals.data() + laneOffset(static_cast<std::uint32_t>(j)), m_locals[j]);
 
   // the plan of every frame i0: each joint's segment, walked forward
-  clip.m_planBegin.assign(static_cast<std::size_t>(planFrames) + 1, 0);
-  clip.m_planSamples.clear();
-  clip.m_planLocals.assign(static_cast<std::size_t>(planFrames) * joints, 0);
+  const std::size_t arrays = static_cast<std::size_t>(planArrays());
+  const std::size_t slotsAt = static_cast<std::size_t>(planSlotsAt());
+  m_planBegin.assign(static_cast<std::size_t>(planFrames) + 1, 0);
+  m_plans.clear();
   std::vector<std::size_t> cursor(joints, 0);
+  struct Slot {
+    std::size_t joint;
+    glm::quat a, b;
+  };
+  std::vector<Slot> slots;
+  std::vector<std::pair<std::size_t, std::int32_t>> constants; // joint, index in m_locals
+  const auto pairAt = [&](const glm::vec3* track, const glm::vec3& value, std::int32_t i0, glm::vec3& a,
+                          glm::vec3& step) {
+    if (track) {
+      a = track[i0];
+      step = track[std::min(i0 + 1, m_frameCount - 1)] - a;
+    } else {
+      a = value;
+      step = glm::vec3(0.0f);
+    }
+  };
   for (std::int32_t i0 = 0; i0 < planFrames; ++i0) {
-    clip.m_planBegin[static_cast<std::size_t>(i0)] = static_cast<std::uint32_t>(clip.m_planSamples.size());
-    std::uint32_t* locals = &clip.m_planLocals[static_cast<std::size_t>(i0) * joints];
-    std::uint32_t slot = 0;
+    slots.clear();
+    constants.clear();
+    std::vector<std::uint32_t> refs(joints, 0);
     for (std::size_t j = 0; j < joints; ++j) {
-      const std::uint8_t flags = clip.m_flags[j];
-      std::int32_t rotation = clip.m_staticPair[j];
-      std::int32_t local = static_cast<std::int32_t>(j);
-      bool frozen = true;
+      const int joint = static_cast<int>(j);
+      const std::uint8_t flags = m_flags[j];
+      std::int32_t rotation = m_staticPair[j];
+      std::int32_t local = -1; // frozen in a cluster: its key's local matrix
+      bool sampled = (flags & (kTranslationAnimated | kScaleAnimated)) != 0;
+      bool window = false;
       if (flags & kRotationAnimated) {
-        const std::span<const Segment> list = clip.segments(static_cast<int>(j));
+        const std::span<const Segment> list = segments(joint);
         while (cursor[j] + 1 < list.size() && list[cursor[j] + 1].first <= i0)
           ++cursor[j];
         const Segment& segment = list[cursor[j]];
         rotation = segment.base + segment.step * i0;
-        local = segment.local;
-        frozen = segment.cluster >= 0;
+        window = blendFrames > 0 && segment.previous >= 0 &&
+                 clusters(joint)[static_cast<std::size_t>(segment.previous)].last + blendFrames > i0;
+        if (segment.cluster >= 0)
+          local = segment.local;
+        sampled = sampled || window || segment.cluster < 0;
       }
-      if (frozen && !(flags & (kTranslationAnimated | kScaleAnimated))) {
-        locals[j] = laneOffset(static_cast<std::uint32_t>(local));
+      if (!sampled) {
+        if (local >= 0) {
+          constants.emplace_back(j, local);
+        } else {
+          refs[j] = (kRefStatic << kRefShift) | laneOffset(static_cast<std::uint32_t>(j));
+        }
         continue;
       }
-      PlanSample sample;
-      sample.rotation = rotation;
-      sample.translation = translationBase[j] + translationStep[j] * i0;
-      sample.scale = scaleBase[j] + scaleStep[j] * i0;
-      clip.m_planSamples.push_back(sample);
-      locals[j] = kPlanSlot | laneOffset(slot++);
+      Slot slot{j, m_rotations[static_cast<std::size_t>(rotation)],
+                m_rotations[static_cast<std::size_t>(rotation) + 1]};
+      if (window) {
+        slot.a = composedRotation(joint, i0, blendFrames);
+        slot.b = composedRotation(joint, i0 + 1, blendFrames);
+        if (glm::dot(slot.a, slot.b) < 0.0f)
+          slot.b = -slot.b;
+      }
+      refs[j] = (kRefSlot << kRefShift) | laneOffset(static_cast<std::uint32_t>(slots.size()));
+      slots.push_back(slot);
+    }
+    const std::size_t slotBlocks = (slots.size() + kLanes - 1) / kLanes;
+    const std::size_t constantsAt = slotsAt + slotBlocks * arrays * kLanes;
+    const std::size_t size = constantsAt + (constants.size() + kLanes - 1) / kLanes * kLanes * kLocalArrays;
+    const std::size_t begin = m_plans.size();
+    m_planBegin[static_cast<std::size_t>(i0)] = static_cast<std::uint32_t>(begin);
+    m_plans.resize(begin + (size + 15) / 16 * 16, 0.0f);
+    float* plan = m_plans.data() + begin;
+    plan[0] = planFloat(static_cast<std::uint32_t>(slots.size()));
+    plan[1] = planFloat(static_cast<std::uint32_t>(slotBlocks));
+    for (std::size_t k = 0; k < constants.size(); ++k) {
+      const std::uint32_t at = static_cast<std::uint32_t>(constantsAt) + laneOffset(static_cast<std::uint32_t>(k));
+      refs[constants[k].first] = (kRefPlan << kRefShift) | at;
+      writeLane(plan + at, m_locals[static_cast<std::size_t>(constants[k].second)]);
+    }
+    for (std::size_t j = 0; j < joints; ++j)
+      plan[kPlanHeader + j] = planFloat(refs[j]);
+    for (std::size_t k = 0; k < slotBlocks * kLanes; ++k) {
+      float* lane = plan + slotsAt + (k / kLanes) * arrays * kLanes + k % kLanes;
+      const auto put = [&](int array, float value) { lane[static_cast<std::size_t>(array) * kLanes] = value; };
+      if (k >= slots.size()) { // padding: the identity
+        put(kQw, 1.0f);
+        if (m_scaled)
+          for (const int array : {kSx0, kSy0, kSz0})
+            put(array, 1.0f);
+        continue;
+      }
+      const Slot& slot = slots[k];
+      const int joint = static_cast<int>(slot.joint);
+      const glm::quat d = slot.b - slot.a;
+      put(kQx, slot.a.x), put(kQy, slot.a.y), put(kQz, slot.a.z), put(kQw, slot.a.w);
+      put(kDx, d.x), put(kDy, d.y), put(kDz, d.z), put(kDw, d.w);
+      glm::vec3 a, step;
+      pairAt(translationTrack(joint), m_staticTranslation[slot.joint], i0, a, step);
+      put(kTx0, a.x), put(kTy0, a.y), put(kTz0, a.z), put(kTdx, step.x), put(kTdy, step.y), put(kTdz, step.z);
+      if (m_scaled) {
+        pairAt(scaleTrack(joint), m_staticScale[slot.joint], i0, a, step);
+        put(kSx0, a.x), put(kSy0, a.y), put(kSz0, a.z), put(kSdx, step.x), put(kSdy, step.y), put(kSdz, step.z);
+      }
     }
   }
-  clip.m_planBegin[static_cast<std::size_t>(planFrames)] = static_cast<std::uint32_t>(clip.m_planSamples.size());
-
-  // per frame, the clusters that end there before the clip's end (counting sort by frame;
-  // joint order within a frame)
-  clip.m_endBegin.assign(frames + 1, 0);
-  const auto forEachEnd = [&](auto&& visit) {
-    for (std::size_t c = 0; c < clip.m_clusters.size(); ++c)
-      if (clip.m_clusters[c].last < clip.m_frameCount - 1)
-        visit(static_cast<std::size_t>(clip.m_clusters[c].last), static_cast<std::int32_t>(c));
-  };
-  forEachEnd([&](std::size_t frame, std::int32_t) { ++clip.m_endBegin[frame + 1]; });
-  for (std::size_t f = 0; f < frames; ++f)
-    clip.m_endBegin[f + 1] += clip.m_endBegin[f];
-  clip.m_ends.resize(clip.m_endBegin[frames]);
-  std::vector<std::uint32_t> at(clip.m_endBegin.begin(), clip.m_endBegin.end() - 1);
-  forEachEnd([&](std::size_t frame, std::int32_t cluster) { clip.m_ends[at[frame]++] = cluster; });
+  m_planBegin[static_cast<std::size_t>(planFrames)] = static_cast<std::uint32_t>(m_plans.size());
 }
 
 double LodClip::wrapped(double g, std::int64_t* out_loop) const {
@@ -361,6 +414,22 @@ int LodClip::findSegment(int joint, int i0) const {
 }
 
 glm::quat LodClip::rotationAt(int joint, double frame, int blendFrames) const {
+  if (!(flags(joint) & kRotationAnimated))
+    return m_rotations[static_cast<std::size_t>(staticRotationPair(joint))];
+  std::int32_t i0 = 0;
+  float fraction = 0.0f;
+  split(frame, i0, fraction);
+  if (!inUnfreezeWindow(joint, i0, blendFrames))
+    return composedRotation(joint, frame, 0);
+  // inside a window: the nlerp of V(i0) and V(i0 + 1)
+  const glm::quat a = composedRotation(joint, i0, blendFrames);
+  glm::quat b = composedRotation(joint, i0 + 1, blendFrames);
+  if (glm::dot(a, b) < 0.0f)
+    b = -b;
+  return nlerp(a, b, fraction);
+}
+
+glm::quat LodClip::composedRotation(int joint, double frame, int blendFrames) const {
   if (!(flags(joint) & kRotationAnimated))
     return m_rotations[static_cast<std::size_t>(staticRotationPair(joint))];
   std::int32_t i0 = 0;

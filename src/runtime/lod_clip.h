@@ -19,28 +19,45 @@
 //
 // Unfreeze blending (docs/architecture.md section 5): when a cluster [first, last] of a joint ends
 // before the clip does, its rotation jumps within one frame from the key to the next
-// frame's. With blendFrames = N > 0 the jump is spread over N frames: for frame positions
-// f in [last, last + N) the joint's rotation is
-//     nlerp(identity, D, 1 - (f - last) / N) * S(f),
-// where S(f) is M'(f) with frame `last` reading its original rotation q(last) instead of
-// the key, and D = key * q(last)^-1: the cluster's own error at its last frame. It equals
-// the key at f = last and M'(f) from f = last + N on, and differs from M'(f) inside by
-// about the angle of D at most, an error M' already makes inside the cluster; each frame it
-// moves by the original motion plus 1/N of that angle. Windows of consecutive clusters that
-// overlap compose (older offsets outermost).
+// frame's. With blendFrames = N > 0 the jump is spread over N frames. At the whole frames k
+// of the window [last, last + N) the joint shows
+//     V(k) = nlerp(identity, D, 1 - (k - last) / N) * S(k),
+// where S(k) is M'(k) except that frame `last` reads its original rotation q(last) instead
+// of the key, and D = key * q(last)^-1: the cluster's own error at its last frame. Between
+// whole frames f in [i0, i0 + 1) with i0 in the window, the joint shows the nlerp of V(i0)
+// and V(i0 + 1) (V(last + N) = M'(last + N)). It equals the key at f = last and M'(f) from
+// f = last + N on, and differs from M'(f) inside by about the angle of D at most, an error
+// M' already makes inside the cluster (the joint stays within the level's joint-position
+// fidelity); each frame it moves by the original motion plus 1/N of that angle. Windows of
+// consecutive clusters that overlap compose (older offsets outermost). The window depends
+// on the clip, N and the frame alone, so the per-frame plans hold it ready-made: a joint
+// in a window is sampled like any other (its two rotations are V(i0) and V(i0 + 1)). A
+// clip's plans are made for one N (blendFrames()).
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 namespace mlod {
+
+// Storage aligned to 64 bytes (a cache line): per-frame plans start on a line.
+template <typename T> struct CacheLineAllocator {
+  using value_type = T;
+  CacheLineAllocator() = default;
+  template <typename U> CacheLineAllocator(const CacheLineAllocator<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{64})); }
+  void deallocate(T* p, std::size_t) { ::operator delete(p, std::align_val_t{64}); }
+  template <typename U> bool operator==(const CacheLineAllocator<U>&) const { return true; }
+};
 
 // One cluster of a joint: inclusive frames [first, last], frozen at frame `key`'s rotation.
 struct LodCluster {
@@ -67,6 +84,8 @@ struct LodClipSource {
   // with its key inside. clusterBegin has jointCount + 1 entries, or none (no clusters).
   std::span<const LodCluster> clusters;
   std::span<const std::uint32_t> clusterBegin;
+  // Frames of unfreeze blending the plans are made for, [0, 10000] (0 = none: M'(t)).
+  int blendFrames = 0;
 };
 
 class LodClip {
@@ -96,25 +115,34 @@ public:
     std::int32_t local = 0; // locals()[local]: the key posture's local matrix (static translation and scale)
     std::int32_t joint = 0; // the joint it belongs to
   };
-  // One joint the evaluator samples at a frame i0 (see plan()): indices of its values at i0
-  // in rotations(), pairs() and pairs(); the values at i0 + 1 follow each.
-  struct PlanSample {
-    std::int32_t rotation = 0;
-    std::int32_t translation = 0;
-    std::int32_t scale = 0;
-  };
-  // What the evaluator reads at frame i0, the same for every character playing the clip
-  // (docs/architecture.md section 5: precomputed per clip frame, nothing rebuilt per
-  // character). `samples`: the joints sampled at i0 (rotation animated outside a cluster, or
-  // translation or scale animated), in joint order; sampled joint k is "slot" k.
-  // `locals`: per joint, where its local matrix is read, as a lane offset (laneOffset()):
-  // kPlanSlot | laneOffset(k) for slot k, else laneOffset(m) of constantLocals()' matrix m
-  // (its static local matrix, or the key posture of the cluster it is frozen in).
-  struct Plan {
-    std::span<const PlanSample> samples;
-    const std::uint32_t* locals = nullptr; // jointCount() entries
-  };
-  static constexpr std::uint32_t kPlanSlot = 0x80000000u;
+  // The plan of frame i0: what the evaluator reads there, the same for every character
+  // playing the clip (docs/architecture.md section 5: precomputed per clip frame, nothing
+  // rebuilt per character), in one contiguous record (floats, 64-byte aligned) so that a
+  // character-frame reads a few consecutive cache lines:
+  // - header, kPlanHeader floats: word 0 the sampled slots, word 1 their blocks of kLanes;
+  // - refs, jointCount words (padded to kLanes): where each joint's local matrix is read,
+  //   (source << kRefShift) | float offset: kRefPlan (a matrix in this plan, lane layout),
+  //   kRefSlot (sampled slot k: the evaluator computes it at laneOffset(k) of its own
+  //   buffer), kRefStatic (the joint's static local matrix in staticLocals());
+  // - the sampled slots (rotation animated outside a cluster, in an unfreeze window, or
+  //   translation or scale animated), in joint order, blocks of kLanes: planArrays() arrays
+  //   of kLanes floats (PlanArray): the rotation at i0 and its step to i0 + 1 (lerped and
+  //   normalised: nlerp), the translation at i0 and its step, and in a scaled clip the
+  //   scale and its step; lanes past the last slot hold the identity;
+  // - the constant local matrices of joints frozen in a cluster (the key posture), lane
+  //   layout, blocks of kLanes.
+  // Words are uint32 stored bit for bit in floats (planWord()).
+  static constexpr int kPlanHeader = 8;
+  static constexpr std::uint32_t kRefShift = 30;
+  static constexpr std::uint32_t kRefPlan = 0, kRefSlot = 1, kRefStatic = 2;
+  static constexpr std::uint32_t kRefOffset = (1u << kRefShift) - 1;
+  // clang-format off
+  enum PlanArray : int { kQx, kQy, kQz, kQw, kDx, kDy, kDz, kDw, kTx0, kTy0, kTz0, kTdx, kTdy, kTdz,
+                         kSx0, kSy0, kSz0, kSdx, kSdy, kSdz, kPlanArraysScaled };
+  // clang-format on
+  static constexpr int kPlanArrays = kSx0; // an unscaled clip's
+  static std::uint32_t planWord(float f) { return std::bit_cast<std::uint32_t>(f); }
+  static float planFloat(std::uint32_t w) { return std::bit_cast<float>(w); }
   // Local matrices in lane layout: blocks of kLanes matrices, each block kLocalArrays arrays
   // of kLanes floats: the 3x3 rotation-scale part column by column (m00 m01 m02 m10 ... m22),
   // then the translation x y z. Element e of matrix i is at laneOffset(i) + kLanes * e.
@@ -194,31 +222,30 @@ public:
     return {m_clusters.data() + m_clusterBegin[j], m_clusterBegin[j + 1] - m_clusterBegin[j]};
   }
   std::span<const glm::quat> rotations() const { return m_rotations; }
-  // Translation and scale values the plans index: every animated track, and for each static
-  // channel two copies of its value.
-  std::span<const glm::vec3> pairs() const { return m_pairs; }
-  // Every joint's rest local matrix (index = joint) and every cluster's key local matrix,
-  // in lane layout (laneOffset()); the float array the plans' constant offsets index.
-  const float* constantLocals() const { return m_constantLocals.data(); }
+  // Every joint's static local matrix (index = joint) in lane layout (laneOffset()): what
+  // kRefStatic refs point into.
+  const float* staticLocals() const { return m_staticLocals.data(); }
   // A scale other than 1 somewhere in the clip (else the evaluator skips scales).
   bool scaled() const { return m_scaled; }
+  // Frames of unfreeze blending the plans are made for (0 = none).
+  int blendFrames() const { return m_blendFrames; }
+  // Makes the plans for `frames` of unfreeze blending ([0, 10000]). Not while a job reads
+  // the clip. A clip without clusters has no windows: only the figure changes.
+  void setBlendFrames(int frames);
   // Index of the segment of `joint` that holds frame i0 (binary search).
   int findSegment(int joint, int i0) const;
   // The plan of frame i0 in [0, planFrames()), planFrames() = max(frameCount - 1, 1).
   int planFrames() const { return static_cast<int>(m_planBegin.size()) - 1; }
-  Plan plan(int i0) const {
-    const std::size_t f = static_cast<std::size_t>(i0);
-    return {{m_planSamples.data() + m_planBegin[f], m_planBegin[f + 1] - m_planBegin[f]},
-            m_planLocals.data() + f * static_cast<std::size_t>(m_jointCount)};
-  }
+  const float* plan(int i0) const { return m_plans.data() + m_planBegin[static_cast<std::size_t>(i0)]; }
+  // Arrays of a sampled slot block (kPlanArrays, or kPlanArraysScaled in a scaled clip) and
+  // where the first block starts in a plan (after header and refs), in floats.
+  int planArrays() const { return m_scaled ? kPlanArraysScaled : kPlanArrays; }
+  int planSlotsAt() const { return kPlanHeader + (m_jointCount + kLanes - 1) / kLanes * kLanes; }
   // Bytes of the plans (included in byteSize()).
   std::size_t planByteSize() const;
-  // The clusters (indices into allClusters()) that end at `frame` before the clip's end (an
-  // unfreeze window opens there), in joint order.
-  std::span<const std::int32_t> clusterEnds(int frame) const {
-    const std::size_t f = static_cast<std::size_t>(frame);
-    return {m_ends.data() + m_endBegin[f], m_endBegin[f + 1] - m_endBegin[f]};
-  }
+  // Does frame i0 of `joint` lie in an unfreeze window of `blendFrames` frames (after one
+  // of its clusters that ends before the clip does)?
+  bool inUnfreezeWindow(int joint, int i0, int blendFrames) const;
   std::span<const Cluster> allClusters() const { return m_clusters; }
   // i0 (the frame at or before the frame position, at most frameCount - 2) and the
   // fraction past it.
@@ -232,9 +259,12 @@ public:
   }
 
 private:
-  // The per-frame plans, pairs, constant locals in lane layout and cluster ends of a clip
-  // whose tracks, segments and clusters are built.
-  static void buildPlans(LodClip& clip);
+  // The per-frame plans and static locals in lane layout of a clip whose tracks, segments
+  // and clusters are built.
+  void buildPlans();
+  // The rotation with unfreeze blends composed at frame position `frame` (V(k) of the
+  // header at whole frames).
+  glm::quat composedRotation(int joint, double frame, int blendFrames) const;
   // Linear interpolation of a per-frame track at a fractional frame.
   glm::vec3 interpolate(const glm::vec3* track, double frame) const;
   double wrapped(double g, std::int64_t* out_loop) const;
@@ -257,13 +287,10 @@ private:
   std::vector<Cluster> m_clusters;
   std::vector<glm::quat> m_rotations;
   bool m_scaled = false;
-  std::vector<glm::vec3> m_pairs;
-  std::vector<float> m_constantLocals;
-  std::vector<std::uint32_t> m_planBegin; // planFrames() + 1
-  std::vector<PlanSample> m_planSamples;
-  std::vector<std::uint32_t> m_planLocals; // planFrames() x jointCount
-  std::vector<std::uint32_t> m_endBegin; // frameCount + 1
-  std::vector<std::int32_t> m_ends;
+  int m_blendFrames = 0;
+  std::vector<float> m_staticLocals;
+  std::vector<std::uint32_t> m_planBegin; // planFrames() + 1 offsets in m_plans, floats
+  std::vector<float, CacheLineAllocator<float>> m_plans;
 };
 
 // nlerp(identity, offset, weight): the offset scaled down to `weight` in [0, 1] (offset.w >= 0).

@@ -1,7 +1,8 @@
 // The crowd pose evaluator: per character, the clip's plan of its frame (shared by every
-// character playing the clip) says which joints to sample and where every other joint's
-// local matrix lies; the sampled joints are computed 8 at once (structure of arrays), the
-// few that blend get their offsets first, and the hierarchy is walked once.
+// character playing the clip, one contiguous record) holds the sampled joints' values ready
+// to lerp 8 at once (structure of arrays) and says where every other joint's local matrix
+// lies; the few joints that blend (a loop wrap, a level change) get their offsets, and the
+// hierarchy is walked once.
 #include "runtime/pose_evaluator.h"
 
 #include <algorithm>
@@ -28,9 +29,9 @@ constexpr int kLanes = LodClip::kLanes;
 constexpr std::size_t kLocalBlock = static_cast<std::size_t>(kLanes) * LodClip::kLocalArrays;
 // Arrays of a local matrix in lane layout (LodClip::laneOffset()).
 enum LocalArray { kM00, kM01, kM02, kM10, kM11, kM12, kM20, kM21, kM22, kTx, kTy, kTz };
-// The sampled joints' inputs, blocks of 8 lanes (slot k at sampleOffset(k)): the rotations
-// at i0 (A) and i0 + 1 (B), and the lerped scale.
-enum SampleArray { kAx, kAy, kAz, kAw, kBx, kBy, kBz, kBw, kSx, kSy, kSz, kSampleArrays };
+// The sampled joints' lerped rotations (A) and scales, blocks of 8 lanes (slot k at
+// sampleOffset(k)).
+enum SampleArray { kAx, kAy, kAz, kAw, kSx, kSy, kSz, kSampleArrays };
 constexpr std::size_t kSampleBlock = static_cast<std::size_t>(kLanes) * kSampleArrays;
 
 // The sample lane of the slot whose local lane offset is `localOffset`.
@@ -66,14 +67,23 @@ inline void mulAffine(const float* __restrict a, const float* __restrict b, floa
   store4(out + 12, a0 * b[12] + a1 * b[13] + a2 * b[14] + a3);
 }
 
-// The rotations of a block's 8 slots lerped in place: A becomes the unnormalised nlerp
-// (stored rotations are sign-aligned: no sign test).
-inline void lerpBlock(float* __restrict s, float fraction) {
-  for (int i = 0; i < kLanes; ++i)
-    for (int c = 0; c < 4; ++c) {
-      const float a = s[(kAx + c) * kLanes + i];
-      s[(kAx + c) * kLanes + i] = a + (s[(kBx + c) * kLanes + i] - a) * fraction;
-    }
+// A block of 8 slots of a plan (LodClip::PlanArray) lerped to `fraction`: rotations (the
+// unnormalised nlerp) and scales into the samples, translations into the locals.
+template <bool Scaled>
+inline void lerpBlock(const float* __restrict plan, float fraction, float* __restrict s, float* __restrict l) {
+  for (int c = 0; c < 4; ++c)
+    for (int i = 0; i < kLanes; ++i)
+      s[(kAx + c) * kLanes + i] =
+          plan[(LodClip::kQx + c) * kLanes + i] + plan[(LodClip::kDx + c) * kLanes + i] * fraction;
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < kLanes; ++i)
+      l[(kTx + c) * kLanes + i] =
+          plan[(LodClip::kTx0 + c) * kLanes + i] + plan[(LodClip::kTdx + c) * kLanes + i] * fraction;
+  if constexpr (Scaled)
+    for (int c = 0; c < 3; ++c)
+      for (int i = 0; i < kLanes; ++i)
+        s[(kSx + c) * kLanes + i] =
+            plan[(LodClip::kSx0 + c) * kLanes + i] + plan[(LodClip::kSdx + c) * kLanes + i] * fraction;
 }
 
 // Local rotation-scale matrices of a block's 8 slots from their rotations in A, of any
@@ -138,13 +148,12 @@ glm::quat shownRotation(const LodClip& clip, int joint, double seconds, int blen
 const glm::mat4 kIdentity(1.0f);
 
 // The hierarchy pass of one character, parents first: the same two products for every joint
-// (model = parent's model x local, palette = model x inverse bind), its local matrix read from
-// its slot or where the clip keeps it (a select, not a branch). `refs`: the plan's local
-// offsets (LodClip::Plan::locals); joint 0 is a root.
+// (model = parent's model x local, palette = model x inverse bind), its local matrix read
+// where its ref says (the plan, the character's slots or the clip's static locals: an
+// indexed base, not a branch). `refs`: the plan's refs (LodClip::plan()); joint 0 is a root.
 struct Hierarchy {
-  const float* constants; // the clip's constant locals, lane layout
-  const float* slots;     // the character's computed locals, lane layout
-  const std::uint32_t* refs;
+  const float* bases[4]; // by ref source: the plan, the character's computed locals, the clip's static locals
+  const float* refs;
   const std::int16_t* parents;
   const float* inverseBinds; // column-major 4x4 per joint
   const float* splat;        // inverse binds as AVX operands (PoseEvaluatorContext::m_splat)
@@ -153,8 +162,8 @@ struct Hierarchy {
   int joints;
 
   const float* local(int j) const {
-    const std::uint32_t ref = refs[j];
-    return ((ref & LodClip::kPlanSlot) ? slots : constants) + (ref & ~LodClip::kPlanSlot);
+    const std::uint32_t ref = LodClip::planWord(refs[j]);
+    return bases[ref >> LodClip::kRefShift] + (ref & LodClip::kRefOffset);
   }
   const float* parent(int j, bool singleRoot) const {
     const int p = parents[j];
@@ -177,9 +186,8 @@ template <bool SingleRoot> void hierarchyBase(const Hierarchy& h) {
 // x86-64-v3 (AVX2, FMA): the palette product two columns at a time, model columns
 // broadcast to both halves, the inverse bind's elements pre-splatted (m_splat).
 template <bool SingleRoot> __attribute__((target("arch=x86-64-v3"))) void hierarchyV3(const Hierarchy& h) {
-  const float* __restrict constants = h.constants;
-  const float* __restrict slots = h.slots;
-  const std::uint32_t* __restrict refs = h.refs;
+  const float* bases[4] = {h.bases[0], h.bases[1], h.bases[2], h.bases[3]};
+  const float* __restrict refs = h.refs;
   const std::int16_t* __restrict parents = h.parents;
   const float* __restrict splat = h.splat;
   float* models = h.models;
@@ -187,8 +195,8 @@ template <bool SingleRoot> __attribute__((target("arch=x86-64-v3"))) void hierar
   const int joints = h.joints;
   for (int j = 0; j < joints; ++j) {
     float* model = models + 16 * j;
-    const std::uint32_t ref = refs[j];
-    const float* local = ((ref & LodClip::kPlanSlot) ? slots : constants) + (ref & ~LodClip::kPlanSlot);
+    const std::uint32_t ref = LodClip::planWord(refs[j]);
+    const float* local = bases[ref >> LodClip::kRefShift] + (ref & LodClip::kRefOffset);
     const int p = parents[j];
     const float* parent = j > 0 && (SingleRoot || p >= 0) ? models + 16 * p : glm::value_ptr(kIdentity);
     mulLane(parent, local, model);
@@ -224,38 +232,37 @@ struct PoseEvaluation {
       evaluate(job, c, scratch);
   }
 
-  // One character's blending joints, as it is being evaluated: its plan's local offsets
-  // (copied to scratch when a constant joint has to be sampled) and its slot count.
+  // One character's blending joints (a loop wrap, a level change), as it is being
+  // evaluated: its plan's refs (copied to scratch when a constant joint has to be sampled)
+  // and its slot count.
   struct Blends {
     const LodClip& clip;
     Scratch& scratch;
-    const std::uint32_t* refs;
+    const float* refs;
     int slots;
     std::int32_t i0;
 
     // The sample lane of joint j, made a slot of its own (its constant rotation, static
-    // translation and scale) when the plan has it constant. `keyPair`: where its rotation
-    // is in rotations() when that is known (else looked up).
-    float* lane(int j, std::int32_t keyPair = -1) {
-      const std::uint32_t ref = refs[j];
-      if (ref & LodClip::kPlanSlot)
-        return scratch.samples.data() + sampleOffset(ref & ~LodClip::kPlanSlot);
-      return newSlot(j, keyPair);
+    // translation and scale) when the plan has it constant.
+    float* lane(int j) {
+      const std::uint32_t ref = LodClip::planWord(refs[j]);
+      if ((ref >> LodClip::kRefShift) == LodClip::kRefSlot)
+        return scratch.samples.data() + sampleOffset(ref & LodClip::kRefOffset);
+      return newSlot(j);
     }
-    __attribute__((noinline)) float* newSlot(int j, std::int32_t keyPair) {
+    __attribute__((noinline)) float* newSlot(int j) {
       if (refs != scratch.refs.data()) {
         std::copy_n(refs, clip.jointCount(), scratch.refs.data());
         refs = scratch.refs.data();
       }
-      const std::uint32_t ref = LodClip::kPlanSlot | LodClip::laneOffset(static_cast<std::uint32_t>(slots++));
-      scratch.refs[static_cast<std::size_t>(j)] = ref;
-      if (keyPair < 0) {
-        keyPair = clip.staticRotationPair(j);
-        if (clip.flags(j) & LodClip::kRotationAnimated) // frozen: its cluster's key
-          keyPair = clip.segments(j)[static_cast<std::size_t>(clip.findSegment(j, i0))].base;
-      }
+      const std::uint32_t offset = LodClip::laneOffset(static_cast<std::uint32_t>(slots++));
+      scratch.refs[static_cast<std::size_t>(j)] =
+          LodClip::planFloat((LodClip::kRefSlot << LodClip::kRefShift) | offset);
+      // a constant joint is static or frozen in a cluster: its key
+      std::int32_t keyPair = clip.staticRotationPair(j);
+      if (clip.flags(j) & LodClip::kRotationAnimated)
+        keyPair = clip.segments(j)[static_cast<std::size_t>(clip.findSegment(j, i0))].base;
       const glm::quat& q = clip.rotations()[static_cast<std::size_t>(keyPair)];
-      const std::uint32_t offset = ref & ~LodClip::kPlanSlot;
       float* s = scratch.samples.data() + sampleOffset(offset);
       s[kAx * kLanes] = q.x;
       s[kAy * kLanes] = q.y;
@@ -274,14 +281,14 @@ struct PoseEvaluation {
     }
 
     // Joint j's (lerped) rotation premultiplied by `offset` (unnormalised).
-    static void apply(float* s, const glm::quat& offset) {
+    void apply(int j, const glm::quat& offset) {
+      float* s = lane(j);
       const glm::quat r = offset * glm::quat(s[kAw * kLanes], s[kAx * kLanes], s[kAy * kLanes], s[kAz * kLanes]);
       s[kAx * kLanes] = r.x;
       s[kAy * kLanes] = r.y;
       s[kAz * kLanes] = r.z;
       s[kAw * kLanes] = r.w;
     }
-    void apply(int j, const glm::quat& offset) { apply(lane(j), offset); }
   };
 
   static void evaluate(const PoseEvaluatorJob& job, int c, Scratch& scratch) {
@@ -341,36 +348,6 @@ struct PoseEvaluation {
     st.levelSeconds = blendFrames / after.fps();
   }
 
-  // The offsets of the joints inside unfreeze windows at frame i0 + fraction, newest first
-  // (every frame of most characters: inlined into the pose clones).
-  __attribute__((always_inline)) static inline void unfreeze(const LodClip& clip, int blendFrames, float fraction,
-                                                             Blends& blends) {
-    const std::int32_t i0 = blends.i0;
-    const float inverseBlendFrames = 1.0f / static_cast<float>(blendFrames);
-    const LodClip::Cluster* clusters = clip.allClusters().data();
-    const std::size_t clusterCount = clip.allClusters().size();
-    for (std::int32_t e = i0; e >= 0 && e > i0 - blendFrames; --e)
-      for (const std::int32_t index : clip.clusterEnds(e)) {
-        const LodClip::Cluster& cluster = clusters[index];
-        // a joint constant in the plan inside the window is frozen in its next cluster
-        // (entries come newest first, so this is the first entry that reaches it)
-        const std::size_t next = static_cast<std::size_t>(index) + 1;
-        float* s = blends.lane(
-            cluster.joint, next < clusterCount && clusters[next].joint == cluster.joint ? clusters[next].keyPair : -1);
-        if (e == i0) {
-          // [last, last + 1) of the cluster it leaves: S starts from q(last), not the key
-          const glm::quat& a = cluster.lastRotation;
-          s[kAx * kLanes] = a.x + (s[kBx * kLanes] - a.x) * fraction;
-          s[kAy * kLanes] = a.y + (s[kBy * kLanes] - a.y) * fraction;
-          s[kAz * kLanes] = a.z + (s[kBz * kLanes] - a.z) * fraction;
-          s[kAw * kLanes] = a.w + (s[kBw * kLanes] - a.w) * fraction;
-        }
-        // f - last = fraction + (i0 - e), in frames
-        const float weight = std::clamp((fraction + static_cast<float>(i0 - e)) * inverseBlendFrames, 0.0f, 1.0f);
-        Blends::apply(s, lerpOffset(cluster.exitOffset, 1.0f - weight));
-      }
-  }
-
   // The wrap's and a level change's offsets (a few frames per period or switch).
   static void blendWrapAndLevel(const PoseEvaluatorJob& job, int c, double t, double f, std::int64_t loop,
                                 Blends& blends) {
@@ -422,53 +399,25 @@ struct PoseEvaluation {
     std::int32_t i0 = 0;
     float fraction = 0.0f;
     clip.split(f, i0, fraction);
-    const LodClip::Plan plan = clip.plan(i0);
-    const int count = static_cast<int>(plan.samples.size());
+    const float* plan = clip.plan(i0);
+    const int count = static_cast<int>(LodClip::planWord(plan[0]));
+    const int countBlocks = static_cast<int>(LodClip::planWord(plan[1]));
 
-    // 1. gather the sampled joints' two rotations, lerp translation (and scale) into their
-    //    lanes; then lerp the rotations, 8 slots at once
-    const glm::quat* rotations = clip.rotations().data();
-    const glm::vec3* pairs = clip.pairs().data();
+    // 1. the sampled joints' rotations (and scales) and translations lerped, 8 slots at once
     float* __restrict samples = scratch.samples.data();
     float* __restrict locals = scratch.locals.data();
-    const LodClip::PlanSample* sample = plan.samples.data();
-    const int countBlocks = (count + kLanes - 1) / kLanes;
-    for (int b = 0; b < countBlocks; ++b) {
-      float* s = samples + static_cast<std::size_t>(b) * kSampleBlock;
-      float* l = locals + static_cast<std::size_t>(b) * kLocalBlock;
-      const int lanes = std::min(kLanes, count - b * kLanes);
-      for (int i = 0; i < lanes; ++i, ++sample, ++s, ++l) {
-        const glm::quat* p = rotations + sample->rotation;
-        s[kAx * kLanes] = p[0].x;
-        s[kAy * kLanes] = p[0].y;
-        s[kAz * kLanes] = p[0].z;
-        s[kAw * kLanes] = p[0].w;
-        s[kBx * kLanes] = p[1].x;
-        s[kBy * kLanes] = p[1].y;
-        s[kBz * kLanes] = p[1].z;
-        s[kBw * kLanes] = p[1].w;
-        const glm::vec3* tr = pairs + sample->translation;
-        l[kTx * kLanes] = tr[0].x + (tr[1].x - tr[0].x) * fraction;
-        l[kTy * kLanes] = tr[0].y + (tr[1].y - tr[0].y) * fraction;
-        l[kTz * kLanes] = tr[0].z + (tr[1].z - tr[0].z) * fraction;
-        if constexpr (Scaled) {
-          const glm::vec3* sc = pairs + sample->scale;
-          s[kSx * kLanes] = sc[0].x + (sc[1].x - sc[0].x) * fraction;
-          s[kSy * kLanes] = sc[0].y + (sc[1].y - sc[0].y) * fraction;
-          s[kSz * kLanes] = sc[0].z + (sc[1].z - sc[0].z) * fraction;
-        }
-      }
-      lerpBlock(samples + static_cast<std::size_t>(b) * kSampleBlock, fraction);
-    }
-    // 2. the joints that blend: offsets into their rotations; constant ones become slots
-    Blends blends{clip, scratch, plan.locals, count, i0};
-    if (job.blendFrames > 0) {
-      // (older offsets outermost: unfreeze windows, newest first, then the wrap, then a level change)
-      unfreeze(clip, job.blendFrames, fraction, blends);
-      if ((clip.looping() && loop >= 1 && i0 < job.blendFrames) ||
-          job.context->m_states[static_cast<std::size_t>(c)].levelBlend)
-        blendWrapAndLevel(job, c, t, f, loop, blends);
-    }
+    const float* slotPlan = plan + clip.planSlotsAt();
+    const std::size_t planBlock = static_cast<std::size_t>(clip.planArrays()) * kLanes;
+    for (int b = 0; b < countBlocks; ++b)
+      lerpBlock<Scaled>(slotPlan + static_cast<std::size_t>(b) * planBlock, fraction,
+                        samples + static_cast<std::size_t>(b) * kSampleBlock,
+                        locals + static_cast<std::size_t>(b) * kLocalBlock);
+    // 2. the joints that blend (a wrap, a level change; unfreeze windows are in the plan):
+    //    offsets into their rotations; constant ones become slots
+    Blends blends{clip, scratch, plan + LodClip::kPlanHeader, count, i0};
+    if (job.blendFrames > 0 && ((clip.looping() && loop >= 1 && i0 < job.blendFrames) ||
+                                job.context->m_states[static_cast<std::size_t>(c)].levelBlend))
+      blendWrapAndLevel(job, c, t, f, loop, blends);
     // 3. local matrices, 8 slots at once
     const int blocks = (blends.slots + kLanes - 1) / kLanes;
     for (int b = 0; b < blocks; ++b)
@@ -479,8 +428,7 @@ struct PoseEvaluation {
     // 4. the hierarchy
     const int joints = clip.jointCount();
     const std::size_t base = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
-    const Hierarchy hierarchy{clip.constantLocals(),
-                              locals,
+    const Hierarchy hierarchy{{plan, locals, clip.staticLocals(), clip.staticLocals()},
                               blends.refs,
                               job.parents.data(),
                               glm::value_ptr(job.inverseBinds[0]),
@@ -516,12 +464,12 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
     // slots are computed too, and must not produce NaNs)
     scratch.samples.assign(kSampleBlock * blocks, 0.0f);
     for (std::size_t b = 0; b < blocks; ++b)
-      for (const int array : {kAw, kBw, kSx, kSy, kSz})
+      for (const int array : {kAw, kSx, kSy, kSz})
         std::fill_n(scratch.samples.begin() + static_cast<std::ptrdiff_t>(b * kSampleBlock + array * kLanes), kLanes,
                     1.0f);
     scratch.locals.assign(kLocalBlock * blocks, 0.0f);
     scratch.models.assign(std::max<std::size_t>(static_cast<std::size_t>(joints), 1), glm::mat4(1.0f));
-    scratch.refs.assign(static_cast<std::size_t>(joints), 0);
+    scratch.refs.assign(static_cast<std::size_t>(joints), 0.0f);
     scratch.wrapOffsets.assign(static_cast<std::size_t>(joints), glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
     scratch.wrapClip = nullptr;
   }
@@ -545,7 +493,7 @@ std::size_t PoseEvaluatorContext::byteSize() const {
   std::size_t scratch = 0;
   for (const Scratch& s : m_scratch)
     scratch += sizeof(Scratch) + (s.samples.size() + s.locals.size()) * sizeof(float) +
-               s.models.size() * sizeof(glm::mat4) + s.refs.size() * sizeof(std::uint32_t);
+               s.models.size() * sizeof(glm::mat4) + s.refs.size() * sizeof(float);
   return sizeof(*this) + bytesPerCharacter() * m_states.size() + scratch;
 }
 
@@ -578,6 +526,8 @@ bool PoseEvaluatorJob::validate() const {
   for (std::size_t c = 0; c < characters; ++c) {
     const LodClip* clip = clips[c];
     if (!clip || clip->jointCount() != static_cast<int>(joints))
+      return false;
+    if (clip->clusterCount() > 0 && clip->blendFrames() != blendFrames)
       return false;
     const double t = times[c];
     if (!std::isfinite(t) || t < 0.0)

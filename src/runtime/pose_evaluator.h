@@ -10,8 +10,9 @@
 //   the clip and i0 alone: the clip's plan of frame i0 (LodClip::plan()), precomputed once
 //   per clip and shared by every character playing it. A character holds no plan, only its
 //   time, its level and its blend state;
-// - a *sampled* joint (rotation outside a cluster, or an animated translation or scale) has
-//   its two rotations around f nlerped, translation and scale lerped, 8 joints at once;
+// - a *sampled* joint (rotation outside a cluster or in an unfreeze window, or an animated
+//   translation or scale) has its rotation nlerped, translation and scale lerped from the
+//   values the plan holds for i0 (contiguous, structure of arrays), 8 joints at once;
 // - a *constant* joint (frozen inside a cluster with static translation and scale, or a
 //   joint the clip never moves: BVH end sites) reads its local matrix where the clip stores
 //   it: no sampling, no copy;
@@ -20,8 +21,9 @@
 //
 // With blendFrames = 0 the result is forward kinematics of the simplified motion M'(t)
 // (LodClip::rotationAt() etc.). With blendFrames = N > 0, joints resume without popping:
-// - after a cluster ends, as LodClip describes (a property of the clip and f alone; the
-//   clip's per-frame lists of cluster ends say which joints are inside a window);
+// - after a cluster ends, as LodClip describes (a property of the clip, N and f alone: the
+//   clip's plans hold it, made for N = LodClip::blendFrames(); a joint in a window costs
+//   what a sampled joint costs);
 // - at a looping clip's wrap (from the second period on, for f < N): the jump from the
 //   pose at the last frame to the pose at frame 0 decays over N frames (rotations; the
 //   root's translation wraps as the clip does: root motion is the caller's business);
@@ -89,10 +91,10 @@ private:
     double levelSeconds = 0.0;
   };
   struct alignas(64) Scratch {
-    std::vector<float> samples;         // the sampled joints' rotations (and scales), blocks of 8 lanes
+    std::vector<float> samples;         // the sampled joints' lerped rotations (and scales), blocks of 8 lanes
     std::vector<float> locals;          // their local matrices, lane layout (LodClip::laneOffset())
     std::vector<glm::mat4> models;      // model matrices when the job has no out_models
-    std::vector<std::uint32_t> refs;    // a plan's local offsets, copied when a constant joint blends
+    std::vector<float> refs;            // a plan's refs, copied when a constant joint blends
     std::vector<glm::quat> wrapOffsets; // a looping clip's wrap offsets for wrapFrames
     const LodClip* wrapClip = nullptr;  // the clip of wrapOffsets (none at the start of a run)
     int wrapFrames = 0;
@@ -120,7 +122,8 @@ struct PoseEvaluatorJob {
   // null) and its time in seconds: finite, >= 0, and <= duration() unless the clip loops.
   std::span<const LodClip* const> clips;
   std::span<const double> times;
-  // Frames over which a resuming joint blends back (0 = off: exactly M'(t)).
+  // Frames over which a resuming joint blends back (0 = off: exactly M'(t)). A clip with
+  // clusters must have its plans made for it (LodClip::blendFrames()).
   int blendFrames = 0;
   // Threads to spread characters over; null = the calling thread only.
   WorkerPool* pool = nullptr;
@@ -135,7 +138,8 @@ struct PoseEvaluatorJob {
   // Rules: a context sized as above; parents valid; inverseBinds one per joint and affine;
   // clips and times one per character; every clip non-null with the skeleton's joint
   // count; every time finite, >= 0 and, for a clip that does not loop, at most its
-  // duration (a frame position <= frameCount - 1 + 1e-6); blendFrames in [0, 10000];
+  // duration (a frame position <= frameCount - 1 + 1e-6); blendFrames in [0, 10000] and
+  // equal to the blendFrames() of every clip with clusters;
   // out_palette characters x joints; out_models empty or characters x joints.
   bool validate() const;
   // Returns false (and writes nothing) when validate() fails.

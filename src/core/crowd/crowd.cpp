@@ -199,6 +199,8 @@ LodSwitches lodSwitchesByScreenSize(const LodSet& lods) { return switchesFrom(lo
 
 void Crowd::setLevels(std::vector<CrowdLevel> levels) {
   m_levels = std::move(levels);
+  for (CrowdLevel& level : m_levels)
+    level.clip.setBlendFrames(m_blendFrames);
   const std::size_t n = m_levels.size();
   m_levelAgents.assign(n, {});
   m_palettes.assign(n, {});
@@ -231,6 +233,8 @@ void Crowd::setThreads(int threads) {
 
 void Crowd::setBlendFrames(int frames) {
   m_blendFrames = std::clamp(frames, 0, 10000);
+  for (CrowdLevel& level : m_levels)
+    level.clip.setBlendFrames(m_blendFrames); // the unfreeze windows are in the clip's plans
   for (auto& slots : m_slotAgent)
     slots.clear();
   for (PoseEvaluatorContext& context : m_contexts)

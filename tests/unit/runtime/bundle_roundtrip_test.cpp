@@ -21,7 +21,9 @@ void evaluate(const LodClip& clip, std::span<const std::int16_t> parents, std::s
   const int characters = 7;
   const int joints = static_cast<int>(parents.size());
   PoseEvaluatorContext context(characters, joints);
-  std::vector<const LodClip*> clips(characters, &clip);
+  LodClip baked = clip; // its plans made for the blending
+  baked.setBlendFrames(blendFrames);
+  std::vector<const LodClip*> clips(characters, &baked);
   models.assign(std::size_t(characters * joints), glm::mat4(0.0f));
   palette.assign(std::size_t(characters * joints), glm::mat4(0.0f));
   std::vector<double> times(characters);

@@ -33,10 +33,12 @@ struct Rig {
   int joints() const { return static_cast<int>(parents.size()); }
 };
 
-LodClip lodClip(const Clip& clip, const ClusterSet* clusters, bool looping = false) {
+// The runtime clip, its plans made for `blendFrames` of unfreeze blending.
+LodClip lodClip(const Clip& clip, const ClusterSet* clusters, bool looping = false, int blendFrames = 0) {
   Result<LodClip> built = buildLodClip(clip, clusters, looping);
   if (!built)
     throw std::runtime_error(built.message());
+  built->setBlendFrames(blendFrames);
   return std::move(built).value();
 }
 
@@ -244,7 +246,7 @@ TEST(PoseEvaluator, ThreadsAndPaletteOnlyChangeNothing) {
   const Asset& asset = runtimeAsset(kCmu);
   const Clip& clip = asset.clips.front();
   const Rig rig(asset.skeleton);
-  const LodClip lod = lodClip(clip, &levelsOf(kCmu)[2].clusters, true);
+  const LodClip lod = lodClip(clip, &levelsOf(kCmu)[2].clusters, true, 4);
   const LodClip full = lodClip(clip, nullptr, true);
   const int characters = 301;
   const std::size_t n = static_cast<std::size_t>(characters) * static_cast<std::size_t>(rig.joints());
@@ -354,9 +356,10 @@ TEST(PoseEvaluator, BlendingStaysWithinFidelityAndOutsideWindowsEqualsSimplified
     if (level.threshold == 0.0)
       continue;
     const Clip simplified = simplifiedClip(clip, level.clusters);
-    const LodClip lod = lodClip(clip, &level.clusters);
+    LodClip lod = lodClip(clip, &level.clusters);
     const float fidelity = static_cast<float>(level.maxJointPositionErrorCm);
     for (int blendFrames : {4, 10}) {
+      lod.setBlendFrames(blendFrames);
       for (double step : {1.0, 2.0}) {
         const std::vector<double> times = timesAlong(clip, 0.0, clip.frameCount - 1, step);
         std::vector<double> frames(times.size());
@@ -410,13 +413,13 @@ TEST(PoseEvaluator, LevelChangesBlend) {
   const std::vector<JpcLevelResult>& levels = levelsOf(kCmu);
   const JpcLevelResult& fine = levels[1];
   const JpcLevelResult& coarse = levels[3];
-  const LodClip fineClip = lodClip(clip, &fine.clusters);
-  const LodClip coarseClip = lodClip(clip, &coarse.clusters);
+  const int blendFrames = 6;
+  const LodClip fineClip = lodClip(clip, &fine.clusters, false, blendFrames);
+  const LodClip coarseClip = lodClip(clip, &coarse.clusters, false, blendFrames);
   const Clip fineSimplified = simplifiedClip(clip, fine.clusters);
   const Clip coarseSimplified = simplifiedClip(clip, coarse.clusters);
   const std::vector<glm::vec3> original = jointPositions(asset.skeleton, clip);
   const float bound = static_cast<float>(fine.maxJointPositionErrorCm + coarse.maxJointPositionErrorCm);
-  const int blendFrames = 6;
   const std::vector<double> times = timesAlong(clip, 0.0, clip.frameCount - 1);
   // a level switch every 97 frames
   std::vector<const LodClip*> clips(times.size());
@@ -588,13 +591,19 @@ TEST(PoseEvaluator, RandomCharacterFramesEqualTheReference) {
   const Clip& clip = asset.clips.front();
   const Rig rig(asset.skeleton);
   const std::size_t joints = static_cast<std::size_t>(rig.joints());
-  const LodClip full = lodClip(clip, nullptr, true);
-  const LodClip fine = lodClip(clip, &levelsOf(kCmu)[2].clusters, true);
-  const LodClip coarse = lodClip(clip, &levelsOf(kCmu).back().clusters, true);
+  LodClip full = lodClip(clip, nullptr, true);
+  LodClip fine = lodClip(clip, &levelsOf(kCmu)[2].clusters, true);
+  LodClip coarse = lodClip(clip, &levelsOf(kCmu).back().clusters, true);
   const LodClip* choices[3] = {&full, &fine, &coarse};
+  // each level's joint-position fidelity (cm): the bound inside unfreeze windows
+  const float fidelity[3] = {0.0f, static_cast<float>(levelsOf(kCmu)[2].maxJointPositionErrorCm),
+                             static_cast<float>(levelsOf(kCmu).back().maxJointPositionErrorCm)};
   constexpr int kCharacters = 40, kSteps = 60;
   WorkerPool pool(2);
   for (const int blendFrames : {0, 5}) {
+    for (LodClip* lod : {&full, &fine, &coarse})
+      lod->setBlendFrames(blendFrames);
+    int inside = 0, outside = 0;
     std::mt19937 random(13u + static_cast<unsigned>(blendFrames));
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     PoseEvaluatorContext context(kCharacters, rig.joints(), 2);
@@ -605,7 +614,8 @@ TEST(PoseEvaluator, RandomCharacterFramesEqualTheReference) {
       clips[static_cast<std::size_t>(c)] = choices[c % 3];
       times[static_cast<std::size_t>(c)] = unit(random) * full.duration();
     }
-    std::vector<glm::mat4> models(kCharacters * joints), palette(kCharacters * joints), expected;
+    std::vector<glm::mat4> models(kCharacters * joints), palette(kCharacters * joints), expected, simplified;
+    std::vector<std::uint8_t> window;
     int compared = 0, switches = 0, wraps = 0;
     for (int step = 0; step < kSteps; ++step) {
       for (int c = 0; c < kCharacters; ++c) {
@@ -648,12 +658,46 @@ TEST(PoseEvaluator, RandomCharacterFramesEqualTheReference) {
           ASSERT_TRUE(paletteNear(palette[ci * joints + j], models[ci * joints + j], rig.inverseBinds[j]));
         }
         ++compared;
+        // away from a wrap's and a level change's blends: forward kinematics of M'(t)
+        // outside unfreeze windows (a joint and its ancestors), within the level's
+        // fidelity inside them
+        const LodClip& lod = *clips[ci];
+        std::int64_t loop = 0;
+        const double f = lod.framePosition(times[ci], &loop);
+        std::int32_t i0 = 0;
+        float fraction = 0.0f;
+        lod.split(f, i0, fraction);
+        if (blendFrames == 0 || reference[ci].levelWeight(times[ci]) >= 0.0 || (loop >= 1 && i0 < blendFrames))
+          continue;
+        ReferenceCharacter plain;
+        plain.play(lod, times[ci], 0);
+        plain.models(rig, times[ci], 0, simplified);
+        window.assign(joints, 0);
+        for (std::size_t j = 0; j < joints; ++j) {
+          for (const LodClip::Cluster& cluster : lod.clusters(static_cast<int>(j)))
+            window[j] = window[j] ||
+                        (cluster.last < lod.frameCount() - 1 && i0 >= cluster.last && i0 < cluster.last + blendFrames);
+          const int parent = rig.parents[j];
+          window[j] = window[j] || (parent >= 0 && window[static_cast<std::size_t>(parent)]);
+          const glm::mat4& model = models[ci * joints + j];
+          if (window[j]) {
+            ++inside;
+            ASSERT_LE(distance(model, simplified[j]), fidelity[std::find(choices, choices + 3, &lod) - choices])
+                << "step " << step << " character " << c << " joint " << j << " inside an unfreeze window";
+          } else {
+            ++outside;
+            ASSERT_TRUE(elementsNear(model, simplified[j], 2e-4f))
+                << "step " << step << " character " << c << " joint " << j << " outside every window";
+          }
+        }
       }
     }
     EXPECT_EQ(compared, kCharacters * kSteps);
     EXPECT_GT(switches, 100);
     if (blendFrames > 0) {
       EXPECT_GT(wraps, 0) << "some character-frames lie in a wrap window";
+      EXPECT_GT(inside, 500) << "joint-frames inside unfreeze windows";
+      EXPECT_GT(outside, 5000) << "joint-frames outside every window";
     }
   }
 }
@@ -759,11 +803,25 @@ TEST(PoseEvaluator, RejectsInvalidJobs) {
     job.blendFrames = -1;
     invalid.push_back(job);
   }
+  const LodClip clustered = lodClip(clip, &levelsOf(kCmu)[2].clusters, false, 4);
+  const LodClip* clusteredClips[2] = {&lod, &clustered};
+  for (const int blendFrames : {0, 5}) {
+    PoseEvaluatorJob job = valid();
+    job.clips = clusteredClips;
+    job.blendFrames = blendFrames; // the clip's plans were made for 4 frames of blending
+    invalid.push_back(job);
+  }
   for (std::size_t i = 0; i < invalid.size(); ++i) {
     EXPECT_FALSE(invalid[i].validate()) << "case " << i;
     EXPECT_FALSE(invalid[i].run()) << "case " << i;
   }
   EXPECT_EQ(palette[0], glm::mat4(7.0f)) << "a failed run writes nothing";
+  {
+    PoseEvaluatorJob job = valid();
+    job.clips = clusteredClips;
+    job.blendFrames = 4;
+    EXPECT_TRUE(job.validate()) << "plans made for the job's blending";
+  }
   // a looping clip takes any time >= 0
   const LodClip* loopingClips[2] = {&looping, &looping};
   const double later[2] = {0.0, 10 * looping.duration() + 0.3};
