@@ -2,7 +2,7 @@
 
 #include "cli/file_checks.h"
 
-#include "core/lod/lod_package.h"
+#include "core/project_package.h"
 #include "core/project.h"
 #include "runtime/bundle.h"
 #include "io/import_options.h"

@@ -9,10 +9,6 @@ namespace mlod::cli {
 
 namespace fs = std::filesystem;
 
-bool isProjectFile(const std::string& file) {
-  return file.size() >= 5 && file.compare(file.size() - 5, 5, ".mlod") == 0;
-}
-
 std::optional<FileIdentity> fileIdentity(const std::string& path) {
   struct stat info {};
   if (::stat(path.c_str(), &info) != 0)

@@ -8,6 +8,8 @@
 // - the files an export writes are known: the output, and for the bundle its manifest.
 // Inputs themselves are read through runtime/input_file.h (regular files, capped).
 
+#include "core/project.h"
+
 #include <QVariantMap>
 #include <cstdint>
 #include <optional>
@@ -53,6 +55,7 @@ std::string normalOutputPath(const std::string& path);
 // Whether `path` (normalOutputPath()) lies inside `folder` (normalOutputPath()).
 bool isInsideFolder(const std::string& path, const std::string& folder);
 
-bool isProjectFile(const std::string& file); // ends with .mlod
+// Projects: isProjectFile() and kProjectSuffix of core/project.h, the editor's too.
+using mlod::isProjectFile;
 
 } // namespace mlod::cli

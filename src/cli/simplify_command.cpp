@@ -17,6 +17,14 @@
 
 namespace mlod::cli {
 
+namespace {
+std::string defaultAlphaText() {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", kDefaultJpcAlpha);
+  return text;
+}
+} // namespace
+
 void SimplifyCommand::attach(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "simplify", "Joint posture clustering (JPC) of one clip: simplified joints %, clusters and errors per threshold "
@@ -32,7 +40,8 @@ void SimplifyCommand::attach(CLI::App& app) {
                    "error threshold E per LOD level, cm·degrees (E / 57.3 ~ cm), comma-separated: 5,50,100,300 "
                    "(required for a file; a project's default: its levels after the original)")
       ->delimiter(',');
-  command->add_option("--alpha", alpha, "orientation weight alpha of every joint, cm, >= 0 (default 5)");
+  command->add_option("--alpha", alpha,
+                      "orientation weight alpha of every joint, cm, >= 0 (default " + defaultAlphaText() + ")");
   command->add_option("--joint", jointThresholds, "NAME=E: joint NAME's threshold at every level (repeatable)");
   command->add_option("--mode", mode,
                       "greedy: the paper's longest-range-first clusters; optimal: the clusters that cover the most "
@@ -162,9 +171,13 @@ int SimplifyCommand::run() const {
     }
     levelThresholds.push_back(value);
   }
-  double alphaValue = 0.0;
-  if (!parseNumber(alpha, alphaValue) || !std::isfinite(alphaValue) || alphaValue < 0.0) {
+  double alphaValue = kDefaultJpcAlpha;
+  if (!alpha.empty() && !parseNumber(alpha, alphaValue)) {
     printError(file, "--alpha is '" + alpha + "'; it must be a finite number >= 0 (cm)");
+    return kExitBadInput;
+  }
+  if (Error error = validateAlpha(alphaValue, "--alpha")) {
+    printError(file, error.message());
     return kExitBadInput;
   }
   std::vector<std::pair<std::string, double>> jointOverrides; // --joint NAME=E

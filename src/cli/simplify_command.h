@@ -25,7 +25,7 @@ struct SimplifyCommand {
   std::string file;
   std::string clip;                         // name or index; empty = the first clip
   std::vector<std::string> thresholds;      // cm·degrees, one per level (parsed in run(): errors name the file); empty: the project's
-  std::string alpha = "5";                  // cm
+  std::string alpha;                        // cm; empty: kDefaultJpcAlpha
   std::vector<std::string> jointThresholds; // NAME=E, for every level
   std::string mode = "greedy";
   bool json = false;

@@ -56,8 +56,8 @@ std::string tooManyLevels(std::size_t count) {
 } // namespace
 
 Error Project::validate() const {
-  if (!nonNegative(alpha))
-    return Error("alpha must be a finite number >= 0 (cm)");
+  if (Error error = validateAlpha(alpha))
+    return error;
   if (lods.levels.size() > std::size_t(kMaxProjectLevels))
     return Error(tooManyLevels(lods.levels.size()));
   if (Error error = lods.validate())
@@ -71,15 +71,15 @@ Error Project::validate() const {
       return Error(where + ": unit_scale " + std::to_string(asset.unitScale) +
                    " is not a finite number >= 0 (cm per file unit; 0 = the file's own unit)");
     for (const auto& [name, joint] : asset.joints) {
-      if (joint.alpha && !nonNegative(*joint.alpha))
-        return Error(where + ", joint " + name + ": alpha must be a finite number >= 0 (cm)");
+      if (Error error = joint.alpha ? validateAlpha(*joint.alpha, where + ", joint " + name + ": alpha") : Error())
+        return error;
       for (const std::optional<double>& threshold : joint.thresholds)
         if (threshold && !nonNegative(*threshold))
           return Error(where + ", joint " + name + ": a threshold must be a finite number >= 0 (cm·degrees)");
       if (!joint.thresholds.empty() && joint.thresholds.front())
         return Error(where + ", joint " + name + ": level 0 is the original; it has no threshold to override");
-      if (!std::isfinite(joint.meshImportance) || !(joint.meshImportance > 0.0))
-        return Error(where + ", joint " + name + ": the mesh importance must be a finite number > 0");
+      if (Error error = validateMeshImportance(joint.meshImportance, where + ", joint " + name + ": the mesh importance"))
+        return error;
     }
   }
   for (std::size_t m = 0; m < mappings.size(); ++m) {
@@ -389,6 +389,11 @@ void remapLevels(Project& project, const std::vector<int>& order, const std::vec
       settings.thresholds = std::move(remapped);
     }
   project.lods.levels = levels;
+}
+
+void applyLodSetEdit(Project& project, const LodSetEdit& edit) {
+  remapLevels(project, edit.order, edit.lods.levels);
+  project.lods = edit.lods;
 }
 
 } // namespace mlod

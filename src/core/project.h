@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/jpc/jpc_settings.h"
+#include "core/lod/lod_levels.h"
 #include "core/lod/lod_set.h"
 #include "core/mapping/motion_mapping.h"
 
@@ -39,12 +40,6 @@ inline constexpr int kProjectVersion = 2;
 inline constexpr int kMaxProjectLevels = 32;                      // level 0 included
 inline constexpr std::uint64_t kMaxProjectFileBytes = 64u << 20; // 64 MiB
 inline constexpr const char* kProjectFormat = "motionlod-project";
-
-// Per-joint settings compare by value (JointSettings has no operator== of its own).
-inline bool operator==(const JointSettings& a, const JointSettings& b) {
-  return a.alpha == b.alpha && a.thresholds == b.thresholds && a.locked == b.locked &&
-         a.meshImportance == b.meshImportance;
-}
 
 struct ProjectAsset {
   // Where the file is: relative to the project file's folder when saved ('/' separators),
@@ -124,5 +119,15 @@ void insertProjectAsset(Project& project, int index, ProjectAsset asset);
 // their level. `order[i]` is the old index of new level i, or -1 for a new level; `levels`
 // are the new levels (same size as `order`).
 void remapLevels(Project& project, const std::vector<int>& order, const std::vector<LodLevel>& levels);
+// The suffix of project files; a file is read as a project wherever the CLI or the editor
+// accepts one when its name ends with it.
+inline constexpr const char* kProjectSuffix = ".mlod";
+inline bool isProjectFile(std::string_view file) {
+  return file.ends_with(kProjectSuffix);
+}
+
+// A level edit (core/lod/lod_levels.h) applied to the project: its LodSet replaced by
+// edit.lods, the per-joint overrides following their level through edit.order.
+void applyLodSetEdit(Project& project, const LodSetEdit& edit);
 
 } // namespace mlod

@@ -5,6 +5,8 @@
 #include "editor/charts/statistics_view.h"
 #include "editor/document/autosave.h"
 #include "editor/document/document.h"
+#include "editor/document/edits.h"
+#include "editor/document/level_generator.h"
 #include "editor/import_job.h"
 #include "editor/models/asset_tree.h"
 #include "editor/models/joint_tree_model.h"
@@ -45,9 +47,10 @@
 
 namespace mlod {
 
-MainWindow::MainWindow(QWidget* parent)
+MainWindow::MainWindow(QWidget* parent, PluginHost* plugins)
     : QMainWindow(parent), m_ui(std::make_unique<Ui::MainWindow>()), m_document(new Document(this)),
-      m_assets(new AssetTreeModel(this)), m_import(new ImportJob(this)), m_autosave(new Autosave(m_document, {}, this)) {
+      m_assets(new AssetTreeModel(this)), m_plugins(plugins), m_import(new ImportJob(this)),
+      m_autosave(new Autosave(m_document, {}, this)) {
   m_ui->setupUi(this);
   m_ui->assetTree->setModel(m_assets);
   m_ui->menuView->addAction(m_ui->assetsDock->toggleViewAction());
@@ -77,29 +80,19 @@ MainWindow::MainWindow(QWidget* parent)
   connect(m_import, &ImportJob::failed, this, &MainWindow::onImportFailed);
   connect(m_ui->assetTree->selectionModel(), &QItemSelectionModel::currentChanged, this,
           [this](const QModelIndex& current) {
-            QModelIndex top = current;
-            int clip = 0;
-            while (top.parent().isValid()) {
-              // A clip row (under "Clips") picks that clip.
-              if (top.parent().parent().isValid() && !top.parent().parent().parent().isValid() &&
-                  top.parent().row() == 1)
-                clip = top.row();
-              top = top.parent();
-            }
-            if (const Asset* asset = m_assets->assetAt(top.row())) {
+            const int row = m_assets->assetRow(current);
+            if (const Asset* asset = m_assets->assetAt(row)) {
               showAsset(*asset);
-              m_document->setCurrentAsset(top.row(), std::min(clip, std::max(0, int(asset->clips.size()) - 1)));
+              m_document->setCurrentAsset(row, std::max(0, m_assets->clipRow(current)));
             }
           });
   connect(m_ui->assetTree, &QTreeView::doubleClicked, this, [this](const QModelIndex& index) {
-    QModelIndex top = index;
-    while (top.parent().isValid())
-      top = top.parent();
-    if (!m_assets->isMissing(top.row()))
+    const int row = m_assets->assetRow(index);
+    if (!m_assets->isMissing(row))
       return;
-    const QString path = QFileDialog::getOpenFileName(this, tr("Where is %1 now?").arg(m_document->assetFilePath(top.row())));
+    const QString path = QFileDialog::getOpenFileName(this, tr("Where is %1 now?").arg(m_document->assetFilePath(row)));
     if (!path.isEmpty())
-      m_document->relinkAsset(top.row(), path);
+      m_document->relinkAsset(row, path);
   });
   connect(m_document, &Document::assetsChanged, this, [this] {
     QStringList paths;
@@ -153,8 +146,8 @@ MainWindow::MainWindow(QWidget* parent)
   connect(m_progress, &QProgressDialog::canceled, this, &MainWindow::cancelImport);
   m_levelsProgress = new JobProgress(tr("LOD levels"), tr("Cancel"), this);
   m_levelsProgress->setObjectName("levelsProgress");
-  connect(m_levelsProgress, &QProgressDialog::canceled, m_document, &Document::cancelLevelGeneration);
-  connect(m_document, &Document::levelGenerationFinished, this, [this](bool ok, const QString& message) {
+  connect(m_levelsProgress, &QProgressDialog::canceled, m_document->levelGenerator(), &LevelGenerator::cancel);
+  connect(m_document->levelGenerator(), &LevelGenerator::finished, this, [this](bool ok, const QString& message) {
     m_levelsProgress->finish();
     log(ok ? tr("Generated levels: %1").arg(message) : tr("Level generation: %1").arg(message));
     statusBar()->showMessage(ok ? message : tr("Level generation: %1").arg(message), 4000);
@@ -342,7 +335,7 @@ void MainWindow::cancelImport() { m_import->cancel(); }
 
 void MainWindow::onImported(const QString& path, std::shared_ptr<const Asset> asset) {
   m_progress->finish();
-  m_document->addAsset(asset, path, m_pendingScale);
+  edit::addAsset(*m_document, asset, path, m_pendingScale);
   const QModelIndex index = m_assets->index(m_assets->rowCount() - 1, 0);
   m_ui->assetTree->expand(index);
   m_ui->assetTree->setCurrentIndex(index);
@@ -442,7 +435,7 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     }
   }
   m_autosave->discard(); // a clean close leaves nothing to recover
-  m_document->cancelAnalysis();
+  m_document->analysisRunner()->cancel();
   QSettings settings;
   settings.setValue("mainWindow/geometry", saveGeometry());
   settings.setValue("mainWindow/state", saveState());
@@ -543,14 +536,14 @@ void MainWindow::buildDocks() {
   connect(button("addLevelButton", tr("+"), tr("Add a level (twice the last threshold) — Ctrl+Shift+L")), &QToolButton::clicked,
           this, [this] { findChild<QAction*>("actionAddLevel")->trigger(); });
   connect(button("removeLevelButton", tr("−"), tr("Remove the current level")), &QToolButton::clicked, this,
-          [this] { m_document->removeLevel(m_document->currentLevel()); });
+          [this] { edit::removeLevel(*m_document, m_document->currentLevel()); });
   connect(button("levelUpButton", tr("↑"), tr("Move the current level up")), &QToolButton::clicked, this, [this] {
     const int level = m_document->currentLevel();
-    m_document->moveLevel(level, level - 1);
+    edit::moveLevel(*m_document, level, level - 1);
   });
   connect(button("levelDownButton", tr("↓"), tr("Move the current level down")), &QToolButton::clicked, this, [this] {
     const int level = m_document->currentLevel();
-    m_document->moveLevel(level, level + 1);
+    edit::moveLevel(*m_document, level, level + 1);
   });
   connect(button("generateLevelsButton", tr("Budget…"),
                  tr("Generate the levels from an error budget in pixels on screen — Ctrl+Shift+G")),
@@ -564,8 +557,9 @@ void MainWindow::buildDocks() {
   m_alphaBox->setSingleStep(0.5);
   m_alphaBox->setSuffix(tr(" cm"));
   m_alphaBox->setValue(m_document->project().alpha);
-  m_alphaBox->setToolTip(tr("Orientation weight α of every joint without its own, cm (default 5)"));
-  connect(m_alphaBox, &QDoubleSpinBox::valueChanged, this, [this](double value) { m_document->setAlpha(value); });
+  m_alphaBox->setToolTip(
+      tr("Orientation weight α of every joint without its own, cm (default %1)").arg(kDefaultJpcAlpha));
+  connect(m_alphaBox, &QDoubleSpinBox::valueChanged, this, [this](double value) { edit::setAlpha(*m_document, value); });
   buttons->addWidget(m_alphaBox);
   m_modeBox = new QComboBox;
   m_modeBox->setObjectName("modeBox");
@@ -574,7 +568,7 @@ void MainWindow::buildDocks() {
   m_modeBox->setToolTip(tr("Greedy: the paper's longest-range-first clusters. Optimal: under the same error bound, the "
                            "clusters that cover the most frames"));
   connect(m_modeBox, &QComboBox::currentIndexChanged, this,
-          [this](int index) { m_document->setMode(JpcMode(m_modeBox->itemData(index).toInt())); });
+          [this](int index) { edit::setMode(*m_document, JpcMode(m_modeBox->itemData(index).toInt())); });
   buttons->addWidget(m_modeBox);
   levelsLayout->addLayout(buttons);
   addDock("levelsDock", tr("LOD Levels"), levelsPanel, Qt::LeftDockWidgetArea);
@@ -598,12 +592,13 @@ void MainWindow::buildDocks() {
   // timeline drives both.
   auto* viewport = new ViewportPanel(m_document);
   viewport->setObjectName("viewportPanel");
-  QDockWidget* viewportDock = addDock("viewportDock", tr("Viewport"), viewport, Qt::RightDockWidgetArea);
-  tabifyDockWidget(trajectory, viewportDock);
-  auto* crowd = new CrowdPanel(m_document, viewport->playback());
-  crowd->setObjectName("crowdPanel");
-  connect(viewport, &ViewportPanel::mappingChosen, crowd, &CrowdPanel::setMapping);
-  tabifyDockWidget(viewportDock, addDock("crowdDock", tr("Crowd"), crowd, Qt::RightDockWidgetArea));
+  m_viewportDock = addDock("viewportDock", tr("Viewport"), viewport, Qt::RightDockWidgetArea);
+  tabifyDockWidget(trajectory, m_viewportDock);
+  m_crowdPanel = new CrowdPanel(m_document, viewport->playback());
+  m_crowdPanel->setObjectName("crowdPanel");
+  connect(viewport, &ViewportPanel::mappingChosen, m_crowdPanel, &CrowdPanel::setMapping);
+  m_crowdDock = addDock("crowdDock", tr("Crowd"), m_crowdPanel, Qt::RightDockWidgetArea);
+  tabifyDockWidget(m_viewportDock, m_crowdDock);
   trajectory->raise();
   connect(viewport->playback(), &Playback::timeChanged, m_statisticsView,
           [this, viewport] { m_statisticsView->setPlayhead(viewport->playback()->frame()); });
@@ -643,7 +638,7 @@ void MainWindow::buildDocks() {
   });
   m_analysisProgress = new JobProgress(tr("Clustering"), tr("Cancel"), this);
   m_analysisProgress->setObjectName("analysisProgress");
-  connect(m_analysisProgress, &QProgressDialog::canceled, m_document, &Document::cancelAnalysis);
+  connect(m_analysisProgress, &QProgressDialog::canceled, m_document->analysisRunner(), &AnalysisRunner::cancel);
   connect(m_document, &Document::analysisStarted, this,
           [this] { m_analysisProgress->begin(tr("Clustering joints …"), 100); });
   connect(m_document, &Document::analysisProgress, this, [this](int done, int total) {
@@ -689,16 +684,16 @@ void MainWindow::buildActions() {
              return;
            const auto& settings = m_document->project().assets[std::size_t(m_document->currentAsset())].joints;
            const auto found = settings.find(m_document->currentAssetPtr()->skeleton.joints[std::size_t(joints[0])].name);
-           m_document->setJointsLocked(joints, !(found != settings.end() && found->second.locked));
+           edit::setJointsLocked(*m_document, joints, !(found != settings.end() && found->second.locked));
          });
   action(edit, "actionApplyToChildren", tr("Apply to &Children"), QKeySequence("Ctrl+Shift+C"),
          tr("Copy the current joint's α, thresholds and lock to all its descendants"),
-         [this] { m_document->applyToChildren(m_document->currentJoint()); });
+         [this] { edit::applyToChildren(*m_document, m_document->currentJoint()); });
   action(edit, "actionClearJointThreshold", tr("Use the Level's &Threshold"), QKeySequence("Ctrl+Backspace"),
          tr("Remove the selected joints' own threshold at the current level"),
-         [this] { m_document->setJointThreshold(selectedJoints(), m_document->currentLevel(), std::nullopt); });
+         [this] { edit::setJointThreshold(*m_document, selectedJoints(), m_document->currentLevel(), std::nullopt); });
   action(edit, "actionRemoveAsset", tr("Remove &Asset"), QKeySequence(), tr("Remove the asset in view from the project"),
-         [this] { m_document->removeAsset(m_document->currentAsset()); });
+         [this] { edit::removeAsset(*m_document, m_document->currentAsset()); });
   action(edit, "actionAssignMotion", tr("Assign &Motion to Character…"), QKeySequence("Ctrl+Shift+M"),
          tr("Play the motion in view on a character: joints matched by name (rig conventions), rest-pose differences "
             "computed (the paper's section 3.1)"),
@@ -725,7 +720,7 @@ void MainWindow::buildActions() {
              chosen = characters[std::size_t(names.indexOf(name))];
            }
            QString error;
-           if (!m_document->assignMotion(motion, chosen, &error))
+           if (!edit::assignMotion(*m_document, motion, chosen, &error))
              showError(tr("Cannot assign the motion"), tr("The motion was not assigned."), error);
            else
              log(m_document->undoStack()->text(m_document->undoStack()->index() - 1));
@@ -755,12 +750,10 @@ void MainWindow::buildActions() {
   });
   edit->addSeparator();
   action(edit, "actionAddLevel", tr("&Add Level"), QKeySequence("Ctrl+Shift+L"),
-         tr("Add a LOD level with twice the last threshold (cm·degrees)"), [this] {
-           const double last = m_document->project().lods.levels.back().motionThreshold;
-           m_document->addLevel(last <= 0.0 ? 5.0 : last * 2.0);
-         });
+         tr("Add a LOD level with twice the last threshold (cm·degrees)"),
+         [this] { edit::addLevel(*m_document, nextLodLevelThreshold(m_document->project().lods)); });
   action(edit, "actionRemoveLevel", tr("&Remove Current Level"), QKeySequence(), tr("Remove the current LOD level"),
-         [this] { m_document->removeLevel(m_document->currentLevel()); });
+         [this] { edit::removeLevel(*m_document, m_document->currentLevel()); });
   action(edit, "actionNextLevel", tr("&Next Level"), QKeySequence(Qt::Key_PageDown), tr("Show the next LOD level"),
          [this] { m_document->setCurrentLevel(m_document->currentLevel() + 1); });
   action(edit, "actionPreviousLevel", tr("&Previous Level"), QKeySequence(Qt::Key_PageUp), tr("Show the previous LOD level"),
@@ -779,11 +772,11 @@ void MainWindow::buildActions() {
     file->insertAction(first, a);
     return a;
   };
-  fileAction("actionOpenProject", tr("&Open Project…"), QKeySequence("Ctrl+Shift+O"), tr("Open a Motion LOD project (.mlod)"),
-             [this] {
+  fileAction("actionOpenProject", tr("&Open Project…"), QKeySequence("Ctrl+Shift+O"),
+             tr("Open a Motion LOD project (%1)").arg(kProjectSuffix), [this] {
                const QString path = QFileDialog::getOpenFileName(this, tr("Open project"),
                                                                  QSettings().value("project/lastDir").toString(),
-                                                                 tr("Motion LOD projects (*.mlod)"));
+                                                                 tr("Motion LOD projects (*%1)").arg(kProjectSuffix));
                if (!path.isEmpty())
                  openProject(path);
              });
@@ -791,10 +784,11 @@ void MainWindow::buildActions() {
   m_recentMenu->setObjectName("menuRecent");
   file->insertMenu(first, m_recentMenu);
   const auto saveAs = [this] {
-    const QString path = QFileDialog::getSaveFileName(this, tr("Save project"), QSettings().value("project/lastDir").toString(),
-                                                      tr("Motion LOD projects (*.mlod)"));
+    const QString path =
+        QFileDialog::getSaveFileName(this, tr("Save project"), QSettings().value("project/lastDir").toString(),
+                                     tr("Motion LOD projects (*%1)").arg(kProjectSuffix));
     if (!path.isEmpty())
-      saveProject(path.endsWith(".mlod") ? path : path + ".mlod");
+      saveProject(isProjectFile(path.toStdString()) ? path : path + kProjectSuffix);
   };
   fileAction("actionSave", tr("&Save Project"), QKeySequence::Save, tr("Save the project (atomically)"), [this, saveAs] {
     if (m_document->fileName().isEmpty())
@@ -805,10 +799,7 @@ void MainWindow::buildActions() {
   fileAction("actionSaveAs", tr("Save Project &As…"), QKeySequence::SaveAs, tr("Save the project under a new name"), saveAs);
   fileAction("actionExport", tr("&Export…"), QKeySequence("Ctrl+E"),
              tr("Export the character's LOD set through an exporter plugin (glTF, runtime bundle, report)"), [this] {
-               static PluginHost plugins; // loaded once; plugins stay loaded until the program ends
-               static const bool loaded = (plugins.loadDefault(), true);
-               (void)loaded;
-               auto* dialog = new ExportDialog(m_document, &plugins, this);
+               auto* dialog = new ExportDialog(m_document, pluginHost(), this);
                dialog->setAttribute(Qt::WA_DeleteOnClose);
                connect(dialog, &ExportDialog::exportFinished, this, [this](bool ok, const QString& message) {
                  log(ok ? tr("Exported: %1").arg(message) : tr("Export failed: %1").arg(message));
@@ -817,6 +808,20 @@ void MainWindow::buildActions() {
              });
   file->insertSeparator(first);
   refreshRecentMenu();
+}
+
+PluginHost* MainWindow::pluginHost() {
+  if (!m_plugins) {
+    m_ownPlugins = std::make_unique<PluginHost>();
+    m_ownPlugins->loadDefault();
+    m_plugins = m_ownPlugins.get();
+  }
+  return m_plugins;
+}
+
+void MainWindow::showDock(QDockWidget* dock) {
+  dock->raise();
+  resizeDocks({dock}, {620}, Qt::Vertical);
 }
 
 std::vector<int> MainWindow::selectedJoints() const {
@@ -871,7 +876,7 @@ void MainWindow::refreshViews() {
 
 bool MainWindow::generateLevels(double pixels, int levels) {
   QString error;
-  if (!m_document->generateLevels(pixels, levels, &error)) {
+  if (!m_document->levelGenerator()->start(pixels, levels, &error)) {
     showError(tr("Cannot generate levels"), tr("The levels were not generated."), error);
     return false;
   }

@@ -27,23 +27,28 @@ namespace mlod {
 class AssetTreeModel;
 class Autosave;
 class ClusteringTableView;
+class CrowdPanel;
 class Document;
 class ImportJob;
 class JobProgress;
 class JointTreeModel;
 class LevelsModel;
 class MappingDialog;
+class PluginHost;
 class StatisticsView;
 class TrajectoryView;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
 public:
-  explicit MainWindow(QWidget* parent = nullptr);
+  // `plugins`: the exporter plugins File > Export… offers (the caller keeps it alive and
+  // loaded); null: the window loads the default ones itself on the first export.
+  explicit MainWindow(QWidget* parent = nullptr, PluginHost* plugins = nullptr);
   ~MainWindow() override;
 
   Document* document() const { return m_document; }
   AssetTreeModel* assetModel() const { return m_assets; }
+  PluginHost* pluginHost();
   ImportJob* importJob() const { return m_import; }
   Autosave* autosave() const { return m_autosave; }
   bool isImporting() const;
@@ -63,6 +68,11 @@ public:
   QComboBox* modeBox() const { return m_modeBox; }
   QProgressDialog* analysisProgress() const;
   QProgressDialog* importProgress() const;
+  CrowdPanel* crowdPanel() const { return m_crowdPanel; }
+  QDockWidget* viewportDock() const { return m_viewportDock; }
+  QDockWidget* crowdDock() const { return m_crowdDock; }
+  // Brings a right-hand dock to the front at a height that shows its 3D view well.
+  void showDock(QDockWidget* dock);
   QString statusText() const; // the permanent status-bar figures
   // Opens the joint-mapping table of the asset in view (its first mapping, as motion or
   // character); null, with a message, when it has none.
@@ -118,6 +128,8 @@ private:
   std::unique_ptr<Ui::MainWindow> m_ui;
   Document* m_document = nullptr;
   AssetTreeModel* m_assets = nullptr;
+  PluginHost* m_plugins = nullptr;          // injected, or m_ownPlugins
+  std::unique_ptr<PluginHost> m_ownPlugins; // loaded on the first export
   ImportJob* m_import = nullptr;
   Autosave* m_autosave = nullptr;
   JobProgress* m_progress = nullptr;
@@ -137,6 +149,9 @@ private:
   StatisticsView* m_statisticsView = nullptr;
   QDoubleSpinBox* m_alphaBox = nullptr;
   QComboBox* m_modeBox = nullptr;
+  CrowdPanel* m_crowdPanel = nullptr;
+  QDockWidget* m_viewportDock = nullptr;
+  QDockWidget* m_crowdDock = nullptr;
   QMenu* m_recentMenu = nullptr;
   QMenu* m_assetUnitMenu = nullptr;
   int m_loggedIndex = 0; // the undo stack's index the log has told of

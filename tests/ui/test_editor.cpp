@@ -7,6 +7,8 @@
 #include "editor/charts/statistics_view.h"
 #include "editor/document/autosave.h"
 #include "editor/document/document.h"
+#include "editor/document/edits.h"
+#include "editor/document/level_generator.h"
 #include "editor/main_window.h"
 #include "editor/models/asset_tree.h"
 #include "editor/models/joint_tree_model.h"
@@ -332,7 +334,7 @@ private slots:
     QCOMPARE(document->project().jpcSettings(0, 1.0).meshImportanceFor("Head"), 4.0);
     QVERIFY(cell.data(Qt::FontRole).value<QFont>().bold());
     QVERIFY(!window->jointModel()->setData(cell, 0.0, Qt::EditRole)); // importance must be > 0
-    document->setJointAlpha({jointIndex(*window, "Spine")}, 2.0);
+    edit::setJointAlpha(*document, {jointIndex(*window, "Spine")}, 2.0);
     QCOMPARE(document->project().assets[0].joints.at("Head").meshImportance, 4.0);
     document->undoStack()->undo();
     document->undoStack()->undo();
@@ -606,8 +608,8 @@ private slots:
       QVERIFY(window);
       Document* document = window->document();
       QVERIFY(editThreshold(*window, jointIndex(*window, "LeftUpLeg"), "42"));
-      document->setJointAlpha({jointIndex(*window, "Head")}, 9.5);
-      document->setJointsLocked({jointIndex(*window, "Spine1")}, true);
+      edit::setJointAlpha(*document, {jointIndex(*window, "Head")}, 9.5);
+      edit::setJointsLocked(*document, {jointIndex(*window, "Spine1")}, true);
       QVERIFY(waitForFigures(document));
       QVERIFY(window->saveProject(path));
       QVERIFY(!document->isModified());
@@ -750,7 +752,7 @@ private slots:
     const Figures before = figuresOf(*document);
     const Project project = document->project();
     const int steps = document->undoStack()->count();
-    document->setWorkerHook([](const std::atomic<bool>& cancel) {
+    document->analysisRunner()->setWorkerHook([](const std::atomic<bool>& cancel) {
       while (!cancel.load())
         QThread::msleep(5);
     });
@@ -761,7 +763,7 @@ private slots:
     QVERIFY(cancel);
     QTest::mouseClick(cancel, Qt::LeftButton);
     QTRY_VERIFY_WITH_TIMEOUT(!document->isAnalysing(), 20000);
-    document->setWorkerHook({});
+    document->analysisRunner()->setWorkerHook({});
     QVERIFY(document->project() == project);
     QCOMPARE(document->undoStack()->count(), steps);
     QVERIFY(!document->undoStack()->canRedo()); // the cancelled edit is gone, not waiting to be redone
@@ -778,25 +780,25 @@ private slots:
     Document* document = window->document();
     const Project project = document->project();
     const int steps = document->undoStack()->count();
-    document->setWorkerHook([](const std::atomic<bool>& cancel) {
+    document->levelGenerator()->setWorkerHook([](const std::atomic<bool>& cancel) {
       while (!cancel.load())
         QThread::msleep(5);
     });
     QVERIFY(window->generateLevels(1.0, 4));
-    QVERIFY(document->isGeneratingLevels());
+    QVERIFY(document->levelGenerator()->isRunning());
     QTRY_VERIFY_WITH_TIMEOUT(window->levelsProgress() && window->levelsProgress()->isVisible(), 20000);
     auto* cancel = window->levelsProgress()->findChild<QPushButton*>();
     QVERIFY(cancel);
     QTest::mouseClick(cancel, Qt::LeftButton);
-    QVERIFY(!document->isGeneratingLevels());
+    QVERIFY(!document->levelGenerator()->isRunning());
     QVERIFY(!window->levelsProgress()->isVisible());
-    document->setWorkerHook({});
+    document->levelGenerator()->setWorkerHook({});
     QVERIFY(document->project() == project);
     QCOMPARE(document->undoStack()->count(), steps);
     QVERIFY(window->logText().contains("Level generation cancelled"));
 
-    QSignalSpy finished(document, &Document::levelGenerationFinished);
-    QTRY_VERIFY_WITH_TIMEOUT(!document->isLevelWorkerBusy(), 20000); // the held worker returns after the cancel
+    QSignalSpy finished(document->levelGenerator(), &LevelGenerator::finished);
+    QTRY_VERIFY_WITH_TIMEOUT(!document->levelGenerator()->isBusy(), 20000); // the held worker returns after the cancel
     QVERIFY(window->generateLevels(1.0, 4));
     QVERIFY(finished.wait(120000));
     QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
@@ -825,10 +827,10 @@ private slots:
     QVERIFY(imported.wait(60000));
     document->setCurrentAsset(0);
     QVERIFY(waitForFigures(document));
-    QVERIFY(document->assignMotion(0, 1));
+    QVERIFY(edit::assignMotion(*document, 0, 1));
     document->setCurrentAsset(1);
     QVERIFY(waitForFigures(document));
-    QSignalSpy finished(document, &Document::levelGenerationFinished);
+    QSignalSpy finished(document->levelGenerator(), &LevelGenerator::finished);
     // Two modal input dialogs (pixels, then levels) open inside the click: a timer answers each.
     int answered = 0;
     QTimer answer;
@@ -893,8 +895,8 @@ private slots:
     QVERIFY(window);
     Document* document = window->document();
     QVERIFY(editThreshold(*window, jointIndex(*window, "LeftUpLeg"), "2"));
-    document->setJointsLocked({jointIndex(*window, "Spine1")}, true);
-    document->setAlpha(6.5);
+    edit::setJointsLocked(*document, {jointIndex(*window, "Spine1")}, true);
+    edit::setAlpha(*document, 6.5);
     QVERIFY(editLevelCell(*window, 3, LevelsModel::ThresholdColumn, "120"));
     QVERIFY(waitForFigures(document));
     QVERIFY(window->saveProject(path));

@@ -5,6 +5,7 @@
 // main window's File > Export… action (Ctrl+E) opens it.
 
 #include "editor/document/document.h"
+#include "editor/document/edits.h"
 #include "editor/main_window.h"
 #include "editor/views/export_dialog.h"
 #include "io/importer.h"
@@ -47,7 +48,7 @@ private:
     Result<Asset> asset = importAsset(MLOD_SAMPLE, options);
     if (!asset)
       return nullptr;
-    document->addAsset(std::make_shared<const Asset>(std::move(asset).value()), MLOD_SAMPLE, options.unitScale);
+    edit::addAsset(*document, std::make_shared<const Asset>(std::move(asset).value()), MLOD_SAMPLE, options.unitScale);
     document->setCurrentAsset(0);
     return document;
   }

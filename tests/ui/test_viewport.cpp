@@ -7,6 +7,7 @@
 
 #include "core/crowd/crowd.h"
 #include "editor/document/document.h"
+#include "editor/document/edits.h"
 #include "editor/main_window.h"
 #include "editor/models/joint_tree_model.h"
 #include "editor/viewport/crowd_panel.h"
@@ -223,7 +224,7 @@ private slots:
   // (orange); the ghost puts both in one place.
   void characterSideBySideWhereTheCameraSays() {
     Document document;
-    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    edit::addAsset(document, load(bcnPath(), 100.0), bcnPath(), 100.0);
     document.setCurrentAsset(0);
     QVERIFY(waitForFigures(document));
     auto panel = showPanel(document);
@@ -261,7 +262,7 @@ private slots:
   // counts them.
   void frozenJointsAreHighlighted() {
     Document document;
-    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    edit::addAsset(document, load(bcnPath(), 100.0), bcnPath(), 100.0);
     document.setCurrentAsset(0);
     document.setCurrentLevel(2);
     QVERIFY(waitForFigures(document));
@@ -298,7 +299,7 @@ private slots:
   // A click on a joint selects it in the document (the Skeleton dock follows the document).
   void clickPicksAJoint() {
     Document document;
-    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    edit::addAsset(document, load(bcnPath(), 100.0), bcnPath(), 100.0);
     document.setCurrentAsset(0);
     QVERIFY(waitForFigures(document));
     auto panel = showPanel(document);
@@ -323,7 +324,7 @@ private slots:
   // time; Space in the view pauses.
   void timelineDrivesTheViews() {
     Document document;
-    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    edit::addAsset(document, load(bcnPath(), 100.0), bcnPath(), 100.0);
     document.setCurrentAsset(0);
     QVERIFY(waitForFigures(document));
     auto panel = showPanel(document);
@@ -397,7 +398,7 @@ private slots:
   // A BVH clip has no mesh: bone capsules, where the camera says.
   void skeletonOnlyClipShowsCapsules() {
     Document document;
-    document.addAsset(load(MLOD_SAMPLE, 2.54 / 0.45), MLOD_SAMPLE, 2.54 / 0.45);
+    edit::addAsset(document, load(MLOD_SAMPLE, 2.54 / 0.45), MLOD_SAMPLE, 2.54 / 0.45);
     document.setCurrentAsset(0);
     QVERIFY(waitForFigures(document));
     auto panel = showPanel(document);
@@ -414,11 +415,11 @@ private slots:
   // at once.
   void motionPlaysOnTheMappedCharacter() {
     Document document;
-    document.addAsset(load(MLOD_SAMPLE, 2.54 / 0.45), MLOD_SAMPLE, 2.54 / 0.45);
-    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    edit::addAsset(document, load(MLOD_SAMPLE, 2.54 / 0.45), MLOD_SAMPLE, 2.54 / 0.45);
+    edit::addAsset(document, load(bcnPath(), 100.0), bcnPath(), 100.0);
     document.setCurrentAsset(0);
     QString error;
-    QVERIFY2(document.assignMotion(0, 1, &error), qPrintable(error));
+    QVERIFY2(edit::assignMotion(document, 0, 1, &error), qPrintable(error));
     QVERIFY(waitForFigures(document));
     auto panel = showPanel(document);
     QVERIFY(panel);
@@ -439,7 +440,7 @@ private slots:
     QVERIFY(panel->posedBounds(lo, hi));
     const PixelCensus pixels = census(render(*panel), projectBox(*panel->sceneView(), lo, hi));
     QVERIFY(pixels.saturated > 1000 && pixels.inside >= pixels.saturated * 99 / 100);
-    QVERIFY(document.setMappingPair(0, "B_UpperArm_Left", QString())); // the upper arm keeps its rest pose
+    QVERIFY(edit::setMappingPair(document, 0, "B_UpperArm_Left", QString())); // the upper arm keeps its rest pose
     QCOMPARE(panel->characterBox()->currentIndex(), 1);
     const glm::vec3 after = panel->jointPositions(0)[std::size_t(hand)];
     QVERIFY2(glm::length(after - before) > 1.0f, "the hand moved with the edited table");
@@ -479,7 +480,7 @@ private slots:
       asset.meshes.push_back(quad);
       QVERIFY(!asset.validate());
       Document document;
-      document.addAsset(std::make_shared<const Asset>(asset), "quad.obj", 1.0);
+      edit::addAsset(document, std::make_shared<const Asset>(asset), "quad.obj", 1.0);
       document.setCurrentAsset(0);
       auto panel = showPanel(document);
       QVERIFY(panel);
@@ -492,7 +493,7 @@ private slots:
     }
     { // 200 bones, in the character view and in the crowd
       Document document;
-      document.addAsset(chainCharacter(200, 20), "chain.x", 1.0);
+      edit::addAsset(document, chainCharacter(200, 20), "chain.x", 1.0);
       document.setCurrentAsset(0);
       QVERIFY(waitForFigures(document));
       auto panel = showPanel(document);
@@ -520,11 +521,11 @@ private slots:
   // to the camera, and its pixels carry that level's tint; the figures add up.
   void crowdTintsFollowTheLodSet() {
     Document document;
-    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    edit::addAsset(document, load(bcnPath(), 100.0), bcnPath(), 100.0);
     document.setCurrentAsset(0);
     const double distances[] = {1900, 2300, 2700, 3100};
     for (int level = 1; level <= 4; ++level)
-      QVERIFY(document.setLevelSwitchDistance(level, distances[level - 1]));
+      QVERIFY(edit::setLevelSwitchDistance(document, level, distances[level - 1]));
     Playback playback;
     CrowdPanel panel(&document, &playback);
     panel.resize(1000, 700);
@@ -603,7 +604,7 @@ private slots:
   // none and skeletal skin the original mesh on every agent.
   void crowdComparesTheFourConfigurations() {
     Document document;
-    document.addAsset(load(bcnPath(), 100.0), bcnPath(), 100.0);
+    edit::addAsset(document, load(bcnPath(), 100.0), bcnPath(), 100.0);
     document.setCurrentAsset(0);
     Playback playback;
     CrowdPanel panel(&document, &playback);

@@ -61,8 +61,18 @@ Error validateThreshold(double threshold, const std::string& what) {
   return validateNonNegative(threshold, what, "cm·degrees");
 }
 
+Error validateAlpha(double alpha, const std::string& what) {
+  return validateNonNegative(alpha, what, "cm");
+}
+
+Error validateMeshImportance(double importance, const std::string& what) {
+  if (!std::isfinite(importance) || !(importance > 0.0))
+    return Error(what + " must be a finite number > 0");
+  return {};
+}
+
 Error JpcSettings::validate(const Skeleton& skeleton) const {
-  if (Error error = validateNonNegative(alpha, "alpha", "cm"))
+  if (Error error = validateAlpha(alpha))
     return error;
   if (Error error = validateNonNegative(zeroLength, "the zero-length tolerance", "cm"))
     return error;
@@ -70,10 +80,10 @@ Error JpcSettings::validate(const Skeleton& skeleton) const {
     if (skeleton.find(name) < 0)
       return Error("no joint is named '" + name + "' in the skeleton");
     if (settings.alpha)
-      if (Error error = validateNonNegative(*settings.alpha, "alpha of joint '" + name + "'", "cm"))
+      if (Error error = validateAlpha(*settings.alpha, "alpha of joint '" + name + "'"))
         return error;
-    if (!std::isfinite(settings.meshImportance) || !(settings.meshImportance > 0.0))
-      return Error("the mesh importance of joint '" + name + "' must be a finite number > 0");
+    if (Error error = validateMeshImportance(settings.meshImportance, "the mesh importance of joint '" + name + "'"))
+      return error;
     for (std::size_t level = 0; level < settings.thresholds.size(); ++level)
       if (settings.thresholds[level])
         if (Error error = validateThreshold(*settings.thresholds[level],

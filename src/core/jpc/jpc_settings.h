@@ -37,13 +37,14 @@ struct JointSettings {
   // Mesh importance (finite, > 0): scales the collapse cost of the vertices the joint
   // influences, weighted by the skin (core/mesh/mesh_lod.h); raise it for the face or hands.
   double meshImportance = 1.0;
+  friend bool operator==(const JointSettings&, const JointSettings&) = default;
 };
 
 struct JpcSettings {
   double alpha = kDefaultJpcAlpha; // cm, >= 0: the orientation weight of every joint without its own
   JpcMode mode = JpcMode::Greedy;
   // Child offsets shorter than this are zero-length (followed down to the next non-zero
-  // ones, docs/architecture.md section 4), cm. DESIGN says 1e-6 file units: pass 1e-6 x the asset's
+  // ones, docs/architecture.md section 4), cm. The rule is 1e-6 file units: pass 1e-6 x the asset's
   // unit scale.
   double zeroLength = 1e-6;
   std::map<std::string, JointSettings> joints; // by joint name; a joint not listed takes the defaults
@@ -64,5 +65,10 @@ struct JpcSettings {
 
 // Rules: a threshold is finite and >= 0. `what` names it in the message ("threshold 2").
 Error validateThreshold(double threshold, const std::string& what = "threshold");
+// Rules: alpha is finite and >= 0 (cm). `what` names it in the message ("alpha of joint 'Neck'").
+// The one place the rule lives: settings, projects, the CLI's --alpha and the editor use it.
+Error validateAlpha(double alpha, const std::string& what = "alpha");
+// Rules: a joint's mesh importance is finite and > 0. `what` names it in the message.
+Error validateMeshImportance(double importance, const std::string& what = "the mesh importance");
 
 } // namespace mlod

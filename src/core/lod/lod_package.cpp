@@ -1,7 +1,6 @@
 #include "core/lod/lod_package.h"
 
 #include "core/lod_clip_builder.h"
-#include "core/mapping/motion_mapping.h"
 #include "core/mesh/mesh_lod.h"
 #include "core/utf8.h"
 
@@ -218,51 +217,6 @@ Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> leve
   if (!lods)
     return lods.error();
   return buildLodPackage(asset, *lods, options.jpc, levels, progress);
-}
-
-Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset* const> imported, int asset,
-                                   std::span<const int> levels, const LodPackageProgress& progress) {
-  if (Error error = project.validate())
-    return error;
-  if (asset < 0 || asset >= static_cast<int>(project.assets.size()))
-    return Error("the project has no asset " + std::to_string(asset));
-  if (imported.size() != project.assets.size())
-    return Error("the project's assets were not all imported");
-  const Asset* character = imported[std::size_t(asset)];
-  if (!character)
-    return Error(project.assets[std::size_t(asset)].path + " could not be imported");
-  std::vector<Clip> extra;
-  for (const ProjectMapping& mapping : project.mappings) {
-    if (mapping.character != asset)
-      continue;
-    const Asset* motion = imported[std::size_t(mapping.motion)];
-    if (!motion)
-      return Error(project.assets[std::size_t(mapping.motion)].path + " (a motion assigned to the character) could not be imported");
-    Result<RestPoseDifferences> differences = restPoseDifferences(mapping.mapping, motion->skeleton, character->skeleton);
-    if (!differences)
-      return Error("mapping of " + mapping.mapping.motionName + ": " + differences.message());
-    for (const Clip& clip : motion->clips) {
-      Result<Clip> retargeted = retargetClip(*differences, motion->skeleton, clip, character->skeleton);
-      if (!retargeted)
-        return Error(mapping.mapping.motionName + ": " + retargeted.message());
-      extra.push_back(std::move(retargeted).value());
-    }
-  }
-  return buildLodPackage(*character, project.lods, project.jpcSettings(asset, character->unitScale), levels, progress,
-                         extra);
-}
-
-int defaultPackageAsset(const Project& project, std::span<const Asset* const> imported) {
-  if (project.assets.empty())
-    return -1;
-  const auto importedAt = [&](int i) { return std::size_t(i) < imported.size() ? imported[std::size_t(i)] : nullptr; };
-  for (const ProjectMapping& mapping : project.mappings)
-    if (const Asset* a = importedAt(mapping.character); a && (!a->clips.empty() || skinnedMesh(*a)))
-      return mapping.character;
-  for (int i = 0; i < static_cast<int>(project.assets.size()); ++i)
-    if (const Asset* a = importedAt(i); a && skinnedMesh(*a))
-      return i;
-  return 0;
 }
 
 Result<Bundle> packageBundle(const LodPackage& package) {

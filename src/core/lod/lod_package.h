@@ -5,9 +5,11 @@
 // runtime clips an engine plays, and the paper's Table 1 per clip.
 //
 // Built by core from an imported asset (a plain file: the default LOD set,
-// LodSet::fromPixelBudget(asset, 1 pixel, 4 levels), docs/architecture.md section 6) or from a project
-// (its LodSet, joint settings, and the motions assigned to the character through their
-// mappings, played on it as extra clips).
+// LodSet::fromPixelBudget(asset, 1 pixel, 4 levels), docs/architecture.md section 6) or from a
+// LOD set, JPC settings and extra clips. A project's package (its LodSet, joint settings, and
+// the motions assigned to the character through their mappings) is built one layer up, in
+// core/project_package.h: this header knows nothing of Project, so the exporter interface
+// (sdk/exporter.h) does not pull the project model into every plugin.
 //
 // Units: lengths in cm, thresholds and errors E in cm·degrees, time in seconds.
 
@@ -18,7 +20,6 @@
 #include "core/jpc/jpc_settings.h"
 #include "core/lod/lod_character.h"
 #include "core/lod/lod_set.h"
-#include "core/project.h"
 #include "core/skeleton.h"
 #include "core/skinned_mesh.h"
 #include "runtime/bundle.h"
@@ -99,18 +100,6 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
 // levels) with default JPC settings (zero length 1e-6 file units).
 Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> levels = {},
                                    const LodPackageProgress& progress = {});
-
-// A project's package of its asset `asset`: the project's LodSet, its JPC settings for the
-// asset, and every motion assigned to the asset through the project's mappings.
-// `imported[i]` is the project's asset i as imported (null where it could not be: an
-// error when the package needs it). Errors as above, plus a bad asset index or mapping.
-Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset* const> imported, int asset,
-                                   std::span<const int> levels = {}, const LodPackageProgress& progress = {});
-
-// The asset of a project a package is made of when none is named: the first asset that
-// plays a clip or carries a skinned mesh and is the character of a mapping, else the first
-// asset with a skinned mesh, else the first asset. -1 for a project without assets.
-int defaultPackageAsset(const Project& project, std::span<const Asset* const> imported);
 
 // A level's mesh bound to the original skeleton (joint indices of the full skeleton, each
 // removed joint's influence already moved to its active ancestor by bone reduction): what a

@@ -73,7 +73,7 @@ void StatisticsView::placePlayhead() {
   m_playheadLine->replace(QList<QPointF>{{qreal(m_playhead), 0.0}, {qreal(m_playhead), top}});
 }
 
-void StatisticsView::setAnalysis(std::shared_ptr<const Analysis> analysis, int level, const QStringList& names) {
+void StatisticsView::setAnalysis(std::shared_ptr<const JpcAnalysis> analysis, int level, const QStringList& names) {
   m_analysis = std::move(analysis);
   m_level = level;
   m_names = names;

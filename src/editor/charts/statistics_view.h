@@ -3,7 +3,7 @@
 // `motionlod simplify` prints it) and three charts: simplified % per joint at the current
 // level, simplified joints per frame over time, max joint-position error per level (cm).
 
-#include "editor/document/analysis.h"
+#include "core/jpc/jpc_analysis.h"
 
 #include <QStringList>
 #include <QWidget>
@@ -24,7 +24,7 @@ public:
   enum Row { SimplifiedRow, ClustersRow, MaxErrorRow, MaxPositionRow, MeanPositionRow, RowCount };
   explicit StatisticsView(QWidget* parent = nullptr);
   // `names`: the LOD levels' names for the column headers (L<i> where missing).
-  void setAnalysis(std::shared_ptr<const Analysis> analysis, int level, const QStringList& names = {});
+  void setAnalysis(std::shared_ptr<const JpcAnalysis> analysis, int level, const QStringList& names = {});
   QTableWidget* table() const { return m_table; }
   QChart* jointChart() const;
   QChart* frameChart() const;
@@ -38,7 +38,7 @@ private:
   void fillTable();
   void fillCharts();
 
-  std::shared_ptr<const Analysis> m_analysis;
+  std::shared_ptr<const JpcAnalysis> m_analysis;
   int m_level = 0;
   int m_playhead = -1;
   QStringList m_names;

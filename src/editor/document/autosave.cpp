@@ -13,7 +13,7 @@ Autosave::Autosave(Document* document, QString path, QObject* parent)
   if (m_path.isEmpty()) {
     const QString folder = QStandardPaths::writableLocation(QStandardPaths::AppLocalDataLocation);
     QDir().mkpath(folder);
-    m_path = QDir(folder).filePath("recovery.mlod");
+    m_path = QDir(folder).filePath(QString("recovery") + kProjectSuffix);
   }
   m_afterChange.setSingleShot(true);
   setDelays(2000, 3 * 60 * 1000);

@@ -9,8 +9,8 @@ SetJointSettings::SetJointSettings(Document* document, int asset, Settings befor
     : QUndoCommand(text), m_document(document), m_asset(asset), m_before(std::move(before)), m_after(std::move(after)),
       m_id(id), m_mergeKey(std::move(mergeKey)) {}
 
-void SetJointSettings::undo() { m_document->setJointSettings(m_asset, m_before); }
-void SetJointSettings::redo() { m_document->setJointSettings(m_asset, m_after); }
+void SetJointSettings::undo() { m_document->applyJointSettings(m_asset, m_before); }
+void SetJointSettings::redo() { m_document->applyJointSettings(m_asset, m_after); }
 
 bool SetJointSettings::mergeWith(const QUndoCommand* other) {
   const auto* next = static_cast<const SetJointSettings*>(other);
@@ -25,8 +25,16 @@ SetLevels::SetLevels(Document* document, State before, State after, const QStrin
     : QUndoCommand(text), m_document(document), m_before(std::move(before)), m_after(std::move(after)), m_id(id),
       m_level(level) {}
 
-void SetLevels::undo() { m_document->setLevels(m_before.lods, m_before.joints); }
-void SetLevels::redo() { m_document->setLevels(m_after.lods, m_after.joints); }
+SetLevels::State SetLevels::stateOf(const Project& project) {
+  State state;
+  state.lods = project.lods;
+  for (const ProjectAsset& asset : project.assets)
+    state.joints.push_back(asset.joints);
+  return state;
+}
+
+void SetLevels::undo() { m_document->applyLevels(m_before.lods, m_before.joints); }
+void SetLevels::redo() { m_document->applyLevels(m_after.lods, m_after.joints); }
 
 bool SetLevels::mergeWith(const QUndoCommand* other) {
   const auto* next = static_cast<const SetLevels*>(other);
@@ -41,8 +49,8 @@ SetAlpha::SetAlpha(Document* document, double before, double after)
     : QUndoCommand(QObject::tr("Set alpha to %1 cm").arg(after)), m_document(document), m_before(before),
       m_after(after) {}
 
-void SetAlpha::undo() { m_document->setProjectAlpha(m_before); }
-void SetAlpha::redo() { m_document->setProjectAlpha(m_after); }
+void SetAlpha::undo() { m_document->applyAlpha(m_before); }
+void SetAlpha::redo() { m_document->applyAlpha(m_after); }
 
 bool SetAlpha::mergeWith(const QUndoCommand* other) {
   m_after = static_cast<const SetAlpha*>(other)->m_after;
@@ -55,8 +63,8 @@ SetMode::SetMode(Document* document, JpcMode before, JpcMode after)
     : QUndoCommand(QObject::tr("Cluster %1").arg(after == JpcMode::Optimal ? QObject::tr("optimally") : QObject::tr("greedily"))),
       m_document(document), m_before(before), m_after(after) {}
 
-void SetMode::undo() { m_document->setProjectMode(m_before); }
-void SetMode::redo() { m_document->setProjectMode(m_after); }
+void SetMode::undo() { m_document->applyMode(m_before); }
+void SetMode::redo() { m_document->applyMode(m_after); }
 
 ChangeAssets::ChangeAssets(Document* document, int index, ProjectAsset entry, std::shared_ptr<const Asset> asset,
                            bool remove)
@@ -68,7 +76,7 @@ ChangeAssets::ChangeAssets(Document* document, int index, ProjectAsset entry, st
 void ChangeAssets::add() {
   m_document->insertAsset(m_index, m_entry, m_asset);
   if (m_remove)
-    m_document->setMappings(m_mappings);
+    m_document->applyMappings(m_mappings);
 }
 void ChangeAssets::erase() { m_document->eraseAsset(m_index); }
 void ChangeAssets::undo() { m_remove ? add() : erase(); }
@@ -78,8 +86,8 @@ SetMappings::SetMappings(Document* document, std::vector<ProjectMapping> before,
                          const QString& text)
     : QUndoCommand(text), m_document(document), m_before(std::move(before)), m_after(std::move(after)) {}
 
-void SetMappings::undo() { m_document->setMappings(m_before); }
-void SetMappings::redo() { m_document->setMappings(m_after); }
+void SetMappings::undo() { m_document->applyMappings(m_before); }
+void SetMappings::redo() { m_document->applyMappings(m_after); }
 
 ReplaceAsset::ReplaceAsset(Document* document, int index, ProjectAsset beforeEntry, std::shared_ptr<const Asset> before,
                            ProjectAsset afterEntry, std::shared_ptr<const Asset> after, const QString& text)

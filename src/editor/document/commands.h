@@ -54,6 +54,7 @@ public:
     LodSet lods;                                              // the project's LOD set
     std::vector<std::map<std::string, JointSettings>> joints; // per asset
   };
+  static State stateOf(const Project& project); // its LOD set and every asset's joint settings
   // Merges with the previous command of the same id and `level` (a spin box's steps).
   SetLevels(Document* document, State before, State after, const QString& text, int id = -1, int level = -1);
   void undo() override;

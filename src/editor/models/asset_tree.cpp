@@ -111,6 +111,22 @@ void AssetTreeModel::setAssets(const std::vector<std::shared_ptr<const Asset>>& 
   }
 }
 
+int AssetTreeModel::assetRow(const QModelIndex& index) const {
+  if (!index.isValid())
+    return -1;
+  QModelIndex top = index;
+  while (top.parent().isValid())
+    top = top.parent();
+  return top.row();
+}
+
+int AssetTreeModel::clipRow(const QModelIndex& index) const {
+  const QModelIndex group = index.parent();
+  const bool underClips =
+      group.isValid() && group.parent().isValid() && !group.parent().parent().isValid() && group.row() == ClipsGroup;
+  return underClips ? index.row() : -1;
+}
+
 const Asset* AssetTreeModel::assetAt(int rowIndex) const {
   if (rowIndex < 0 || rowIndex >= assetCount())
     return nullptr;

@@ -29,6 +29,13 @@ public:
   bool isMissing(int row) const { return row >= 0 && row < assetCount() && !m_assets[std::size_t(row)]; }
   const Asset* assetAt(int row) const;
   int assetCount() const { return static_cast<int>(m_assets.size()); }
+  // Where an index of this model lies: the asset row it belongs to (at any depth; -1 for an
+  // invalid index), and the clip it names (a row under the asset's "Clips", else -1).
+  int assetRow(const QModelIndex& index) const;
+  int clipRow(const QModelIndex& index) const;
+
+  // The rows below an asset, in this order.
+  enum GroupRow { SkeletonGroup, ClipsGroup, MeshesGroup };
 
 private:
   std::vector<std::shared_ptr<const Asset>> m_assets;

@@ -1,6 +1,7 @@
 #include "editor/models/joint_tree_model.h"
 
 #include "editor/document/document.h"
+#include "editor/document/edits.h"
 
 #include <QDoubleSpinBox>
 #include <QFont>
@@ -168,7 +169,7 @@ bool JointTreeModel::setData(const QModelIndex& index, const QVariant& value, in
     return false;
   const int joint = jointAt(index);
   if (role == Qt::CheckStateRole && index.column() == LockColumn) {
-    m_document->setJointsLocked(targets(joint), value.toInt() == Qt::Checked);
+    edit::setJointsLocked(*m_document, targets(joint), value.toInt() == Qt::Checked);
     return true;
   }
   if (role != Qt::EditRole)
@@ -176,9 +177,9 @@ bool JointTreeModel::setData(const QModelIndex& index, const QVariant& value, in
   if (index.column() == ImportanceColumn) {
     bool ok = false;
     const double importance = value.toDouble(&ok);
-    if (!ok || !std::isfinite(importance) || !(importance > 0.0))
+    if (!ok || validateMeshImportance(importance))
       return false;
-    m_document->setJointMeshImportance(targets(joint), importance);
+    edit::setJointMeshImportance(*m_document, targets(joint), importance);
     return true;
   }
   std::optional<double> number;
@@ -190,9 +191,9 @@ bool JointTreeModel::setData(const QModelIndex& index, const QVariant& value, in
     number = parsed;
   }
   if (index.column() == AlphaColumn)
-    m_document->setJointAlpha(targets(joint), number);
+    edit::setJointAlpha(*m_document, targets(joint), number);
   else if (index.column() == ThresholdColumn)
-    m_document->setJointThreshold(targets(joint), m_document->currentLevel(), number);
+    edit::setJointThreshold(*m_document, targets(joint), m_document->currentLevel(), number);
   else
     return false;
   return true;

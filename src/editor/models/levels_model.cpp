@@ -1,6 +1,7 @@
 #include "editor/models/levels_model.h"
 
 #include "editor/document/document.h"
+#include "editor/document/edits.h"
 
 #include <QDoubleSpinBox>
 #include <QFont>
@@ -82,24 +83,24 @@ bool LevelsModel::setData(const QModelIndex& index, const QVariant& value, int r
   QString reason;
   bool ok = false;
   switch (index.column()) {
-  case NameColumn: ok = m_document->renameLevel(row, value.toString(), &reason); break;
+  case NameColumn: ok = edit::renameLevel(*m_document, row, value.toString(), &reason); break;
   case ThresholdColumn: {
     const double threshold = value.toDouble(&ok);
     ok = ok && std::isfinite(threshold) && threshold >= 0.0 && row > 0;
     if (ok)
-      m_document->setLevelThreshold(row, threshold);
+      edit::setLevelThreshold(*m_document, row, threshold);
     else
       reason = tr("a threshold is a number >= 0 cm·degrees, and level 0 has none");
     break;
   }
   case MeshRatioColumn: {
     const double ratio = value.toDouble(&ok);
-    ok = ok && m_document->setLevelMeshRatio(row, ratio, &reason);
+    ok = ok && edit::setLevelMeshRatio(*m_document, row, ratio, &reason);
     break;
   }
   case SwitchDistanceColumn: {
     const double cm = value.toDouble(&ok);
-    ok = ok && m_document->setLevelSwitchDistance(row, cm, &reason);
+    ok = ok && edit::setLevelSwitchDistance(*m_document, row, cm, &reason);
     break;
   }
   default: return false;

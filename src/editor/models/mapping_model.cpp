@@ -1,6 +1,7 @@
 #include "editor/models/mapping_model.h"
 
 #include "editor/document/document.h"
+#include "editor/document/edits.h"
 
 #include <QComboBox>
 #include <QFont>
@@ -78,7 +79,7 @@ QVariant MappingModel::data(const QModelIndex& index, int role) const {
 bool MappingModel::setData(const QModelIndex& index, const QVariant& value, int role) {
   if (!index.isValid() || role != Qt::EditRole || index.column() != MotionColumn || !current())
     return false;
-  return m_document->setMappingPair(m_mapping, characterJoint(index.row()), value.toString());
+  return edit::setMappingPair(*m_document, m_mapping, characterJoint(index.row()), value.toString());
 }
 
 Qt::ItemFlags MappingModel::flags(const QModelIndex& index) const {

@@ -235,7 +235,8 @@ void CrowdPanel::markDirty() {
                 d.project().lods,
                 d.project().alpha,
                 d.project().mode,
-                asset >= 0 && asset < d.assetCount() ? d.jointSettings(asset) : std::map<std::string, JointSettings>(),
+                asset >= 0 && asset < d.assetCount() ? d.project().assets[std::size_t(asset)].joints
+                                                     : std::map<std::string, JointSettings>(),
                 m_mapping,
                 d.project().mappings};
   if (hasLevels() && !m_dirty && inputs == m_inputs)

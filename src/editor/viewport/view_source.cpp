@@ -52,7 +52,7 @@ ViewSource makeViewSource(const Document& document, int mapping) {
 
   // The level's clusters, once the analysis of this very clip has landed.
   out.level = document.currentLevel();
-  const std::shared_ptr<const Analysis> analysis = document.analysis();
+  const std::shared_ptr<const JpcAnalysis> analysis = document.analysis();
   if (clip && analysis && analysis->asset == out.motion && analysis->clip == clipIndex && analysis->levelCount() > 0) {
     out.level = std::clamp(out.level, 0, analysis->levelCount() - 1);
     out.clusters = analysis->levels[static_cast<std::size_t>(out.level)].clusters;

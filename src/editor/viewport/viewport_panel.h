@@ -7,7 +7,7 @@
 // runtime's PoseEvaluatorJob; SceneView skins them on the GPU.
 
 #include "core/project.h"
-#include "editor/document/analysis.h"
+#include "core/jpc/jpc_analysis.h"
 #include "editor/viewport/scene_view.h"
 #include "editor/viewport/view_source.h"
 #include "runtime/lod_clip.h"
@@ -82,7 +82,7 @@ private:
     int clip = -1;
     int level = -1;
     int mapping = -1;
-    std::shared_ptr<const Analysis> analysis;
+    std::shared_ptr<const JpcAnalysis> analysis;
     std::vector<ProjectMapping> mappings;
     bool operator==(const SourceKey&) const = default;
   };

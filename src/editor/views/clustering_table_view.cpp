@@ -26,7 +26,7 @@ ClusteringTableView::ClusteringTableView(QWidget* parent) : QWidget(parent) {
   setToolTip(tr("Clustering table (Figure 5): E_j(t, t_ref) in cm·degrees; wheel zooms, drag pans"));
 }
 
-void ClusteringTableView::setAnalysis(std::shared_ptr<const Analysis> analysis, int joint, int level) {
+void ClusteringTableView::setAnalysis(std::shared_ptr<const JpcAnalysis> analysis, int joint, int level) {
   const bool sameClip = m_analysis && analysis && m_analysis->asset == analysis->asset && m_analysis->clip == analysis->clip;
   m_analysis = std::move(analysis);
   m_joint = joint;

@@ -5,7 +5,7 @@
 // marked. Wheel zooms about the cursor, dragging pans, hovering shows t, t_ref and E.
 
 #include "core/jpc/clustering_table.h"
-#include "editor/document/analysis.h"
+#include "core/jpc/jpc_analysis.h"
 
 #include <QImage>
 #include <QWidget>
@@ -20,7 +20,7 @@ class ClusteringTableView : public QWidget {
 public:
   explicit ClusteringTableView(QWidget* parent = nullptr);
 
-  void setAnalysis(std::shared_ptr<const Analysis> analysis, int joint, int level);
+  void setAnalysis(std::shared_ptr<const JpcAnalysis> analysis, int joint, int level);
   // Visible frames: [first, first + span) on both axes.
   double firstFrame() const { return m_first; }
   double visibleFrames() const { return m_span; }
@@ -55,7 +55,7 @@ private:
   double frameAtX(double x) const;
   double frameAtY(double y) const;
 
-  std::shared_ptr<const Analysis> m_analysis;
+  std::shared_ptr<const JpcAnalysis> m_analysis;
   int m_joint = -1;
   int m_level = 0;
   const JointTrack* m_track = nullptr;

@@ -1,6 +1,6 @@
 #include "editor/views/export_dialog.h"
 
-#include "core/lod/lod_package.h"
+#include "core/project_package.h"
 #include "editor/document/document.h"
 #include "sdk/plugin_host.h"
 

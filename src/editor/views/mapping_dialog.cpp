@@ -1,6 +1,7 @@
 #include "editor/views/mapping_dialog.h"
 
 #include "editor/document/document.h"
+#include "editor/document/edits.h"
 #include "editor/models/mapping_model.h"
 
 #include <QAction>
@@ -39,7 +40,7 @@ MappingDialog::MappingDialog(Document* document, int mapping, QWidget* parent)
   QPushButton* automatic = buttons->addButton(tr("&Automatic"), QDialogButtonBox::ResetRole);
   automatic->setObjectName("automaticMappingButton");
   automatic->setToolTip(tr("Match the joints by name again (rig conventions), replacing the edits (one undo step)"));
-  connect(automatic, &QPushButton::clicked, this, [this] { m_document->resetMapping(m_model->mapping()); });
+  connect(automatic, &QPushButton::clicked, this, [this] { edit::resetMapping(*m_document, m_model->mapping()); });
   connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
   layout->addWidget(buttons);
   // The document's undo and redo work here too (a dialog is its own window for shortcuts).

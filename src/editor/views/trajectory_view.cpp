@@ -14,7 +14,7 @@ TrajectoryView::TrajectoryView(QWidget* parent) : QWidget(parent) {
                 "cluster; drag to rotate"));
 }
 
-void TrajectoryView::setAnalysis(std::shared_ptr<const Analysis> analysis, int joint, int level) {
+void TrajectoryView::setAnalysis(std::shared_ptr<const JpcAnalysis> analysis, int joint, int level) {
   m_analysis = std::move(analysis);
   m_joint = joint;
   m_level = level;

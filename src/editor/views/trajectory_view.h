@@ -3,7 +3,7 @@
 // a path on the unit sphere, each frame coloured by its cluster at the current level (grey:
 // not clustered), key postures as large dots. Dragging rotates the sphere.
 
-#include "editor/document/analysis.h"
+#include "core/jpc/jpc_analysis.h"
 
 #include <QWidget>
 
@@ -15,7 +15,7 @@ class TrajectoryView : public QWidget {
   Q_OBJECT
 public:
   explicit TrajectoryView(QWidget* parent = nullptr);
-  void setAnalysis(std::shared_ptr<const Analysis> analysis, int joint, int level);
+  void setAnalysis(std::shared_ptr<const JpcAnalysis> analysis, int joint, int level);
   double yaw() const { return m_yaw; }
   double pitch() const { return m_pitch; }
   int pointCount() const { return m_points; }
@@ -26,7 +26,7 @@ protected:
   void mouseMoveEvent(QMouseEvent* event) override;
 
 private:
-  std::shared_ptr<const Analysis> m_analysis;
+  std::shared_ptr<const JpcAnalysis> m_analysis;
   int m_joint = -1;
   int m_level = 0;
   int m_points = 0;

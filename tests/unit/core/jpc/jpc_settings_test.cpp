@@ -4,7 +4,7 @@
 #include "core/jpc/jpc.h"
 #include "core/jpc/jpc_report.h"
 #include "core/jpc/simplified_motion.h"
-#include "unit/core/jpc_fixtures.h"
+#include "unit/core/jpc/fixtures.h"
 
 #include <cmath>
 #include <gtest/gtest.h>

@@ -1,10 +1,9 @@
-#include "editor/document/analysis.h"
+#include "core/jpc/jpc_analysis.h"
 
+#include "core/jpc/parallel_for.h"
 #include "core/jpc/simplified_motion.h"
 
-#include <QtConcurrent/QtConcurrentMap>
-
-#include <numeric>
+#include <cassert>
 
 namespace mlod {
 
@@ -29,27 +28,37 @@ PairKey keyOf(const JpcClip& prepared, int joint, int level, double levelThresho
   return key;
 }
 
+// The joint's error track is the same in both (so is every clustering at an equal key).
 bool tracksMatch(const JpcSettings& a, const JpcSettings& b, const std::string& joint) {
   return a.alphaFor(joint) == b.alphaFor(joint) && a.lockedFor(joint) == b.lockedFor(joint) &&
          a.zeroLength == b.zeroLength;
 }
+
+bool cancelled(const JpcAnalysisOptions& options) {
+  return options.cancel && options.cancel->load();
+}
 } // namespace
 
-std::shared_ptr<const Analysis> buildAnalysis(const AnalysisRequest& request, std::shared_ptr<const Analysis> previous,
-                                              const std::atomic<bool>& cancel,
-                                              const std::function<void(int, int)>& progress, std::string& out_error) {
+bool JpcAnalysis::answers(const JpcAnalysisRequest& request) const {
+  return asset == request.asset && clip == request.clip && levelThresholds == request.levelThresholds &&
+         settings.alpha == request.settings.alpha && settings.mode == request.settings.mode &&
+         settings.zeroLength == request.settings.zeroLength && settings.joints == request.settings.joints;
+}
+
+Result<std::shared_ptr<const JpcAnalysis>> buildJpcAnalysis(const JpcAnalysisRequest& request,
+                                                            std::shared_ptr<const JpcAnalysis> previous,
+                                                            const JpcAnalysisOptions& options) {
   assert(request.asset && request.clip >= 0 && request.clip < static_cast<int>(request.asset->clips.size()));
   const Asset& asset = *request.asset;
   const Clip& clip = asset.clips[static_cast<std::size_t>(request.clip)];
   if (previous && (previous->asset != request.asset || previous->clip != request.clip))
     previous.reset();
   for (std::size_t level = 0; level < request.levelThresholds.size(); ++level)
-    if (Error error = validateThreshold(request.levelThresholds[level], "level " + std::to_string(level) + " threshold")) {
-      out_error = error.message();
-      return nullptr;
-    }
+    if (Error error =
+            validateThreshold(request.levelThresholds[level], "level " + std::to_string(level) + " threshold"))
+      return error;
 
-  auto out = std::make_shared<Analysis>();
+  auto out = std::make_shared<JpcAnalysis>();
   out->asset = request.asset;
   out->clip = request.clip;
   out->settings = request.settings;
@@ -57,19 +66,19 @@ std::shared_ptr<const Analysis> buildAnalysis(const AnalysisRequest& request, st
   // Preparing builds every joint's error track: cheap next to clustering, and simpler than
   // patching one joint's track after an alpha edit.
   Result<JpcClip> prepared = JpcClip::prepare(asset.skeleton, clip, request.settings);
-  if (!prepared) {
-    out_error = prepared.message();
-    return nullptr;
-  }
+  if (!prepared)
+    return prepared.error();
   out->prepared = std::make_shared<const JpcClip>(std::move(prepared).value());
   const JpcClip& jpc = *out->prepared;
-  out->originalPositions = previous ? previous->originalPositions
-                                    : std::make_shared<const std::vector<glm::vec3>>(jointPositions(asset.skeleton, clip));
+  out->originalPositions = previous
+                               ? previous->originalPositions
+                               : std::make_shared<const std::vector<glm::vec3>>(jointPositions(asset.skeleton, clip));
 
   // Which (level, joint) pairs need clustering, and which previous clustering serves the rest.
   const int levels = static_cast<int>(request.levelThresholds.size());
   const int joints = jpc.jointCount();
-  out->clusterings.assign(static_cast<std::size_t>(levels), std::vector<JointClustering>(static_cast<std::size_t>(joints)));
+  out->clusterings.assign(static_cast<std::size_t>(levels),
+                          std::vector<JointClustering>(static_cast<std::size_t>(joints)));
   std::vector<int> todo;
   std::vector<bool> levelChanged(static_cast<std::size_t>(levels), true);
   for (int level = 0; level < levels; ++level) {
@@ -99,38 +108,35 @@ std::shared_ptr<const Analysis> buildAnalysis(const AnalysisRequest& request, st
   out->clusteredPairs = static_cast<int>(todo.size());
   const int total = static_cast<int>(todo.size()) + levels;
   std::atomic<int> done{0};
-  // Off the caller's thread already; spread the pairs over the global pool.
-  QtConcurrent::blockingMap(todo, [&](int task) {
-    if (cancel.load())
+  parallelFor(static_cast<int>(todo.size()), options.threads, [&](int i) {
+    if (cancelled(options))
       return;
+    const int task = todo[static_cast<std::size_t>(i)];
     const int level = task / joints, joint = task % joints;
     out->clusterings[static_cast<std::size_t>(level)][static_cast<std::size_t>(joint)] =
         jpc.clusterJoint(joint, level, request.levelThresholds[static_cast<std::size_t>(level)]);
-    if (progress)
-      progress(++done, total);
+    if (options.progress)
+      options.progress(++done, total);
   });
-  if (cancel.load())
-    return nullptr;
+  if (cancelled(options))
+    return Error(kJpcAnalysisCancelled);
 
   out->levels.resize(static_cast<std::size_t>(levels));
-  std::vector<int> levelIndices(static_cast<std::size_t>(levels));
-  std::iota(levelIndices.begin(), levelIndices.end(), 0);
-  QtConcurrent::blockingMap(levelIndices, [&](int level) {
-    if (cancel.load())
+  parallelFor(levels, options.threads, [&](int level) {
+    if (cancelled(options))
       return;
     const std::size_t l = static_cast<std::size_t>(level);
-    if (!levelChanged[l]) {
+    if (!levelChanged[l])
       out->levels[l] = previous->levels[l];
-    } else {
+    else
       out->levels[l] = measureLevel(jpc, asset.skeleton, clip, level, request.levelThresholds[l], out->clusterings[l],
                                     *out->originalPositions);
-    }
-    if (progress)
-      progress(++done, total);
+    if (options.progress)
+      options.progress(++done, total);
   });
-  if (cancel.load())
-    return nullptr;
-  return out;
+  if (cancelled(options))
+    return Error(kJpcAnalysisCancelled);
+  return std::shared_ptr<const JpcAnalysis>(std::move(out));
 }
 
 } // namespace mlod

@@ -7,8 +7,8 @@
 #include "core/jpc/jpc.h"
 #include "core/jpc/key_posture.h"
 #include "core/jpc/optimal_clustering.h"
-#include "unit/core/jpc_fixtures.h"
-#include "unit/core/jpc_reference.h"
+#include "unit/core/jpc/fixtures.h"
+#include "unit/core/jpc/reference.h"
 
 #include <gtest/gtest.h>
 #include <random>

@@ -1,7 +1,7 @@
 // The JPC error metric, eqs. (1)-(6) as docs/architecture.md section 4 defines them.
 
 #include "core/jpc/posture_error.h"
-#include "unit/core/jpc_fixtures.h"
+#include "unit/core/jpc/fixtures.h"
 
 #include <gtest/gtest.h>
 #include <random>

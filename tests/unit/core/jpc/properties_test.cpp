@@ -5,7 +5,7 @@
 
 #include "core/jpc/jpc.h"
 #include "core/jpc/simplified_motion.h"
-#include "unit/core/jpc_fixtures.h"
+#include "unit/core/jpc/fixtures.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "unit/core/jpc_reference.h"
+#include "unit/core/jpc/reference.h"
 
 #include <algorithm>
 #include <cstddef>

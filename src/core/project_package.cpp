@@ -1,0 +1,79 @@
+#include "core/project_package.h"
+
+#include "core/mapping/motion_mapping.h"
+
+#include <algorithm>
+#include <string>
+
+namespace mlod {
+
+namespace {
+bool hasSkinnedMesh(const Asset& asset) {
+  return std::any_of(asset.meshes.begin(), asset.meshes.end(), [](const SkinnedMesh& mesh) { return mesh.skinned(); });
+}
+} // namespace
+
+Result<std::vector<Clip>> assignedClips(const Project& project, std::span<const Asset* const> imported, int character) {
+  if (character < 0 || character >= static_cast<int>(imported.size()) || !imported[std::size_t(character)])
+    return Error("the project has no imported asset " + std::to_string(character));
+  const Asset& target = *imported[std::size_t(character)];
+  std::vector<Clip> out;
+  for (const ProjectMapping& mapping : project.mappings) {
+    if (mapping.character != character)
+      continue;
+    const Asset* motion = mapping.motion >= 0 && mapping.motion < static_cast<int>(imported.size())
+                              ? imported[std::size_t(mapping.motion)]
+                              : nullptr;
+    if (!motion) {
+      const std::string name = mapping.motion >= 0 && mapping.motion < static_cast<int>(project.assets.size())
+                                   ? project.assets[std::size_t(mapping.motion)].path
+                                   : "motion " + std::to_string(mapping.motion);
+      return Error(name + " (a motion assigned to the character) could not be imported");
+    }
+    Result<RestPoseDifferences> differences = restPoseDifferences(mapping.mapping, motion->skeleton, target.skeleton);
+    if (!differences)
+      return Error("mapping of " + mapping.mapping.motionName + ": " + differences.message());
+    for (const Clip& clip : motion->clips) {
+      Result<Clip> retargeted = retargetClip(*differences, motion->skeleton, clip, target.skeleton);
+      if (!retargeted)
+        return Error(mapping.mapping.motionName + ": " + retargeted.message());
+      out.push_back(std::move(retargeted).value());
+    }
+  }
+  return out;
+}
+
+Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset* const> imported, int asset,
+                                   std::span<const int> levels, const LodPackageProgress& progress) {
+  if (Error error = project.validate())
+    return error;
+  if (asset < 0 || asset >= static_cast<int>(project.assets.size()))
+    return Error("the project has no asset " + std::to_string(asset));
+  if (imported.size() != project.assets.size())
+    return Error("the project's assets were not all imported");
+  const Asset* character = imported[std::size_t(asset)];
+  if (!character)
+    return Error(project.assets[std::size_t(asset)].path + " could not be imported");
+  Result<std::vector<Clip>> extra = assignedClips(project, imported, asset);
+  if (!extra)
+    return extra.error();
+  return buildLodPackage(*character, project.lods, project.jpcSettings(asset, character->unitScale), levels, progress,
+                         *extra);
+}
+
+int defaultPackageAsset(const Project& project, std::span<const Asset* const> imported) {
+  if (project.assets.empty())
+    return -1;
+  const auto importedAt = [&](int i) {
+    return i >= 0 && std::size_t(i) < imported.size() ? imported[std::size_t(i)] : nullptr;
+  };
+  for (const ProjectMapping& mapping : project.mappings)
+    if (const Asset* a = importedAt(mapping.character); a && (!a->clips.empty() || hasSkinnedMesh(*a)))
+      return mapping.character;
+  for (int i = 0; i < static_cast<int>(project.assets.size()); ++i)
+    if (const Asset* a = importedAt(i); a && hasSkinnedMesh(*a))
+      return i;
+  return 0;
+}
+
+} // namespace mlod

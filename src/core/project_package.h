@@ -1,0 +1,38 @@
+#pragma once
+// A project's LOD package (docs/architecture.md sections 3 and 8): the project's LodSet and
+// JPC settings applied to one of its assets, with every motion assigned to that asset through
+// the project's mappings played on it as extra clips (retargeted, mapping/motion_mapping.h).
+// This sits above both project.h and lod/lod_package.h, so the package data (what exporters
+// see) never depends on the project model.
+//
+// `imported[i]` is the project's asset i as imported, null where it could not be (an error
+// only when the package needs it).
+
+#include "core/asset.h"
+#include "core/clip.h"
+#include "core/error.h"
+#include "core/lod/lod_package.h"
+#include "core/project.h"
+
+#include <span>
+#include <vector>
+
+namespace mlod {
+
+// The clips of every motion the project assigns to its asset `character`, retargeted onto
+// that asset's skeleton through their mappings, in mapping order. Errors: a bad asset index,
+// an assigned motion that was not imported, a mapping that does not fit the skeletons.
+Result<std::vector<Clip>> assignedClips(const Project& project, std::span<const Asset* const> imported, int character);
+
+// A project's package of its asset `asset`: the project's LodSet, its JPC settings for the
+// asset, and assignedClips(). Errors: a project that does not validate, a bad asset index,
+// assets not imported, and those of buildLodPackage() and assignedClips().
+Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset* const> imported, int asset,
+                                   std::span<const int> levels = {}, const LodPackageProgress& progress = {});
+
+// The asset of a project a package is made of when none is named: the first asset that
+// plays a clip or carries a skinned mesh and is the character of a mapping, else the first
+// asset with a skinned mesh, else the first asset. -1 for a project without assets.
+int defaultPackageAsset(const Project& project, std::span<const Asset* const> imported);
+
+} // namespace mlod
