@@ -19,6 +19,14 @@
 
 namespace mlod::cli {
 
+namespace {
+std::string number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+} // namespace
+
 void BenchCrowdCommand::attach(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "bench-crowd",
@@ -43,7 +51,7 @@ void BenchCrowdCommand::attach(CLI::App& app) {
       ->check(CLI::Range(1, 16));
   command->add_option("--layout", layout, "--scene: grid or scattered (default grid)")
       ->check(CLI::IsMember({"grid", "scattered"}));
-  command->add_option("--alpha", alpha, "orientation weight alpha, cm (default 5)");
+  command->add_option("--alpha", alpha, "orientation weight alpha, cm (default " + number(kDefaultJpcAlpha) + ")");
   command->add_option("--threads", threads, "threads to spread characters over (default 1)")->check(CLI::Range(1, 256));
   command
       ->add_option("--blend-frames", blendFrames, "frames over which resuming joints blend back (default 4; 0 = off)")
@@ -65,12 +73,6 @@ double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   const std::size_t mid = values.size() / 2;
   return values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
-}
-
-std::string number(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
 }
 
 // One side of the comparison: full detail or the LOD, each a crowd of one level.
@@ -96,8 +98,8 @@ int BenchCrowdCommand::run() const {
     printError(file, error.message());
     return kExitBadInput;
   }
-  if (!std::isfinite(alpha) || alpha < 0.0) {
-    printError(file, "--alpha is " + number(alpha) + "; it must be finite and >= 0 (cm)");
+  if (Error error = validateAlpha(alpha, "--alpha")) {
+    printError(file, error.message());
     return kExitBadInput;
   }
   const std::optional<Asset> asset = importForCommand(file, import);

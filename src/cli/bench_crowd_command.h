@@ -1,6 +1,7 @@
 #pragma once
 
 #include "cli/cli_common.h"
+#include "core/jpc/jpc_settings.h"
 
 #include <optional>
 #include <string>
@@ -22,12 +23,12 @@ struct BenchCrowdCommand {
   int characters = 1000;
   int frames = 100;
   std::optional<double> threshold; // cm·degrees; required without --scene
-  double alpha = 5.0;      // cm
+  double alpha = kDefaultJpcAlpha; // cm
   int threads = 1;
-  int blendFrames = 4;     // unfreeze blending, frames (0 = off)
-  int repetitions = 5;     // of each of full and LOD, after one warm-up of each
+  int blendFrames = 4; // unfreeze blending, frames (0 = off)
+  int repetitions = 5; // of each of full and LOD, after one warm-up of each
   bool paletteOnly = false;
-  std::string only;        // "", "full" or "lod": run one side only (for callgrind)
+  std::string only; // "", "full" or "lod": run one side only (for callgrind)
   bool json = false;
   ImportArguments import;
   // --scene (docs/architecture.md section 6; the paper's Figure 12): FILE is a character with
