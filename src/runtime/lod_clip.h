@@ -237,6 +237,10 @@ public:
   // The plan of frame i0 in [0, planFrames()), planFrames() = max(frameCount - 1, 1).
   int planFrames() const { return static_cast<int>(m_planBegin.size()) - 1; }
   const float* plan(int i0) const { return m_plans.data() + m_planBegin[static_cast<std::size_t>(i0)]; }
+  // Floats of the plan of frame i0 (a multiple of 16: whole cache lines).
+  std::size_t planFloats(int i0) const {
+    return m_planBegin[static_cast<std::size_t>(i0) + 1] - m_planBegin[static_cast<std::size_t>(i0)];
+  }
   // Arrays of a sampled slot block (kPlanArrays, or kPlanArraysScaled in a scaled clip) and
   // where the first block starts in a plan (after header and refs), in floats.
   int planArrays() const { return m_scaled ? kPlanArraysScaled : kPlanArrays; }

@@ -228,8 +228,41 @@ struct PoseEvaluation {
   static void runRange(void* data, int begin, int end, int thread) {
     const PoseEvaluatorJob& job = *static_cast<const PoseEvaluatorJob*>(data);
     Scratch& scratch = job.context->m_scratch[static_cast<std::size_t>(thread)];
-    for (int c = begin; c < end; ++c)
-      evaluate(job, c, scratch);
+    Where next = begin < end ? locate(job, begin) : Where{};
+    for (int c = begin; c < end; ++c) {
+      const Where now = next;
+      if (c + 1 < end) {
+        // the next character's plan on its way to the cache while this one is evaluated
+        // (characters play at unrelated frames: their plans lie far apart)
+        next = locate(job, c + 1);
+        const LodClip& clip = *job.clips[static_cast<std::size_t>(c) + 1];
+        const float* plan = clip.plan(next.i0);
+        const std::size_t floats = clip.planFloats(next.i0);
+        for (std::size_t at = 0; at < floats; at += 64) { // (a prefetch past the end is harmless)
+          __builtin_prefetch(plan + at);
+          __builtin_prefetch(plan + at + 16);
+          __builtin_prefetch(plan + at + 32);
+          __builtin_prefetch(plan + at + 48);
+        }
+      }
+      evaluate(job, c, now, scratch);
+    }
+  }
+
+  // Where character c is in its clip: frame position, whole periods before it, i0 and the
+  // fraction past it (LodClip::framePosition(), split()).
+  struct Where {
+    double f = 0.0;
+    std::int64_t loop = 0;
+    std::int32_t i0 = 0;
+    float fraction = 0.0f;
+  };
+  static Where locate(const PoseEvaluatorJob& job, int c) {
+    const LodClip& clip = *job.clips[static_cast<std::size_t>(c)];
+    Where where;
+    where.f = clip.framePosition(job.times[static_cast<std::size_t>(c)], &where.loop);
+    clip.split(where.f, where.i0, where.fraction);
+    return where;
   }
 
   // One character's blending joints (a loop wrap, a level change), as it is being
@@ -291,7 +324,7 @@ struct PoseEvaluation {
     }
   };
 
-  static void evaluate(const PoseEvaluatorJob& job, int c, Scratch& scratch) {
+  static void evaluate(const PoseEvaluatorJob& job, int c, const Where& where, Scratch& scratch) {
     PoseEvaluatorContext& ctx = *job.context;
     const LodClip& clip = *job.clips[static_cast<std::size_t>(c)];
     State& st = ctx.m_states[static_cast<std::size_t>(c)];
@@ -306,20 +339,23 @@ struct PoseEvaluation {
     }
     st.blendFrames = blendFrames;
     if (clip.scaled())
-      poseScaled(job, c, t, scratch);
+      poseScaled(job, c, t, where, scratch);
     else if (scratch.singleRoot)
-      poseUnscaled(job, c, t, scratch);
+      poseUnscaled(job, c, t, where, scratch);
     else
-      poseUnscaledRoots(job, c, t, scratch);
+      poseUnscaledRoots(job, c, t, where, scratch);
   }
-  MLOD_RUNTIME_CLONES static void poseScaled(const PoseEvaluatorJob& job, int c, double t, Scratch& scratch) {
-    pose<true, false>(job, c, t, scratch);
+  MLOD_RUNTIME_CLONES static void poseScaled(const PoseEvaluatorJob& job, int c, double t, const Where& where,
+                                             Scratch& scratch) {
+    pose<true, false>(job, c, t, where, scratch);
   }
-  MLOD_RUNTIME_CLONES static void poseUnscaled(const PoseEvaluatorJob& job, int c, double t, Scratch& scratch) {
-    pose<false, true>(job, c, t, scratch);
+  MLOD_RUNTIME_CLONES static void poseUnscaled(const PoseEvaluatorJob& job, int c, double t, const Where& where,
+                                               Scratch& scratch) {
+    pose<false, true>(job, c, t, where, scratch);
   }
-  MLOD_RUNTIME_CLONES static void poseUnscaledRoots(const PoseEvaluatorJob& job, int c, double t, Scratch& scratch) {
-    pose<false, false>(job, c, t, scratch);
+  MLOD_RUNTIME_CLONES static void poseUnscaledRoots(const PoseEvaluatorJob& job, int c, double t, const Where& where,
+                                                    Scratch& scratch) {
+    pose<false, false>(job, c, t, where, scratch);
   }
 
   // The rotations shown before the switch, against the new clip's at the same time.
@@ -392,13 +428,12 @@ struct PoseEvaluation {
   // SingleRoot: joint 0 is the only joint without a parent.
   template <bool Scaled, bool SingleRoot>
   __attribute__((always_inline)) static inline void pose(const PoseEvaluatorJob& job, int c, double t,
-                                                         Scratch& scratch) {
+                                                         const Where& where, Scratch& scratch) {
     const LodClip& clip = *job.clips[static_cast<std::size_t>(c)];
-    std::int64_t loop = 0;
-    const double f = clip.framePosition(t, &loop);
-    std::int32_t i0 = 0;
-    float fraction = 0.0f;
-    clip.split(f, i0, fraction);
+    const double f = where.f;
+    const std::int64_t loop = where.loop;
+    const std::int32_t i0 = where.i0;
+    const float fraction = where.fraction;
     const float* plan = clip.plan(i0);
     const int count = static_cast<int>(LodClip::planWord(plan[0]));
     const int countBlocks = static_cast<int>(LodClip::planWord(plan[1]));
