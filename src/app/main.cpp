@@ -11,6 +11,7 @@
 #include <QCommandLineParser>
 #include <QDir>
 #include <QFileInfo>
+#include <QSettings>
 #include <QSurfaceFormat>
 #include <cstdio>
 #include <string_view>
@@ -113,7 +114,10 @@ int main(int argc, char** argv) {
   mlod::PluginHost plugins; // File > Export…'s exporters, loaded once for the session
   plugins.loadDefault();
   mlod::MainWindow window(nullptr, &plugins);
-  window.resize(1600, 1000);
+  // A first run (and every scripted screenshot) at 1600 x 1000; later runs keep the size the
+  // window restored.
+  if (!run.screenshot.isEmpty() || !QSettings().contains("mainWindow/geometry"))
+    window.resize(1600, 1000);
   window.show();
   if (run.screenshot.isEmpty())
     window.offerRecovery();

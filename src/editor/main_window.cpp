@@ -38,6 +38,7 @@
 #include <QMessageBox>
 #include <QProgressDialog>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QSettings>
 #include <QTableView>
 #include <QToolButton>
@@ -47,6 +48,12 @@
 
 namespace mlod {
 
+namespace {
+// The version of the dock layout saveState() writes: a layout saved by a build with another
+// arrangement of docks (before the viewport became the centre) is not restored.
+constexpr int kLayoutVersion = 1;
+} // namespace
+
 MainWindow::MainWindow(QWidget* parent, PluginHost* plugins)
     : QMainWindow(parent), m_ui(std::make_unique<Ui::MainWindow>()), m_document(new Document(this)),
       m_assets(new AssetTreeModel(this)), m_plugins(plugins), m_import(new ImportJob(this)),
@@ -55,8 +62,9 @@ MainWindow::MainWindow(QWidget* parent, PluginHost* plugins)
   m_ui->assetTree->setModel(m_assets);
   m_ui->menuView->addAction(m_ui->assetsDock->toggleViewAction());
   m_ui->menuView->addAction(m_ui->logDock->toggleViewAction());
-  m_ui->summaryLabel->setText(tr("<h2>Motion LOD Studio</h2><p>Import a character or a motion-capture clip with "
-                                 "<b>File → Import…</b> (Ctrl+O), or open a project (Ctrl+Shift+O), to begin.</p>"));
+  buildSummaryDock();
+  m_summaryLabel->setText(tr("<h2>Motion LOD Studio</h2><p>Import a character or a motion-capture clip with "
+                             "<b>File → Import…</b> (Ctrl+O), or open a project (Ctrl+Shift+O), to begin.</p>"));
 
   connect(m_ui->actionOpen, &QAction::triggered, this, &MainWindow::chooseFile);
   connect(m_ui->actionQuit, &QAction::triggered, this, &QWidget::close);
@@ -156,14 +164,18 @@ MainWindow::MainWindow(QWidget* parent, PluginHost* plugins)
   buildUnitMenu();
   buildDocks();
   buildActions();
-  resizeDocks({m_ui->assetsDock, findChild<QDockWidget*>("clusteringDock")}, {470, 600}, Qt::Horizontal);
-  resizeDocks({m_ui->logDock}, {400}, Qt::Vertical);
+  // Log and Summary share a tab (after the split: a dock split off a tabbed one becomes a tab).
+  tabifyDockWidget(m_ui->logDock, m_summaryDock);
+  m_summaryDock->raise(); // the first thing to read; the Log is one tab away
+  resizeDocks({m_ui->assetsDock, findChild<QDockWidget*>("clusteringDock")}, {470, 520}, Qt::Horizontal);
+  resizeDocks({m_ui->logDock}, {320}, Qt::Vertical);
   resizeDocks({m_ui->logDock, findChild<QDockWidget*>("statisticsDock")}, {360, 1240}, Qt::Horizontal);
   resizeDocks({m_ui->assetsDock, findChild<QDockWidget*>("skeletonDock"), findChild<QDockWidget*>("levelsDock")},
               {160, 420, 200}, Qt::Vertical);
+  buildResetLayout();
   QSettings settings;
   restoreGeometry(settings.value("mainWindow/geometry").toByteArray());
-  restoreState(settings.value("mainWindow/state").toByteArray());
+  restoreState(settings.value("mainWindow/state").toByteArray(), kLayoutVersion);
   statusBar()->showMessage(tr("Ready"));
   refreshStatus();
   refreshTitle();
@@ -402,7 +414,7 @@ void MainWindow::showAsset(const Asset& asset) {
                 .arg(mesh.boneCount());
   if (!asset.meshes.empty())
     html += "</table>";
-  m_ui->summaryLabel->setText(html);
+  m_summaryLabel->setText(html);
 }
 
 void MainWindow::log(const QString& line) {
@@ -438,7 +450,7 @@ void MainWindow::closeEvent(QCloseEvent* event) {
   m_document->analysisRunner()->cancel();
   QSettings settings;
   settings.setValue("mainWindow/geometry", saveGeometry());
-  settings.setValue("mainWindow/state", saveState());
+  settings.setValue("mainWindow/state", saveState(kLayoutVersion));
   cancelImport();
   QMainWindow::closeEvent(event);
 }
@@ -452,6 +464,35 @@ QDockWidget* MainWindow::addDock(const QString& name, const QString& title, QWid
   addDockWidget(area, dock);
   m_ui->menuView->addAction(dock->toggleViewAction());
   return dock;
+}
+
+void MainWindow::buildSummaryDock() {
+  // What the asset in view holds (skeleton, clips, meshes), beside the Log.
+  m_summaryLabel = new QLabel;
+  m_summaryLabel->setObjectName("summaryLabel");
+  m_summaryLabel->setAlignment(Qt::AlignLeading | Qt::AlignLeft | Qt::AlignTop);
+  m_summaryLabel->setWordWrap(true);
+  m_summaryLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  m_summaryLabel->setMargin(8);
+  auto* scroll = new QScrollArea;
+  scroll->setWidgetResizable(true);
+  scroll->setWidget(m_summaryLabel);
+  m_summaryDock = addDock("summaryDock", tr("Summary"), scroll, Qt::BottomDockWidgetArea);
+}
+
+void MainWindow::buildResetLayout() {
+  // View > Reset Layout: every dock back where a first run puts it, floating ones docked.
+  const QByteArray defaultLayout = saveState(kLayoutVersion);
+  auto* reset = new QAction(tr("&Reset Layout"), this);
+  reset->setObjectName("actionResetLayout");
+  reset->setToolTip(tr("Every dock back where a first run puts it"));
+  connect(reset, &QAction::triggered, this, [this, defaultLayout] {
+    for (QDockWidget* dock : findChildren<QDockWidget*>())
+      dock->setFloating(false);
+    restoreState(defaultLayout, kLayoutVersion);
+  });
+  m_ui->menuView->addSeparator();
+  m_ui->menuView->addAction(reset);
 }
 
 void MainWindow::buildDocks() {
@@ -592,19 +633,20 @@ void MainWindow::buildDocks() {
   // timeline drives both.
   auto* viewport = new ViewportPanel(m_document);
   viewport->setObjectName("viewportPanel");
-  m_viewportDock = addDock("viewportDock", tr("Viewport"), viewport, Qt::RightDockWidgetArea);
-  tabifyDockWidget(trajectory, m_viewportDock);
+  // The character view is the window's centre; the Crowd dock shares the right-hand column
+  // with the Trajectory, so raising it shows the crowd and the character together.
+  setCentralWidget(viewport);
   m_crowdPanel = new CrowdPanel(m_document, viewport->playback());
   m_crowdPanel->setObjectName("crowdPanel");
   connect(viewport, &ViewportPanel::mappingChosen, m_crowdPanel, &CrowdPanel::setMapping);
   m_crowdDock = addDock("crowdDock", tr("Crowd"), m_crowdPanel, Qt::RightDockWidgetArea);
-  tabifyDockWidget(m_viewportDock, m_crowdDock);
+  tabifyDockWidget(trajectory, m_crowdDock);
   trajectory->raise();
   connect(viewport->playback(), &Playback::timeChanged, m_statisticsView,
           [this, viewport] { m_statisticsView->setPlayhead(viewport->playback()->frame()); });
   auto* currentFrame = new QLabel(viewport->timeline()->frameText());
   currentFrame->setObjectName("currentFrameLabel");
-  currentFrame->setToolTip(tr("The current frame of the 3D views (Viewport dock's timeline)"));
+  currentFrame->setToolTip(tr("The current frame of the 3D views (the Viewport's timeline)"));
   connect(viewport->playback(), &Playback::timeChanged, currentFrame,
           [currentFrame, viewport] { currentFrame->setText(viewport->timeline()->frameText()); });
   statusBar()->addPermanentWidget(currentFrame);

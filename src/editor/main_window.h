@@ -69,8 +69,8 @@ public:
   QProgressDialog* analysisProgress() const;
   QProgressDialog* importProgress() const;
   CrowdPanel* crowdPanel() const { return m_crowdPanel; }
-  QDockWidget* viewportDock() const { return m_viewportDock; }
   QDockWidget* crowdDock() const { return m_crowdDock; }
+  // The character view (ViewportPanel) is the central widget; the Crowd dock sits beside it.
   // Brings a right-hand dock to the front at a height that shows its 3D view well.
   void showDock(QDockWidget* dock);
   QString statusText() const; // the permanent status-bar figures
@@ -114,6 +114,8 @@ private:
   void refreshAssetUnitMenu();
   void offerToRegenerateDistances();
   void buildDocks();
+  void buildSummaryDock();
+  void buildResetLayout(); // after every dock is in its first-run place
   void buildActions();
   void refreshViews();
   void selectDefaultJoint();
@@ -150,7 +152,8 @@ private:
   QDoubleSpinBox* m_alphaBox = nullptr;
   QComboBox* m_modeBox = nullptr;
   CrowdPanel* m_crowdPanel = nullptr;
-  QDockWidget* m_viewportDock = nullptr;
+  QDockWidget* m_summaryDock = nullptr;
+  QLabel* m_summaryLabel = nullptr;
   QDockWidget* m_crowdDock = nullptr;
   QMenu* m_recentMenu = nullptr;
   QMenu* m_assetUnitMenu = nullptr;

@@ -14,8 +14,9 @@
 #include "editor/models/joint_tree_model.h"
 #include "editor/models/levels_model.h"
 #include "editor/models/mapping_model.h"
-#include "editor/views/mapping_dialog.h"
+#include "editor/viewport/viewport_panel.h"
 #include "editor/views/clustering_table_view.h"
+#include "editor/views/mapping_dialog.h"
 #include "editor/views/trajectory_view.h"
 
 #include <QAbstractButton>
@@ -26,8 +27,8 @@
 #include <QDoubleSpinBox>
 #include <QFile>
 #include <QFont>
-#include <QInputDialog>
 #include <QHeaderView>
+#include <QInputDialog>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -38,6 +39,7 @@
 #include <QProgressDialog>
 #include <QPushButton>
 #include <QSignalSpy>
+#include <QStatusBar>
 #include <QTableView>
 #include <QTableWidget>
 #include <QTemporaryDir>
@@ -245,8 +247,10 @@ private slots:
     QVERIFY(tableText(window->statisticsView()) != tableBefore);
     window->clusteringView()->repaint();
     QVERIFY(window->clusteringView()->renderedImage() != heatBefore);
-    // Only the touched joint at the touched level was clustered again.
+    // Only the touched joint at the touched level was clustered again, and the status says so.
     QCOMPARE(document->analysis()->clusteredPairs, 1);
+    QVERIFY2(window->statusBar()->currentMessage().startsWith("1 joint clustering in "),
+             qPrintable(window->statusBar()->currentMessage()));
   }
 
   // Undo and redo (by their shortcuts) restore the exact figures.
@@ -307,6 +311,9 @@ private slots:
     QTest::mouseClick(view->viewport(), Qt::LeftButton, {}, QPoint(cell.left() + 10, cell.center().y()));
     QVERIFY(waitForFigures(document));
     QVERIFY(document->project().assets[0].joints.count("Spine") && document->project().assets[0].joints.at("Spine").locked);
+    QCOMPARE(document->analysis()->clusteredPairs, 0); // a locked joint is not clustered: nothing to do
+    QVERIFY2(window->statusBar()->currentMessage().startsWith("no joint clustered again ("),
+             qPrintable(window->statusBar()->currentMessage()));
     for (const JpcLevelResult& level : document->analysis()->levels) {
       QVERIFY(level.joints[std::size_t(joint)].locked);
       QCOMPARE(level.joints[std::size_t(joint)].clusters, 0);
@@ -990,7 +997,7 @@ private slots:
     MainWindow again;
     again.show();
     QVERIFY(again.findChild<QDockWidget*>("statisticsDock")->isVisible());
-    QVERIFY(again.findChild<QDockWidget*>("viewportDock"));
+    QCOMPARE(again.centralWidget(), again.findChild<ViewportPanel*>("viewportPanel"));
   }
 
   // Changing an asset's unit imports it again: one undo step, and undo gives the exact figures back.

@@ -9,6 +9,7 @@
 #include "editor/views/job_progress.h"
 
 #include <QAction>
+#include <QDockWidget>
 #include <QImage>
 #include <QMessageBox>
 #include <QSignalSpy>
@@ -167,6 +168,26 @@ private slots:
     QVERIFY(metres->isChecked());
     QVERIFY(!cmu->isChecked());
     QVERIFY(window.logText().contains("Edit: "));
+  }
+
+  // View > Reset Layout puts a floated, hidden dock back where a first run has it.
+  void resetLayoutDocksEverything() {
+    MainWindow window;
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    auto* assets = window.findChild<QDockWidget*>("assetsDock");
+    auto* levels = window.findChild<QDockWidget*>("levelsDock");
+    QVERIFY(assets && levels);
+    assets->setFloating(true);
+    levels->hide();
+    window.crowdDock()->setFloating(true);
+    window.findChild<QAction*>("actionResetLayout")->trigger();
+    QVERIFY(!assets->isFloating());
+    QVERIFY(levels->isVisible());
+    QVERIFY(!window.crowdDock()->isFloating());
+    QCOMPARE(window.dockWidgetArea(assets), Qt::LeftDockWidgetArea);
+    QCOMPARE(window.dockWidgetArea(window.crowdDock()), Qt::RightDockWidgetArea);
+    QCOMPARE(window.centralWidget()->objectName(), QStringLiteral("viewportPanel"));
   }
 
   // Help > User Guide (F1) shows the guide with its pictures.

@@ -100,6 +100,7 @@ private slots:
     QVERIFY2(outcome.lines.filter("mean over 10 frames").size() == 1, qPrintable(outcome.lines.join('\n')));
     QCOMPARE(outcome.lines.last(), "screenshot: " + options.screenshot);
     QVERIFY(window.crowdDock()->isVisible());
+    QVERIFY(window.centralWidget()->isVisible()); // the character beside the crowd
     QVERIFY(!QImage(options.screenshot).isNull());
   }
 

@@ -639,46 +639,62 @@ private slots:
     QVERIFY(panel.findChild<QLabel*>("crowdComparison")->isVisible());
   }
 
-  // The main window holds the Viewport and Crowd docks; the status bar shows the current frame.
-  // Floating the Viewport dock and docking it again gives its view a new OpenGL context; the
-  // character is drawn in each (the meshes were lost: the CPU copy was dropped after the
-  // first upload and nothing uploaded again).
-  void viewportKeepsItsMeshesWhenItsDockFloatsAndDocks() {
+  // The character view is the window's central widget and the Crowd dock sits beside it: with
+  // the Crowd in front both draw at once. Floating the Crowd dock and docking it again gives
+  // its view a new OpenGL context; the crowd is drawn in each (SceneView keeps each mesh's CPU
+  // copy and uploads it again: before, the meshes were lost after the first context).
+  void crowdBesideTheViewportKeepsItsMeshesWhenItsDockFloatsAndDocks() {
     MainWindow window;
-    window.resize(1400, 900);
+    window.resize(1600, 1000);
     window.show();
     QVERIFY(QTest::qWaitForWindowExposed(&window));
     QSignalSpy spy(&window, &MainWindow::importFinished);
     window.importFileWithUnit(bcnPath(), 100.0);
     QVERIFY(spy.wait(60000));
     QVERIFY(waitForFigures(*window.document()));
-    auto* dock = window.findChild<QDockWidget*>("viewportDock");
     auto* viewport = window.findChild<ViewportPanel*>("viewportPanel");
-    QVERIFY(dock && viewport && viewport->sceneView());
-    dock->raise();
-    SceneView* view = viewport->sceneView();
-    // The character's coloured pixels once the view has painted again.
-    const auto meshPixels = [&](const char* what) {
+    QVERIFY(viewport && viewport->sceneView());
+    QCOMPARE(window.centralWidget(), viewport);
+    CrowdPanel* crowd = window.crowdPanel();
+    QDockWidget* dock = window.crowdDock();
+    QVERIFY(crowd && crowd->sceneView() && dock);
+    QSignalSpy ready(crowd, &CrowdPanel::levelsReady);
+    crowd->setAgentCount(30);
+    window.showDock(dock);
+    QVERIFY(ready.wait(120000));
+    QVERIFY2(ready.first()[0].toBool(), qPrintable(ready.first()[1].toString()));
+    // Both 3D views on screen together, side by side, each big enough to read.
+    const QRect character(viewport->sceneView()->mapTo(&window, QPoint(0, 0)), viewport->sceneView()->size());
+    const QRect agents(crowd->sceneView()->mapTo(&window, QPoint(0, 0)), crowd->sceneView()->size());
+    QVERIFY(viewport->sceneView()->isVisible() && crowd->sceneView()->isVisible());
+    QVERIFY2(!character.intersects(agents), "the views overlap");
+    QVERIFY2(character.width() >= 400 && character.height() >= 400,
+             qPrintable(QStringLiteral("character view %1 x %2").arg(character.width()).arg(character.height())));
+    QVERIFY2(agents.width() >= 400 && agents.height() >= 250,
+             qPrintable(QStringLiteral("crowd view %1 x %2").arg(agents.width()).arg(agents.height())));
+    // The coloured pixels of a view once it has painted again.
+    const auto colouredPixels = [&](SceneView* view, const char* what) {
       const int before = view->paintCount();
       view->update();
       if (!QTest::qWaitFor([&] { return view->isVisible() && view->paintCount() > before; }, 10000))
         return -1;
       QTest::qWait(100);
       const PixelCensus pixels = census(keep(view->grabFramebuffer(), what), QRectF());
-      qInfo("%s: %d blue (original) and %d orange (simplified) pixels of %d coloured", what, pixels.blue, pixels.orange,
-            pixels.saturated);
-      return std::min(pixels.blue, pixels.orange); // both characters, not the skeleton overlay alone
+      qInfo("%s: %d coloured pixels (%d blue, %d orange)", what, pixels.saturated, pixels.blue, pixels.orange);
+      return pixels.saturated;
     };
-    const int docked = meshPixels("docked");
+    const int characterPixels = colouredPixels(viewport->sceneView(), "character beside the crowd");
+    QVERIFY2(characterPixels > 300, qPrintable(QString::number(characterPixels)));
+    const int docked = colouredPixels(crowd->sceneView(), "crowd docked");
     QVERIFY2(docked > 300, qPrintable(QString::number(docked)));
     dock->setFloating(true);
     QVERIFY(QTest::qWaitForWindowExposed(dock));
-    const int floating = meshPixels("floating");
+    const int floating = colouredPixels(crowd->sceneView(), "crowd floating");
     QVERIFY2(floating > 300, qPrintable(QString::number(floating)));
     dock->setFloating(false);
     QVERIFY(QTest::qWaitFor([&] { return !dock->isFloating() && dock->isVisible(); }, 5000));
-    dock->raise();
-    const int redocked = meshPixels("redocked");
+    window.showDock(dock);
+    const int redocked = colouredPixels(crowd->sceneView(), "crowd redocked");
     QVERIFY2(redocked > 300, qPrintable(QString::number(redocked)));
   }
 
@@ -701,7 +717,6 @@ private slots:
     viewport->playback()->setFrame(12);
     QVERIFY2(frame->text().startsWith("frame 12 / 99"), qPrintable(frame->text()));
     // a joint picked in the viewport is the one selected in the Skeleton dock
-    window.findChild<QDockWidget*>("viewportDock")->raise();
     QVERIFY(QTest::qWaitFor([&] { return viewport->sceneView()->isVisible() && viewport->sceneView()->paintCount() > 0; },
                             10000));
     const int knee = window.document()->currentAssetPtr()->skeleton.find("B_Knee_Left");

@@ -111,7 +111,10 @@ void AnalysisRunner::onDone() {
     emit finished(false, reason);
     return;
   }
-  emit finished(true, tr("%1 joint clusterings in %2 ms").arg(m_snapshot->clusteredPairs).arg(m_lastMs));
+  const int pairs = m_snapshot->clusteredPairs; // none when the edit touched only locked joints
+  emit finished(true, pairs == 0   ? tr("no joint clustered again (%1 ms)").arg(m_lastMs)
+                      : pairs == 1 ? tr("1 joint clustering in %1 ms").arg(m_lastMs)
+                                   : tr("%1 joint clusterings in %2 ms").arg(pairs).arg(m_lastMs));
 }
 
 } // namespace mlod

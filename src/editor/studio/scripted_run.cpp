@@ -99,8 +99,7 @@ void ScriptedRun::next() {
     m_window->showDock(m_window->crowdDock());
     return;
   }
-  m_window->showDock(m_window->viewportDock()); // the character view, given time to render
-  QTimer::singleShot(500, this, &ScriptedRun::shoot);
+  QTimer::singleShot(500, this, &ScriptedRun::shoot); // the character view (the centre), given time to render
 }
 
 void ScriptedRun::shoot() {

@@ -85,15 +85,21 @@ CrowdPanel::CrowdPanel(Document* document, Playback* playback, QWidget* parent)
   compareButton->setToolTip(tr("What the LOD set buys on this crowd (the paper's Figure 12): the frame time of pose "
                                "evaluation and CPU skinning with no simplification, skeletal only, mesh only and both, "
                                "same agents, camera and time"));
+  // Two rows, so that the dock fits beside the central character view (docs/architecture.md
+  // section 7): the crowd, then how it is looked at.
   for (QWidget* w : std::initializer_list<QWidget*>{m_agents, m_layout, m_spacing, m_selectionMode})
     bar->addWidget(w);
-  bar->addWidget(new QLabel(tr("hysteresis")));
-  bar->addWidget(m_hysteresis);
-  bar->addWidget(m_tint);
-  bar->addWidget(frame);
-  bar->addWidget(compareButton);
   bar->addStretch(1);
   layout->addLayout(bar);
+  auto* view = new QHBoxLayout;
+  view->setContentsMargins(4, 0, 4, 0);
+  view->addWidget(new QLabel(tr("hysteresis")));
+  view->addWidget(m_hysteresis);
+  view->addWidget(m_tint);
+  view->addWidget(frame);
+  view->addWidget(compareButton);
+  view->addStretch(1);
+  layout->addLayout(view);
 
   QString reason;
   if (sceneViewSupported(&reason)) {

@@ -59,7 +59,7 @@ public:
 
   void setAgentCount(int agents);
   // Plays the asset in view on the character of project().mappings[mapping] (-1: its own
-  // skeleton), as the Viewport dock shows it.
+  // skeleton), as the Viewport shows it.
   void setMapping(int mapping);
   int mapping() const { return m_mapping; }
   // Builds the levels now if the dock's inputs changed (the dock builds when shown).

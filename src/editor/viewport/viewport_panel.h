@@ -1,7 +1,7 @@
 #pragma once
-// The Viewport dock (docs/architecture.md section 7; the paper's Figures 8-12): the asset in view as a
-// skinned character (or bone capsules for a motion without mesh), original and simplified
-// side by side or the original as a ghost over the simplified, the skeleton overlay with the
+// The Viewport, the main window's central widget (docs/architecture.md section 7; the
+// paper's Figures 8-12): the asset in view as a skinned character (or bone capsules for a motion without mesh),
+// original and simplified side by side or the original as a ghost over the simplified, the skeleton overlay with the
 // joints frozen at the current frame highlighted and joint picking, a motion played on the
 // character it is mapped to, and the timeline every 3D view follows. Poses come from the
 // runtime's PoseEvaluatorJob; SceneView skins them on the GPU.
