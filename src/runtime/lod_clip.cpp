@@ -391,6 +391,9 @@ void LodClip::buildPlans() {
     }
   }
   m_planBegin[static_cast<std::size_t>(planFrames)] = static_cast<std::uint32_t>(m_plans.size());
+  m_maxPlanFloats = 0;
+  for (std::size_t f = 0; f < static_cast<std::size_t>(planFrames); ++f)
+    m_maxPlanFloats = std::max<std::size_t>(m_maxPlanFloats, m_planBegin[f + 1] - m_planBegin[f]);
 }
 
 double LodClip::wrapped(double g, std::int64_t* out_loop) const {

@@ -237,10 +237,8 @@ public:
   // The plan of frame i0 in [0, planFrames()), planFrames() = max(frameCount - 1, 1).
   int planFrames() const { return static_cast<int>(m_planBegin.size()) - 1; }
   const float* plan(int i0) const { return m_plans.data() + m_planBegin[static_cast<std::size_t>(i0)]; }
-  // Floats of the plan of frame i0 (a multiple of 16: whole cache lines).
-  std::size_t planFloats(int i0) const {
-    return m_planBegin[static_cast<std::size_t>(i0) + 1] - m_planBegin[static_cast<std::size_t>(i0)];
-  }
+  // Floats of the largest plan (a multiple of 16: whole cache lines).
+  std::size_t maxPlanFloats() const { return m_maxPlanFloats; }
   // Arrays of a sampled slot block (kPlanArrays, or kPlanArraysScaled in a scaled clip) and
   // where the first block starts in a plan (after header and refs), in floats.
   int planArrays() const { return m_scaled ? kPlanArraysScaled : kPlanArrays; }
@@ -295,6 +293,7 @@ private:
   std::vector<float> m_staticLocals;
   std::vector<std::uint32_t> m_planBegin; // planFrames() + 1 offsets in m_plans, floats
   std::vector<float, CacheLineAllocator<float>> m_plans;
+  std::size_t m_maxPlanFloats = 0;
 };
 
 // nlerp(identity, offset, weight): the offset scaled down to `weight` in [0, 1] (offset.w >= 0).

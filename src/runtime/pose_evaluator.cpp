@@ -237,8 +237,10 @@ struct PoseEvaluation {
         next = locate(job, c + 1);
         const LodClip& clip = *job.clips[static_cast<std::size_t>(c) + 1];
         const float* plan = clip.plan(next.i0);
-        const std::size_t floats = clip.planFloats(next.i0);
-        for (std::size_t at = 0; at < floats; at += 64) { // (a prefetch past the end is harmless)
+        // as much as the largest plan of the clip (the same count for every character: no
+        // branch to mispredict; a prefetch past the end is harmless)
+        const std::size_t floats = clip.maxPlanFloats();
+        for (std::size_t at = 0; at < floats; at += 64) {
           __builtin_prefetch(plan + at);
           __builtin_prefetch(plan + at + 16);
           __builtin_prefetch(plan + at + 32);
@@ -438,26 +440,38 @@ struct PoseEvaluation {
     const int count = static_cast<int>(LodClip::planWord(plan[0]));
     const int countBlocks = static_cast<int>(LodClip::planWord(plan[1]));
 
-    // 1. the sampled joints' rotations (and scales) and translations lerped, 8 slots at once
+    // 1. the sampled joints' rotations (and scales) and translations lerped, 8 slots at once,
+    //    and their local matrices; 2. first, for the few characters whose joints blend (a
+    //    wrap, a level change; unfreeze windows are in the plan), offsets into their
+    //    rotations, constant joints becoming slots
     float* __restrict samples = scratch.samples.data();
     float* __restrict locals = scratch.locals.data();
     const float* slotPlan = plan + clip.planSlotsAt();
     const std::size_t planBlock = static_cast<std::size_t>(clip.planArrays()) * kLanes;
-    for (int b = 0; b < countBlocks; ++b)
+    Blends blends{clip, scratch, plan + LodClip::kPlanHeader, count, i0};
+    const auto lerp = [&](int b) {
       lerpBlock<Scaled>(slotPlan + static_cast<std::size_t>(b) * planBlock, fraction,
                         samples + static_cast<std::size_t>(b) * kSampleBlock,
                         locals + static_cast<std::size_t>(b) * kLocalBlock);
-    // 2. the joints that blend (a wrap, a level change; unfreeze windows are in the plan):
-    //    offsets into their rotations; constant ones become slots
-    Blends blends{clip, scratch, plan + LodClip::kPlanHeader, count, i0};
-    if (job.blendFrames > 0 && ((clip.looping() && loop >= 1 && i0 < job.blendFrames) ||
-                                job.context->m_states[static_cast<std::size_t>(c)].levelBlend))
-      blendWrapAndLevel(job, c, t, f, loop, blends);
-    // 3. local matrices, 8 slots at once
-    const int blocks = (blends.slots + kLanes - 1) / kLanes;
-    for (int b = 0; b < blocks; ++b)
+    };
+    const auto matrices = [&](int b) {
       matrixBlock<Scaled>(samples + static_cast<std::size_t>(b) * kSampleBlock,
                           locals + static_cast<std::size_t>(b) * kLocalBlock);
+    };
+    if (job.blendFrames > 0 && ((clip.looping() && loop >= 1 && i0 < job.blendFrames) ||
+                                job.context->m_states[static_cast<std::size_t>(c)].levelBlend)) {
+      for (int b = 0; b < countBlocks; ++b)
+        lerp(b);
+      blendWrapAndLevel(job, c, t, f, loop, blends);
+      const int blocks = (blends.slots + kLanes - 1) / kLanes;
+      for (int b = 0; b < blocks; ++b)
+        matrices(b);
+    } else {
+      for (int b = 0; b < countBlocks; ++b) {
+        lerp(b);
+        matrices(b);
+      }
+    }
     scratch.sampled += blends.slots;
 
     // 4. the hierarchy
