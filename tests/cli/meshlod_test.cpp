@@ -53,12 +53,11 @@ TEST(CliMeshLod, JsonKeysAndValues) {
   }
 }
 
-// Guards the warning: 64 separate cubes cannot go below a tetrahedron each (a third of their
-// triangles), so 10% warns with the count reached.
+// Guards the warning: one closed cube cannot go below two triangles (and, being the only
+// component, is never pruned), so 10% of its 12 triangles warns with the count reached.
 TEST(CliMeshLod, ARatioOutOfReachWarns) {
   const test::CliRun run =
-      runMotionlod({"meshlod", test::modelPath("Collada/anims_with_full_rotations_between_keys.DAE"), "--ratio",
-                    "0.5,0.1", "--json"});
+      runMotionlod({"meshlod", test::modelPath("X/test_cube_text.x"), "--ratio", "0.5,0.1", "--json"});
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json doc = nlohmann::json::parse(run.out);
   ASSERT_EQ(doc["levels"].size(), 2u);
@@ -66,6 +65,23 @@ TEST(CliMeshLod, ARatioOutOfReachWarns) {
   const nlohmann::json& far = doc["levels"][1];
   ASSERT_TRUE(far["warning"].is_string());
   EXPECT_NE(far["warning"].get<std::string>().find(std::to_string(far["triangles"].get<int>())), std::string::npos);
+}
+
+// Guards component pruning: 64 separate closed cubes stopped at 16.7% when 10% was asked;
+// whole cubes now go when that is the cheapest step, so 10% is reached without a warning.
+TEST(CliMeshLod, SmallComponentsArePrunedToReachTenPercent) {
+  const test::CliRun run =
+      runMotionlod({"meshlod", test::modelPath("Collada/anims_with_full_rotations_between_keys.DAE"), "--ratio",
+                    "0.5,0.25,0.1", "--json"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json doc = nlohmann::json::parse(run.out);
+  ASSERT_EQ(doc["triangles"], 768);
+  ASSERT_EQ(doc["levels"].size(), 3u);
+  for (const nlohmann::json& level : doc["levels"]) {
+    const double target = level["ratio"].get<double>() * 768;
+    EXPECT_NEAR(level["triangles"].get<double>(), target, 0.05 * target);
+    EXPECT_TRUE(level["warning"].is_null()) << level["warning"];
+  }
 }
 
 // Guards the readable table: bind and animated errors, no warning where the ratio is reached.

@@ -13,9 +13,9 @@ namespace mlod {
 
 Error MeshLodSettings::validate() const {
   const ProgressiveMeshSettings& s = simplification;
-  for (double weight : {s.borderWeight, s.seamWeight, s.skinWeight})
+  for (double weight : {s.borderWeight, s.seamWeight, s.skinWeight, s.moveWeight})
     if (!std::isfinite(weight) || weight < 0.0)
-      return Error("mesh LOD: the border, seam and skin weights must be finite and >= 0");
+      return Error("mesh LOD: the border, seam, skin and move weights must be finite and >= 0");
   if (!std::isfinite(samplingSpacingCm) || samplingSpacingCm < 0.0)
     return Error("mesh LOD: the sampling spacing must be finite and >= 0 cm");
   if (simplifyPoses < 0 || measurePoses < 0)
@@ -291,7 +291,8 @@ MeshLodLevel MeshLod::levelForErrorAmong(double maxErrorCm, std::span<const doub
   const std::size_t total = m_progressive.triangleCount();
   const auto collapsesOf = [&](double ratio) {
     assert(ratio > 0.0 && ratio <= 1.0);
-    return m_progressive.collapsesFor(std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(ratio * double(total)))));
+    return m_progressive.collapsesFor(
+        std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(ratio * double(total)))));
   };
   // note: bisection over the candidates (the error grows as the ratio falls, if not
   // strictly): the largest index that fits, in about log2(n) measurements

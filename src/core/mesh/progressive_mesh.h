@@ -40,11 +40,20 @@
 // skinWeight x (1 - sum_j min(w_u[j], w_v[j])) x area(u) x |u - v|^2 (the weight mass that
 // changes bone, times the quadric scale), so bones keep their own vertices. Per-vertex
 // importance (the joints' mesh importance, weighted by the skin) scales the vertex's
-// quadrics, and so the cost of removing it and of everything later merged into it.
+// quadrics, and so the cost of removing it and of everything later merged into it. A small
+// move term, moveWeight x area(u) x |u - v|^2, ranks collapses the quadrics see as free.
 //
-// The collapses run greedily by cost (a priority queue, re-ranked around each collapse)
-// until none is allowed; the first k give a mesh for any k, so one build serves every
-// triangle count down to minTriangleCount().
+// A closed component cannot collapse below a tetrahedron, so a mesh of many small closed
+// parts (64 cubes) stops far above 10% by collapses alone. A step may also *prune* a whole
+// connected component (after meshoptimizer's prune option), costed in the same metric: sum
+// over poses of its quadrics' area weight times its radius squared in that pose (what moving
+// all its vertices that far costs). Prunings rank in the second tier with the attribute
+// collapses; a component with a locked vertex or a degenerate triangle is never pruned, nor
+// the last one with triangles.
+//
+// The steps run greedily by cost (a priority queue, re-ranked around each collapse) until
+// none is allowed; the first k give a mesh for any k, so one build serves every triangle
+// count down to minTriangleCount().
 
 #include "core/skinned_mesh.h"
 
@@ -64,6 +73,10 @@ struct ProgressiveMeshSettings {
   double seamWeight = 1.0;
   // Weight of the skin term (>= 0; 0 = geometry alone).
   double skinWeight = 1.0;
+  // Weight of the move term (>= 0): moveWeight x area(u) x |u - v|^2, the distance a
+  // collapse moves u in the bind pose, so that collapses the quadrics see as free (along a
+  // ridge) still rank by how far they move the surface.
+  double moveWeight = 0.01;
 };
 
 // Triangles of one level, in the original triangle order.
@@ -92,7 +105,7 @@ public:
   // The quadric cost of collapse k (0-based), in the sum over poses of cm^2 x cm^2 (area
   // times squared distance): for ordering, not a distance.
   double costOf(std::size_t collapse) const { return m_collapses[collapse].cost; }
-  // Collapses before the first attribute collapse (collapseCount() when there is none).
+  // Collapses before the first attribute collapse or pruning (collapseCount() when there is none).
   std::size_t cleanCollapseCount() const { return m_cleanCollapses; }
 
   // Per vertex: its welded vertex (the lowest vertex index at the same position with the same
@@ -107,9 +120,12 @@ public:
   MeshLevelIndices level(std::size_t collapses) const;
 
 private:
+  // One step: a collapse (wedges moved), or a component's pruning (triangles removed).
   struct Collapse {
     std::uint32_t firstWedge = 0; // into m_from / m_to: the wedges that disappear, and what each becomes
     std::uint32_t wedgeCount = 0;
+    std::uint32_t firstPruned = 0; // into m_pruned: the triangles a pruning removes
+    std::uint32_t prunedCount = 0;
     double cost = 0.0;
   };
   friend class ProgressiveMeshBuilder;
@@ -122,6 +138,7 @@ private:
   std::size_t m_triangleCount = 0;
   std::vector<Collapse> m_collapses;
   std::vector<std::uint32_t> m_from, m_to;
+  std::vector<std::uint32_t> m_pruned;
   std::size_t m_cleanCollapses = 0;
   std::vector<std::size_t> m_trianglesAfter; // [k]: triangles after k collapses, k = 0 .. collapseCount()
 };

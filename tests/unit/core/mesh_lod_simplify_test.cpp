@@ -8,6 +8,7 @@
 #include "core/mesh/surface_distance.h"
 #include "unit/core/mesh_lod_fixtures.h"
 
+#include <algorithm>
 #include <cmath>
 #include <gtest/gtest.h>
 #include <map>
@@ -148,6 +149,47 @@ TEST(MeshLodTube, RatiosReachTheirTriangleCountsWithinFivePercent) {
   ASSERT_EQ(tube.mesh.triangleCount(), 1280u);
   for (double ratio : {0.75, 0.5, 0.25, 0.1})
     expectReached(*lod, ratio, "tube");
+}
+
+// Guards component pruning: a small tube beside a large one (one mesh, two components) goes
+// whole when that is the cheapest step, in one step, leaving no part of it; the large one,
+// the last component, is never pruned; every level stays valid.
+TEST(MeshLodTube, SmallComponentsArePrunedWholeAndTheLastIsKept) {
+  const test::Tube big = test::makeTube(21, 12, 2.0f);
+  const test::Tube small = test::makeTube(5, 6, 0.5f);
+  SkinnedMesh mesh = big.mesh;
+  const auto offset = static_cast<std::uint32_t>(mesh.vertexCount());
+  for (std::size_t v = 0; v < small.mesh.vertexCount(); ++v) {
+    mesh.positions.push_back(small.mesh.positions[v] * 0.5f + glm::vec3(30.0f, 0.0f, 0.0f));
+    mesh.normals.push_back(small.mesh.normals[v]);
+    mesh.uvs.push_back(small.mesh.uvs[v]);
+    mesh.joints.push_back(small.mesh.joints[v]);
+    mesh.weights.push_back(small.mesh.weights[v]);
+  }
+  for (std::uint32_t i : small.mesh.indices)
+    mesh.indices.push_back(i + offset);
+  mesh.parts.front().indexCount = static_cast<std::uint32_t>(mesh.indices.size());
+  Result<MeshLod> lod = MeshLod::build(mesh);
+  ASSERT_TRUE(lod) << lod.message();
+  const ProgressiveMesh& pm = lod->progressive();
+  const MeshLevelIndices last = pm.level(pm.collapseCount());
+  ASSERT_GT(last.triangles.size(), 0u) << "the last component is kept";
+  EXPECT_TRUE(std::all_of(last.indices.begin(), last.indices.end(), [&](std::uint32_t v) { return v < offset; }))
+      << "the small tube is pruned";
+  // one step removes what was left of the small tube, nothing of the large one
+  int prunings = 0;
+  for (std::size_t k = 0; k < pm.collapseCount(); ++k) {
+    const MeshLevelIndices before = pm.level(k), after = pm.level(k + 1);
+    const auto smallCount = [&](const MeshLevelIndices& level) {
+      return std::count_if(level.indices.begin(), level.indices.end(), [&](std::uint32_t v) { return v >= offset; });
+    };
+    if (smallCount(before) > 0 && smallCount(after) == 0) {
+      ++prunings;
+      EXPECT_EQ(before.triangles.size() - after.triangles.size(), std::size_t(smallCount(before) / 3));
+      expectValidLevel(*lod, lod->levelAt(k + 1), "after the pruning");
+    }
+  }
+  EXPECT_EQ(prunings, 1);
 }
 
 // Guards the seam rule: collapses along the UV seam move both sides at once, each onto its
