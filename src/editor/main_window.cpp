@@ -1,5 +1,6 @@
 #include "editor/main_window.h"
 
+#include "core/lod/lod_levels.h"
 #include "core/project.h"
 #include "core/version.h"
 #include "editor/charts/statistics_view.h"
@@ -285,13 +286,10 @@ void MainWindow::refreshAssetUnitMenu() {
 
 void MainWindow::offerToRegenerateDistances() {
   // Switch distances and pixel errors are lengths measured at the old unit: stale now.
-  const LodSet& lods = m_document->project().lods;
-  double pixels = 0.0;
-  for (const LodLevel& level : lods.levels)
-    if (level.switchDistanceCm > 0.0 && pixels <= 0.0)
-      pixels = level.pixelError > 0.0 ? level.pixelError : 1.0;
-  if (pixels <= 0.0)
+  const std::optional<double> budget = switchDistancePixelBudget(m_document->project().lods);
+  if (!budget)
     return; // no distances yet: nothing went stale
+  const double pixels = *budget;
   log(tr("The switch distances were computed at the old unit and are stale: regenerate them (Budget…)."));
   auto* box = new QMessageBox(QMessageBox::Question, tr("Switch distances are stale"),
                               tr("The LOD levels' switch distances were computed at the old unit."),

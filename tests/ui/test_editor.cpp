@@ -1021,6 +1021,38 @@ private slots:
     QVERIFY(figuresOf(*document) == before);
   }
 
+  // Switch distances generated at one unit are stale at another: the studio offers to
+  // generate them again from the budget they were made for (switchDistancePixelBudget()),
+  // and Regenerate does.
+  void aNewUnitOffersToRegenerateStaleDistances() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QSignalSpy finished(document->levelGenerator(), &LevelGenerator::finished);
+    QVERIFY(window->generateLevels(2.0, 3));
+    QVERIFY(finished.wait(120000));
+    QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
+    QVERIFY(waitForFigures(document));
+    const double distance = document->project().lods.levels[2].switchDistanceCm;
+    QVERIFY(distance > 0.0);
+    QSignalSpy changed(document, &Document::unitScaleChanged);
+    document->setAssetUnitScale(0, 1.0); // the sample is in CMU units (5.6444 cm): 5.6 x smaller
+    QVERIFY(changed.wait(60000));
+    QVERIFY(changed.first()[0].toBool());
+    auto* box = window->findChild<QMessageBox*>("staleDistancesBox");
+    QVERIFY(box);
+    QVERIFY2(box->informativeText().contains("2 px, 3 levels"), qPrintable(box->informativeText()));
+    QVERIFY(window->logText().contains("stale"));
+    finished.clear();
+    QTest::mouseClick(box->findChild<QPushButton*>("regenerateButton"), Qt::LeftButton);
+    QVERIFY(finished.wait(120000));
+    QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
+    const double regenerated = document->project().lods.levels[2].switchDistanceCm;
+    QVERIFY2(regenerated > 0.0 && regenerated < 0.5 * distance,
+             qPrintable(QStringLiteral("%1 cm at 5.6444 cm per unit, %2 cm at 1").arg(distance).arg(regenerated)));
+    QVERIFY(waitForFigures(document));
+  }
+
   // Removing an asset is undoable; the Assets dock counts what is there.
   void removeAssetAndUndo() {
     auto window = openSample();

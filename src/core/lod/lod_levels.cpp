@@ -70,6 +70,13 @@ double nextLodLevelThreshold(const LodSet& lods) {
   return last <= 0.0 ? 5.0 : last * 2.0;
 }
 
+std::optional<double> switchDistancePixelBudget(const LodSet& lods) {
+  for (const LodLevel& level : lods.levels)
+    if (level.switchDistanceCm > 0.0)
+      return level.pixelError > 0.0 ? level.pixelError : 1.0;
+  return std::nullopt;
+}
+
 Result<LodSetEdit> addLodLevel(const LodSet& lods, double threshold) {
   assert(!lods.levels.empty());
   if (Error error = validateThreshold(threshold))

@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "core/lod/lod_set.h"
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -54,6 +55,12 @@ Result<LodSetEdit> setLodLevelThreshold(const LodSet& lods, int level, double th
 Result<LodSetEdit> renameLodLevel(const LodSet& lods, int level, std::string_view name);
 Result<LodSetEdit> setLodLevelMeshRatio(const LodSet& lods, int level, double ratio);
 Result<LodSetEdit> setLodLevelSwitchDistance(const LodSet& lods, int level, double cm);
+
+// The pixel budget the set's switch distances were generated for (LodSet::fromPixelBudget()),
+// to generate them again from the same budget (after a new unit made them stale): the pixel
+// error of the first level with a switch distance, 1 px where that level stores none (a set
+// from before pixel errors were kept); none when no level has a switch distance yet.
+std::optional<double> switchDistancePixelBudget(const LodSet& lods);
 
 // `generated` replacing `before` (LodSet::fromPixelBudget()): level i keeps level i's
 // overrides where `before` had a level i.

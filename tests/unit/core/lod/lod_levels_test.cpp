@@ -178,6 +178,21 @@ TEST(LodLevels, SwitchDistancesPushLaterLevelsOutward) {
 }
 
 // Guards a generated set replacing the levels: overrides stay by index where a level was.
+// Guards the budget a unit change regenerates from: the first level with a switch distance
+// says it (1 px where it stores none); without distances there is nothing to regenerate.
+TEST(LodLevels, SwitchDistancePixelBudgetIsTheFirstDistancedLevels) {
+  LodSet lods = sampleSet();
+  EXPECT_EQ(switchDistancePixelBudget(lods), 1.0); // distances without stored pixel errors
+  lods.levels[1].pixelError = 2.5;
+  lods.levels[2].pixelError = 7.0;
+  EXPECT_EQ(switchDistancePixelBudget(lods), 2.5);
+  lods.levels[1].switchDistanceCm = 0.0;
+  EXPECT_EQ(switchDistancePixelBudget(lods), 7.0);
+  for (LodLevel& l : lods.levels)
+    l.switchDistanceCm = 0.0;
+  EXPECT_FALSE(switchDistancePixelBudget(lods));
+}
+
 TEST(LodLevels, ReplacedLevelsKeepOverridesByIndex) {
   LodSet generated = sampleSet();
   generated.levels.push_back(level("LOD4", 500.0, 0.1, 8000.0));
