@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <optional>
 #include <set>
+#include <span>
 
 namespace mlod {
 
@@ -21,6 +24,31 @@ const SkinnedMesh* characterMesh(const Asset& asset) {
 bool hasThresholdOverrides(const JpcSettings& settings) {
   return std::any_of(settings.joints.begin(), settings.joints.end(),
                      [](const auto& entry) { return !entry.second.thresholds.empty(); });
+}
+
+// The mesh ratio of each level 1 .. levels - 1 (docs/architecture.md section 5): spread
+// evenly in log scale from the original down to the smallest candidate, each snapped to the
+// nearest candidate below the previous level's, so the far levels are the coarse ones (4
+// levels of the default candidates: 0.5, 0.2, 0.1). Where the candidates run out, the last
+// is repeated.
+std::vector<double> levelRatios(std::span<const double> candidates, int levels) {
+  std::vector<double> out;
+  if (candidates.empty() || levels < 2)
+    return out;
+  const double coarsest = candidates.back();
+  double previous = 1.0;
+  for (int i = 1; i < levels; ++i) {
+    const double aim = std::pow(coarsest, double(i) / double(levels - 1));
+    double best = 0.0, bestDistance = std::numeric_limits<double>::max();
+    for (double candidate : candidates)
+      if (candidate < previous && std::fabs(std::log(candidate / aim)) < bestDistance)
+        best = candidate, bestDistance = std::fabs(std::log(candidate / aim));
+    if (best == 0.0)
+      best = coarsest;
+    out.push_back(best);
+    previous = best;
+  }
+  return out;
 }
 
 // Levels for a character that plays no clip (or a mesh without a skeleton): the mesh alone,
@@ -49,19 +77,18 @@ Result<LodSet> meshOnly(const Asset& asset, double pixels, int levels, const Lod
   original.activeJoints = asset.skeleton.jointCount();
   out.levels.push_back(original);
   double previousDistance = 0.0;
+  const std::vector<double> ratios = levelRatios(options.meshRatios, levels);
   for (int i = 1; i < levels; ++i) {
-    const double aimedSize = options.projection.viewportHeightPixels / std::pow(2.0, i);
-    const double aimedDistance = distanceForScreenSize(out.boundingRadiusCm, aimedSize, options.projection);
-    const MeshLodLevel level = lod->levelForErrorAmong(
-        deviationForPixels(pixels, aimedDistance, out.boundingRadiusCm, options.projection), options.meshRatios);
+    const MeshLodLevel level = lod->levelForRatio(ratios[std::size_t(i - 1)]);
     LodLevel entry = original;
     entry.name = "LOD" + std::to_string(i);
     entry.meshRatio = double(level.triangles()) / double(mesh->triangleCount());
     entry.meshErrorCm = level.maxErrorCm;
     entry.triangles = static_cast<int>(level.triangles());
-    entry.switchDistanceCm =
-        std::max(previousDistance, distanceForPixels(entry.deviationCm(), pixels, out.boundingRadiusCm, options.projection));
-    entry.pixelError = deviationPixels(entry.deviationCm(), entry.switchDistanceCm, out.boundingRadiusCm, options.projection);
+    entry.switchDistanceCm = std::max(
+        previousDistance, distanceForPixels(entry.deviationCm(), pixels, out.boundingRadiusCm, options.projection));
+    entry.pixelError =
+        deviationPixels(entry.deviationCm(), entry.switchDistanceCm, out.boundingRadiusCm, options.projection);
     entry.screenSizePixels = screenSizePixels(out.boundingRadiusCm, entry.switchDistanceCm, options.projection);
     out.levels.push_back(entry);
     previousDistance = entry.switchDistanceCm;
@@ -114,11 +141,34 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
   const bool perLevel = hasThresholdOverrides(options.jpc);
   std::map<std::pair<int, double>, LevelMotion> motions; // by (level for overrides, threshold)
   double previousThreshold = 0.0, previousDistance = 0.0;
+  // note: with a mesh, the mesh leads (docs/architecture.md section 5): each level's ratio
+  // comes from levelRatios(), its error is measured on the full motion's mesh LOD, and the
+  // motion takes the largest threshold whose error stays within motionShare of the level's
+  // deviation (mesh error / (1 - motionShare)); the level then switches where what it
+  // measures, motion and mesh rebound to its skeleton, spans N pixels. Without a mesh each
+  // level aims where the character is height / 2^i pixels tall.
+  const std::vector<double> ratios = levelRatios(options.meshRatios, levels);
+  std::optional<MeshLod> fullMotionMesh;
+  if (character->mesh()) {
+    Result<LevelMotion> full = character->motionAt(0.0);
+    if (!full)
+      return full.error();
+    Result<MeshLod> lod = character->meshLodFor(*full);
+    if (!lod)
+      return lod.error();
+    fullMotionMesh.emplace(std::move(lod).value());
+  }
   for (int i = 1; i < levels; ++i) {
-    // the level's aim: the character at height / 2^i pixels, and the deviation N pixels allow there
-    const double aimedSize = options.projection.viewportHeightPixels / std::pow(2.0, i);
-    const double aimedDistance = distanceForScreenSize(radius, aimedSize, options.projection);
-    const double budget = deviationForPixels(pixels, aimedDistance, radius, options.projection);
+    double budget = 0.0;
+    if (fullMotionMesh) {
+      const double meshErrorCm = fullMotionMesh->levelForRatio(ratios[std::size_t(i - 1)]).maxErrorCm;
+      budget = meshErrorCm / std::max(1.0 - options.motionShare, 0.05);
+    } else {
+      // the level's aim: the character at height / 2^i pixels, and the deviation N pixels allow there
+      const double aimedSize = options.projection.viewportHeightPixels / std::pow(2.0, i);
+      const double aimedDistance = distanceForScreenSize(radius, aimedSize, options.projection);
+      budget = deviationForPixels(pixels, aimedDistance, radius, options.projection);
+    }
 
     Error failed;
     const auto motionAt = [&](double threshold) -> const LevelMotion* { // computed once per (level, E)
@@ -186,12 +236,13 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
       Result<MeshLod> lod = character->meshLodFor(*chosen);
       if (!lod)
         return lod.error();
-      const MeshLodLevel mesh = lod->levelForErrorAmong(std::max(0.0, budget - chosen->motionErrorCm), options.meshRatios);
+      const MeshLodLevel mesh = lod->levelForRatio(ratios[std::size_t(i - 1)]);
       level.meshRatio = double(mesh.triangles()) / double(lod->original().triangleCount());
       level.meshErrorCm = mesh.maxErrorCm;
       level.triangles = static_cast<int>(mesh.triangles());
     }
-    const double distance = std::max(previousDistance, distanceForPixels(level.deviationCm(), pixels, radius, options.projection));
+    const double distance =
+        std::max(previousDistance, distanceForPixels(level.deviationCm(), pixels, radius, options.projection));
     level.switchDistanceCm = distance;
     level.pixelError = deviationPixels(level.deviationCm(), distance, radius, options.projection);
     level.screenSizePixels = screenSizePixels(radius, distance, options.projection);

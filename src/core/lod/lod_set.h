@@ -4,17 +4,20 @@
 // used, under the projection its pixel figures assume. Level 0 is the original.
 //
 // One error budget (docs/architecture.md section 5): fromPixelBudget() generates the levels so that
-// each stays within N pixels on screen. Level i (i >= 1) is aimed at the distance where the
-// character's bounding sphere covers height / 2^i pixels (half the screen, a quarter ...);
-// there N pixels allow a deviation delta_i (error_budget.h). The motion takes the largest
-// candidate threshold whose motion error stays within motionShare x delta_i (bone reduction
-// included, lod_character.h; where that would repeat the previous level's threshold, the
-// largest whole threshold below the first candidate that misses), the mesh the smallest of
-// the candidate ratios (down to 10%) whose measured error (bind pose and animated frames the
-// simplification did not see, mesh_lod.h) fits in what is left, on the level's own rebound mesh. The level then switches in at the
-// smallest distance where its measured deviation (motion + mesh error) spans at most N
-// pixels: never nearer than the previous level's. Every figure stays editable; validate()
-// checks an edited set.
+// each stays within N pixels on screen, its switch distance coming from what it measures.
+// With a mesh, the mesh leads: level i's ratio is spread in log scale from 1 down to the
+// smallest candidate ratio (4 levels: 50%, 20%, 10%), so the far levels are the coarse ones;
+// the ratio's measured mesh error (bind pose and animated frames the simplification did not
+// see, mesh_lod.h) sets the level's deviation delta_i = mesh error / (1 - motionShare), and
+// the motion takes the largest candidate threshold whose motion error stays within
+// motionShare x delta_i (bone reduction included, lod_character.h; where that would repeat
+// the previous level's threshold, the largest whole threshold below the first candidate that
+// misses). Without a mesh, level i is aimed at the distance where the character's bounding
+// sphere covers height / 2^i pixels (half the screen, a quarter ...), where N pixels allow a
+// deviation delta_i (error_budget.h) for the motion. Either way the level switches in at the
+// smallest distance where its measured deviation (motion + the mesh error of its own
+// rebound mesh) spans at most N pixels: never nearer than the previous level's. Every
+// figure stays editable; validate() checks an edited set.
 //
 // Units: thresholds in cm·degrees, lengths and errors in cm, sizes and errors on screen in
 // pixels.
@@ -34,8 +37,8 @@ namespace mlod {
 
 struct LodLevel {
   std::string name;
-  double motionThreshold = 0.0; // E, cm·degrees; 0 at level 0
-  double meshRatio = 1.0;       // triangles kept, (0, 1]
+  double motionThreshold = 0.0;  // E, cm·degrees; 0 at level 0
+  double meshRatio = 1.0;        // triangles kept, (0, 1]
   double switchDistanceCm = 0.0; // the level is used from this camera distance on; 0 at level 0
   double pixelError = 0.0;       // the most its deviation spans on screen from the switch distance on, px
   double screenSizePixels = 0.0; // the character's projected height at the switch distance (0 at level 0)
@@ -59,7 +62,7 @@ struct LodBudgetOptions {
   // The thresholds tried for the motion (cm·degrees, ascending): the paper's Table 1 values and
   // the steps between.
   std::vector<double> thresholds = {0.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 300.0, 500.0, 1000.0};
-  // The mesh ratios tried for each level (falling, each in (0, 1]).
+  // The mesh ratios the levels take (falling, each in (0, 1]; the last is the coarsest level's).
   std::vector<double> meshRatios = {0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.25, 0.2, 0.15, 0.1};
 };
 
@@ -74,8 +77,7 @@ public:
   // the asset's clips and options.clips. Without a clip (or a skeleton) the levels are the
   // mesh's alone, measured in its bind pose. Errors: an asset with neither a clip nor a
   // mesh, bad options.
-  static Result<LodSet> fromPixelBudget(const Asset& asset, double pixels, int levels,
-                                        const LodBudgetOptions& options);
+  static Result<LodSet> fromPixelBudget(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options);
   // With the default options (the asset's own clips, default JPC and mesh settings).
   static Result<LodSet> fromPixelBudget(const Asset& asset, double pixels, int levels);
 

@@ -10,9 +10,8 @@
 #include "runtime/lod_selection.h"
 #include "unit/core/mesh_lod_fixtures.h"
 
-#include <gtest/gtest.h>
-
 #include <cmath>
+#include <gtest/gtest.h>
 #include <iostream>
 #include <numbers>
 
@@ -51,7 +50,8 @@ TEST(ErrorBudget, PixelsFallWithDistanceAndTheInversesAgree) {
 struct Camera {
   glm::dvec3 eye, right, up, forward;
   double focal;
-  Camera(const glm::dvec3& target, const glm::dvec3& direction, double distance, double focalPixels) : focal(focalPixels) {
+  Camera(const glm::dvec3& target, const glm::dvec3& direction, double distance, double focalPixels)
+      : focal(focalPixels) {
     const glm::dvec3 back = glm::normalize(direction);
     eye = target + back * distance;
     forward = -back;
@@ -104,9 +104,9 @@ protected:
     for (const LodLevel& level : s_set->levels)
       std::cout << "[ level    ] " << level.name << ": E " << level.motionThreshold << ", mesh ratio "
                 << level.meshRatio << " (" << level.triangles << " triangles), " << level.activeJoints
-                << " joints, motion " << level.motionErrorCm << " cm + mesh " << level.meshErrorCm
-                << " cm, from " << level.switchDistanceCm << " cm (" << level.screenSizePixels << " px high), "
-                << level.pixelError << " px" << std::endl;
+                << " joints, motion " << level.motionErrorCm << " cm + mesh " << level.meshErrorCm << " cm, from "
+                << level.switchDistanceCm << " cm (" << level.screenSizePixels << " px high), " << level.pixelError
+                << " px" << std::endl;
   }
   static void TearDownTestSuite() { delete s_set; }
   static LodSet* s_set;
@@ -134,6 +134,35 @@ TEST_F(PixelBudget, GeneratesAValidSetOfCoarseningLevels) {
   EXPECT_TRUE(set.levels.back().meshRatio < 1.0 || set.levels.back().motionThreshold > 0.0);
 }
 
+// Guards the mesh-led rule (issue 14): the far levels are the coarse ones (the ratios spread
+// in log scale down to the smallest candidate: 50%, 20%, 10% for four levels; the far level
+// kept 50% before), each coarser level switches strictly farther, and each level's measured
+// deviation (motion + mesh) spans at most the budget at its switch distance and the full
+// budget only there: a level never switches nearer than its error allows, nor farther.
+TEST_F(PixelBudget, CoarserLevelsSwitchFartherWhereTheirMeasuredErrorFitsTheBudget) {
+  const LodSet& set = *s_set;
+  const int total = set.levels.front().triangles;
+  const double expected[] = {1.0, 0.5, 0.2, 0.1};
+  for (std::size_t i = 1; i < set.levels.size(); ++i) {
+    const LodLevel& level = set.levels[i];
+    const LodLevel& finer = set.levels[i - 1];
+    SCOPED_TRACE(level.name);
+    EXPECT_NEAR(double(level.triangles) / total, expected[i], 0.05 * expected[i]);
+    EXPECT_NEAR(level.meshRatio, double(level.triangles) / total, 1e-12);
+    EXPECT_LT(level.triangles, finer.triangles);
+    EXPECT_GT(level.meshErrorCm, finer.meshErrorCm);
+    EXPECT_GT(level.switchDistanceCm, finer.switchDistanceCm);
+    EXPECT_LE(deviationPixels(level.deviationCm(), level.switchDistanceCm, set.boundingRadiusCm, set.projection),
+              1.0 + 1e-9);
+    // the switch distance is where the deviation spans the budget, not a nearer or farther guess
+    EXPECT_NEAR(level.switchDistanceCm,
+                distanceForPixels(level.deviationCm(), 1.0, set.boundingRadiusCm, set.projection),
+                1e-6 * level.switchDistanceCm);
+    // motion within its share (0.5) of a deviation the mesh error sets on the full motion
+    EXPECT_GT(level.motionErrorCm, 0.0);
+  }
+}
+
 TEST_F(PixelBudget, ProjectedAtItsSwitchDistanceEveryLevelStaysWithinTheBudget) {
   // rebuild each level from its figures alone, then look at the original and the level
   // through cameras around the character at the switch distance, in the poses the level was
@@ -156,9 +185,10 @@ TEST_F(PixelBudget, ProjectedAtItsSwitchDistanceEveryLevelStaysWithinTheBudget) 
     for (const auto& [clip, frame] : lod->measureFrames()) {
       if (clip < 0)
         continue; // the bind pose is not a pose the character plays
-      const std::vector<glm::vec3> original = posedPositions(mesh, asset.skeleton, asset.clips.at(std::size_t(clip)), frame);
-      const std::vector<glm::vec3> shown = posedPositions(simplified.mesh, motion->bones.skeleton,
-                                                          motion->clips.at(std::size_t(clip)), frame);
+      const std::vector<glm::vec3> original =
+          posedPositions(mesh, asset.skeleton, asset.clips.at(std::size_t(clip)), frame);
+      const std::vector<glm::vec3> shown =
+          posedPositions(simplified.mesh, motion->bones.skeleton, motion->clips.at(std::size_t(clip)), frame);
       std::vector<glm::mat4> models;
       asset.clips.at(std::size_t(clip)).modelMatrices(asset.skeleton, frame, models);
       const glm::dvec3 root(models[0][3]);
@@ -168,8 +198,8 @@ TEST_F(PixelBudget, ProjectedAtItsSwitchDistanceEveryLevelStaysWithinTheBudget) 
         cameras.emplace_back(root, direction, level.switchDistanceCm, s_set->projection.focalPixels());
       worst = std::max(worst, screenDeviation(original, mesh.indices, shown, simplified.mesh.indices, cameras));
     }
-    std::cout << "[ project  ] " << level.name << ": at most " << worst << " px at " << level.switchDistanceCm
-              << " cm" << std::endl;
+    std::cout << "[ project  ] " << level.name << ": at most " << worst << " px at " << level.switchDistanceCm << " cm"
+              << std::endl;
     EXPECT_LE(worst, budget * (1.0 + 1e-6));
     EXPECT_GT(worst, 0.0);
   }
@@ -208,8 +238,8 @@ TEST(PixelBudgetSkeleton, LevelsDoNotRepeatWhenTheThresholdStepsAreCoarse) {
   ASSERT_EQ(set->levels.size(), 4u);
   for (std::size_t i = 1; i < set->levels.size(); ++i) {
     const LodLevel& level = set->levels[i];
-    std::cout << "[ level    ] " << level.name << ": E " << level.motionThreshold << ", motion "
-              << level.motionErrorCm << " cm, from " << level.switchDistanceCm << " cm" << std::endl;
+    std::cout << "[ level    ] " << level.name << ": E " << level.motionThreshold << ", motion " << level.motionErrorCm
+              << " cm, from " << level.switchDistanceCm << " cm" << std::endl;
     EXPECT_LE(level.pixelError, 1.0 + 1e-9);
     if (i >= 2) {
       EXPECT_GT(level.motionThreshold, set->levels[i - 1].motionThreshold) << level.name;
