@@ -325,6 +325,55 @@ private slots:
     QVERIFY(document->analysis()->levels[4].joints[std::size_t(joint)].clusters > 0);
   }
 
+  // Issue 14: the mesh importance of a character's joints is reached by selecting the
+  // character in the Assets dock; the Skeleton dock then lists its joints (not the first
+  // asset's), the "Mesh x" edit is one undo step on the character's joint settings, it
+  // survives save and reopen, and the character's JPC settings (what LOD generation reads)
+  // carry it.
+  void characterMeshImportanceFromTheAssetsDock() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QSignalSpy spy(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0);
+    QVERIFY(spy.wait(60000));
+    QCOMPARE(document->assetCount(), 2);
+    auto* tree = window->findChild<QTreeView*>("assetTree");
+    QVERIFY(tree);
+    tree->setCurrentIndex(window->assetModel()->index(0, 0)); // the motion first
+    QCOMPARE(document->currentAsset(), 0);
+    tree->setCurrentIndex(window->assetModel()->index(1, 0)); // then the character
+    QCOMPARE(document->currentAsset(), 1);
+    QVERIFY(waitForFigures(document));
+    const Skeleton& character = document->asset(1)->skeleton;
+    const int head = character.find("B_Jaw"); // a joint the sample motion does not have
+    QVERIFY(head >= 0);
+    QCOMPARE(document->asset(0)->skeleton.find("B_Jaw"), -1);
+    const QModelIndex cell = window->jointModel()->indexOfJoint(head, JointTreeModel::ImportanceColumn);
+    QVERIFY(cell.isValid());
+    QCOMPARE(window->jointModel()->indexOfJoint(head, JointTreeModel::NameColumn).data().toString(), QString("B_Jaw"));
+    QVERIFY(cell.flags() & Qt::ItemIsEditable);
+    QCOMPARE(window->skeletonView()->model(), window->jointModel());
+    QVERIFY(!window->skeletonView()->isColumnHidden(JointTreeModel::ImportanceColumn));
+    const int steps = document->undoStack()->count();
+    QVERIFY(window->jointModel()->setData(cell, 3.0, Qt::EditRole));
+    QCOMPARE(document->undoStack()->count(), steps + 1);
+    QCOMPARE(document->project().assets[1].joints.at("B_Jaw").meshImportance, 3.0);
+    QVERIFY(!document->project().assets[0].joints.count("B_Jaw"));
+    QCOMPARE(document->project().jpcSettings(1, document->asset(1)->unitScale).meshImportanceFor("B_Jaw"), 3.0);
+    document->undoStack()->undo();
+    QVERIFY(!document->project().assets[1].joints.count("B_Jaw"));
+    document->undoStack()->redo();
+    QCOMPARE(cell.data(Qt::EditRole).toDouble(), 3.0);
+    QTemporaryDir dir;
+    QVERIFY(window->saveProject(dir.filePath("importance.mlod")));
+    MainWindow reopened;
+    QSignalSpy opened(reopened.document(), &Document::projectOpened);
+    QVERIFY(reopened.openProject(dir.filePath("importance.mlod")));
+    QVERIFY(opened.wait(60000));
+    QCOMPARE(reopened.document()->project().assets[1].joints.at("B_Jaw").meshImportance, 3.0);
+  }
+
   // The Skeleton dock's mesh importance column: an edit is one undo step saved in the
   // project's joint settings, another joint's edit keeps it, undo takes it back.
   void meshImportanceIsAnUndoableJointSetting() {
