@@ -164,7 +164,8 @@ if [ "$cheap" -eq 0 ]; then
   doc_mib() { # ROW COLUMN: the MiB documented in the memory table's row, column 3 or 4
     grep -F -- "| $1 |" docs/user-guide.md | head -1 | awk -F' [|] ' -v c="$2" '{ sub(/ MiB.*/, "", $c); print $c }'
   }
-  for row in "sample excerpt (480 frames)|" "50,000 frames (36 MiB BVH)|50000" "200,000 frames (143 MiB BVH)|200000"; do
+  for row in "sample excerpt (480 frames)|" "50,000 frames (36 MiB BVH)|50000" "100,000 frames (72 MiB BVH)|100000" \
+             "200,000 frames (143 MiB BVH)|200000"; do
     text=${row%%|*}
     frames=${row#*|}
     input=$sample

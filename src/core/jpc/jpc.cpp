@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <thread>
 
 namespace mlod {
 
@@ -40,7 +41,8 @@ JointClustering clusterJoint(const JointTrack& track, double threshold, JpcMode 
   return out;
 }
 
-Result<JpcClip> JpcClip::prepare(const Skeleton& skeleton, const Clip& clip, const JpcSettings& settings) {
+Result<JpcClip> JpcClip::prepare(const Skeleton& skeleton, const Clip& clip, const JpcSettings& settings,
+                                 JpcTracks tracks) {
   if (Error error = skeleton.validate())
     return Error("the skeleton is invalid: " + error.message());
   if (Error error = clip.validate(skeleton))
@@ -50,19 +52,20 @@ Result<JpcClip> JpcClip::prepare(const Skeleton& skeleton, const Clip& clip, con
   JpcClip out;
   out.m_settings = settings;
   out.m_frameCount = clip.frameCount;
-  const std::vector<JointGeometry> geometry = jointGeometry(skeleton, settings.zeroLength);
+  out.m_clip = &clip;
+  std::vector<JointGeometry> geometry = jointGeometry(skeleton, settings.zeroLength);
   out.m_joints.resize(static_cast<std::size_t>(skeleton.jointCount()));
   for (int j = 0; j < skeleton.jointCount(); ++j) {
     JointEntry& entry = out.m_joints[static_cast<std::size_t>(j)];
     entry.name = skeleton.joints[static_cast<std::size_t>(j)].name;
     entry.clusterable = clip.hasRotation[static_cast<std::size_t>(j)] != 0;
     entry.locked = settings.lockedFor(entry.name);
-    if (entry.clusterable && !entry.locked) {
-      const std::span<const glm::quat> rotations(&clip.rotations[clip.index(j, 0)],
-                                                 static_cast<std::size_t>(clip.frameCount));
-      entry.track = JointTrack(geometry[static_cast<std::size_t>(j)], settings.alphaFor(entry.name), rotations);
-    }
+    entry.geometry = std::move(geometry[static_cast<std::size_t>(j)]);
+    if (tracks == JpcTracks::Kept && entry.clusterable && !entry.locked)
+      entry.track = out.buildTrack(j);
   }
+  if (tracks == JpcTracks::Kept)
+    out.m_clip = nullptr;
   return out;
 }
 
@@ -72,8 +75,25 @@ int JpcClip::clusterableCount() const {
 }
 
 const JointTrack& JpcClip::track(int joint) const {
-  assert(clusterable(joint) && !locked(joint));
+  assert(clusterable(joint) && !locked(joint) && tracksKept());
   return m_joints[static_cast<std::size_t>(joint)].track;
+}
+
+JointTrack JpcClip::buildTrack(int joint) const {
+  assert(clusterable(joint) && !locked(joint));
+  const JointEntry& entry = m_joints[static_cast<std::size_t>(joint)];
+  if (!m_clip)
+    return entry.track;
+  const std::span<const glm::quat> rotations(&m_clip->rotations[m_clip->index(joint, 0)],
+                                             static_cast<std::size_t>(m_frameCount));
+  return JointTrack(entry.geometry, m_settings.alphaFor(entry.name), rotations);
+}
+
+std::size_t JpcClip::trackBytes(int joint) const {
+  if (!clusterable(joint) || locked(joint))
+    return 0;
+  return JointTrack::bytesFor(m_frameCount,
+                              static_cast<int>(m_joints[static_cast<std::size_t>(joint)].geometry.directions.size()));
 }
 
 double JpcClip::threshold(int joint, int level, double levelThreshold) const {
@@ -83,7 +103,24 @@ double JpcClip::threshold(int joint, int level, double levelThreshold) const {
 JointClustering JpcClip::clusterJoint(int joint, int level, double levelThreshold) const {
   if (!clusterable(joint) || locked(joint))
     return {};
-  return mlod::clusterJoint(track(joint), threshold(joint, level, levelThreshold), m_settings.mode);
+  const double jointThreshold = threshold(joint, level, levelThreshold);
+  if (tracksKept())
+    return mlod::clusterJoint(track(joint), jointThreshold, m_settings.mode);
+  return mlod::clusterJoint(buildTrack(joint), jointThreshold, m_settings.mode);
+}
+
+std::vector<JointClustering> JpcClip::clusterJointLevels(int joint, std::span<const double> levelThresholds) const {
+  std::vector<JointClustering> out(levelThresholds.size());
+  if (!clusterable(joint) || locked(joint))
+    return out;
+  JointTrack built;
+  if (!tracksKept())
+    built = buildTrack(joint);
+  const JointTrack& jointTrack = tracksKept() ? track(joint) : built;
+  for (std::size_t level = 0; level < levelThresholds.size(); ++level)
+    out[level] = mlod::clusterJoint(jointTrack, threshold(joint, static_cast<int>(level), levelThresholds[level]),
+                                    m_settings.mode);
+  return out;
 }
 
 std::vector<JointClustering> JpcClip::cluster(int level, double levelThreshold, int threads) const {
@@ -126,6 +163,31 @@ JpcLevelResult measureLevel(const JpcClip& prepared, const Skeleton& skeleton, c
   return out;
 }
 
+namespace {
+// The clustering's working buffers besides the track, per frame, at most: the table's
+// step bound, ends and starts (16 bytes), the optimal mode's best covers and choices (12)
+// and a key posture over a cluster as long as the clip (pivot errors, bounds, sort order
+// and prefix sums: 7 x 8 bytes; 8 landmark rows and the nearest: 36; survivors: 16).
+constexpr std::size_t kClusteringBytesPerFrame = 160;
+
+// Threads for simplifyClip(): as many joints at once as their working buffers fit in the
+// larger of kSimplifyWorkingBytes and half the decoded clip.
+int clusteringThreads(const JpcClip& jpc, const Clip& clip, int threads) {
+  if (threads <= 0)
+    threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::size_t largest = 0;
+  for (int j = 0; j < jpc.jointCount(); ++j)
+    largest = std::max(largest, jpc.trackBytes(j));
+  if (largest == 0)
+    return threads;
+  const std::size_t perJoint = largest + kClusteringBytesPerFrame * static_cast<std::size_t>(jpc.frameCount());
+  const std::size_t decoded =
+      clip.rotations.size() * sizeof(glm::quat) + (clip.translations.size() + clip.scales.size()) * sizeof(glm::vec3);
+  const std::size_t budget = std::max(kSimplifyWorkingBytes, decoded / 2);
+  return static_cast<int>(std::clamp<std::size_t>(budget / perJoint, 1, static_cast<std::size_t>(threads)));
+}
+} // namespace
+
 Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const Clip& clip,
                                                  const JpcSettings& settings, std::span<const double> levelThresholds,
                                                  int threads) {
@@ -134,19 +196,19 @@ Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const
                                                                     ? std::string("threshold")
                                                                     : "threshold " + std::to_string(level + 1)))
       return error;
-  Result<JpcClip> prepared = JpcClip::prepare(skeleton, clip, settings);
+  Result<JpcClip> prepared = JpcClip::prepare(skeleton, clip, settings, JpcTracks::OnDemand);
   if (!prepared)
     return prepared.error();
   const JpcClip& jpc = *prepared;
   const int levels = static_cast<int>(levelThresholds.size());
   const int joints = jpc.jointCount();
-  // Every (level, joint) pair is a task: the costly joints of all levels share the threads.
+  // Every joint is a task that builds its track once and clusters every level with it.
   std::vector<std::vector<JointClustering>> clustered(static_cast<std::size_t>(levels),
                                                       std::vector<JointClustering>(static_cast<std::size_t>(joints)));
-  parallelFor(levels * joints, threads, [&](int task) {
-    const int level = task / joints, joint = task % joints;
-    clustered[static_cast<std::size_t>(level)][static_cast<std::size_t>(joint)] =
-        jpc.clusterJoint(joint, level, levelThresholds[static_cast<std::size_t>(level)]);
+  parallelFor(joints, clusteringThreads(jpc, clip, threads), [&](int joint) {
+    std::vector<JointClustering> byLevel = jpc.clusterJointLevels(joint, levelThresholds);
+    for (std::size_t level = 0; level < byLevel.size(); ++level)
+      clustered[level][static_cast<std::size_t>(joint)] = std::move(byLevel[level]);
   });
   const std::vector<glm::vec3> original = jointPositions(skeleton, clip);
   std::vector<JpcLevelResult> out(static_cast<std::size_t>(levels));

@@ -19,6 +19,7 @@
 #include "core/jpc/posture_error.h"
 #include "core/skeleton.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <span>
@@ -40,14 +41,24 @@ struct JointClustering {
 // takes 0.2 to 7 ms per joint (bench_jpc, BM_ClusterJointSlowest).
 JointClustering clusterJoint(const JointTrack& track, double threshold, JpcMode mode);
 
+// Where a JpcClip keeps the error tracks of its joints (JointTrack: (56 + 36 x directions)
+// bytes per frame each, about 2.3 times the decoded clip for all joints of a CMU skeleton).
+enum class JpcTracks {
+  Kept,     // built by prepare() and kept: re-clustering a joint costs no track (the editor)
+  OnDemand, // built when a joint is clustered and dropped after: one track per thread at a
+            // time (the command line, long clips); the clip must outlive the JpcClip
+};
+
 // What JPC needs from one clip, prepared once for any number of thresholds: the error
 // tracks of every clusterable joint (those with a rotation channel) that is not locked.
 // Re-clustering one joint after an edit of its threshold is clusterJoint(track(j), T, mode).
 class JpcClip {
 public:
   // Checks `settings` (unknown joint names, negative or NaN alpha ...) and `clip` against
-  // `skeleton`; bad input is an Error with a message.
-  static Result<JpcClip> prepare(const Skeleton& skeleton, const Clip& clip, const JpcSettings& settings);
+  // `skeleton`; bad input is an Error with a message. With JpcTracks::OnDemand the JpcClip
+  // refers to `clip`, which must outlive it.
+  static Result<JpcClip> prepare(const Skeleton& skeleton, const Clip& clip, const JpcSettings& settings,
+                                 JpcTracks tracks = JpcTracks::Kept);
 
   int jointCount() const { return static_cast<int>(m_joints.size()); }
   int frameCount() const { return m_frameCount; }
@@ -57,13 +68,23 @@ public:
   bool clusterable(int joint) const { return m_joints[static_cast<std::size_t>(joint)].clusterable; }
   bool locked(int joint) const { return m_joints[static_cast<std::size_t>(joint)].locked; }
   int clusterableCount() const;
-  // The joint's error track; only for clusterable joints that are not locked.
+  bool tracksKept() const { return m_clip == nullptr; }
+  // The joint's error track; only for clusterable joints that are not locked, and only
+  // with JpcTracks::Kept.
   const JointTrack& track(int joint) const;
+  // The joint's error track built anew (either way of keeping tracks); the same bits as
+  // track(joint). Only for clusterable joints that are not locked.
+  JointTrack buildTrack(int joint) const;
+  // Bytes of buildTrack(joint) (0 for a joint without a track).
+  std::size_t trackBytes(int joint) const;
   // T_j at `level` whose threshold is `levelThreshold` (cm·degrees).
   double threshold(int joint, int level, double levelThreshold) const;
 
   // Clusters one joint at `level` (no clusters for locked and unclusterable joints).
   JointClustering clusterJoint(int joint, int level, double levelThreshold) const;
+  // Clusters one joint at every level (level i at levelThresholds[i]) from one track:
+  // what clusterJoint(joint, i, levelThresholds[i]) gives, level by level.
+  std::vector<JointClustering> clusterJointLevels(int joint, std::span<const double> levelThresholds) const;
   // Clusters every joint at one level, on up to `threads` threads (0 = all hardware
   // threads). One entry per joint.
   std::vector<JointClustering> cluster(int level, double levelThreshold, int threads = 0) const;
@@ -73,11 +94,13 @@ private:
     std::string name;
     bool clusterable = false;
     bool locked = false;
-    JointTrack track;
+    JointGeometry geometry;
+    JointTrack track; // empty with JpcTracks::OnDemand
   };
   JpcSettings m_settings;
   int m_frameCount = 0;
   std::vector<JointEntry> m_joints;
+  const Clip* m_clip = nullptr; // with JpcTracks::OnDemand: the clip the tracks come from
 };
 
 // Table 1 of the paper and the fidelity a technical artist reads, for one joint.
@@ -108,6 +131,12 @@ struct JpcLevelResult {
 // the per-joint overrides of level i) and measures the result. Work is spread over up to
 // `threads` threads (0 = all hardware threads); the result does not depend on it.
 // Errors: invalid settings, thresholds or clip.
+// Memory, beyond the clip and the results: the joint positions of the clip (12 bytes per
+// joint and frame) and the working buffers of the joints being clustered (JpcTracks::
+// OnDemand), with as many joints at once as fit in kSimplifyWorkingBytes or half the
+// decoded clip, whichever is larger (at least one joint; fewer threads if need be).
+inline constexpr std::size_t kSimplifyWorkingBytes = std::size_t{16} << 20; // 16 MiB
+
 Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const Clip& clip,
                                                  const JpcSettings& settings, std::span<const double> levelThresholds,
                                                  int threads = 0);

@@ -76,13 +76,20 @@ std::vector<JointGeometry> jointGeometry(const Skeleton& skeleton, double zeroLe
 
 // One joint's motion, prepared for many error evaluations: rotations renormalised in
 // double precision and the child directions rotated, once per frame. Memory:
-// (56 + 36 x directions) bytes per frame.
+// (56 + 36 x directions) bytes per frame (bytesFor()).
 class JointTrack {
 public:
   JointTrack() = default;
   // `rotations`: the joint's local rotation per frame (at least one frame, finite, unit
   // within 1e-3); alpha in cm, >= 0.
   JointTrack(const JointGeometry& geometry, double alpha, std::span<const glm::quat> rotations);
+
+  // The bytes a track of `frames` frames with `directionCount` child directions holds.
+  static std::size_t bytesFor(int frames, int directionCount) {
+    const std::size_t directions = static_cast<std::size_t>(directionCount);
+    return static_cast<std::size_t>(frames) * (sizeof(glm::dquat) + directions * sizeof(glm::dvec3) + 2 * sizeof(int) +
+                                               (3 * directions + 4) * sizeof(float));
+  }
 
   int frameCount() const { return m_frames; }
   double alpha() const { return m_alpha; }

@@ -216,5 +216,37 @@ TEST(JpcProperties, ThreadCountDoesNotChangeResults) {
   }
 }
 
+// Guards that building tracks on demand (simplifyClip, the command line) changes no bit
+// against tracks kept (the editor): the same clusters, errors and evaluations per joint,
+// one level at a time or every level from one track.
+TEST(JpcProperties, TracksOnDemandClusterAsKeptOnes) {
+  const Asset& asset = test::realAsset("BVH/01_01.bvh");
+  const Clip& clip = asset.clips.front();
+  const std::vector<double> thresholds{5.0, 100.0};
+  for (JpcMode mode : {JpcMode::Greedy, JpcMode::Optimal}) {
+    const JpcSettings settings = settingsFor(asset, mode, 5.0);
+    const JpcClip kept = *JpcClip::prepare(asset.skeleton, clip, settings);
+    const JpcClip onDemand = *JpcClip::prepare(asset.skeleton, clip, settings, JpcTracks::OnDemand);
+    ASSERT_TRUE(kept.tracksKept());
+    ASSERT_FALSE(onDemand.tracksKept());
+    for (int j = 0; j < kept.jointCount(); ++j) {
+      SCOPED_TRACE(kept.jointName(j));
+      const std::vector<JointClustering> levels = onDemand.clusterJointLevels(j, thresholds);
+      ASSERT_EQ(levels.size(), thresholds.size());
+      for (int level = 0; level < 2; ++level) {
+        const JointClustering a = kept.clusterJoint(j, level, thresholds[static_cast<std::size_t>(level)]);
+        const JointClustering b = onDemand.clusterJoint(j, level, thresholds[static_cast<std::size_t>(level)]);
+        const JointClustering& c = levels[static_cast<std::size_t>(level)];
+        EXPECT_EQ(a.clusters, b.clusters);
+        EXPECT_EQ(a.clusters, c.clusters);
+        EXPECT_EQ(a.maxError, b.maxError);
+        EXPECT_EQ(a.maxError, c.maxError);
+        EXPECT_EQ(a.evaluations, b.evaluations);
+        EXPECT_EQ(a.evaluations, c.evaluations);
+      }
+    }
+  }
+}
+
 } // namespace
 } // namespace mlod
