@@ -509,22 +509,18 @@ void MainWindow::buildDocks() {
   m_skeletonView->setToolTip(tr("Joints: α, threshold at the current level, lock and simplified %. Double-click or F2 to "
                                 "edit; the edit applies to every selected joint"));
   m_jointModel->setSelectionProvider([this](int) { return selectedJoints(); });
-  // Readable joint names: the figures' columns as wide as their headers and values, the name
-  // column as wide as the longest name up to 240 px, longer names elided in the middle (the
-  // row's tooltip has them whole).
+  // Readable joint names: the figures' columns as narrow as their two-line headers and values,
+  // the name column takes the rest of the dock, a deep joint indented by 10 px a level (not
+  // the style's 20) so the names keep the width; a name still too long is cut in the middle
+  // and its tooltip has it whole.
+  m_skeletonView->setIndentation(10);
   m_skeletonView->setTextElideMode(Qt::ElideMiddle);
-  const auto fitColumns = [this] {
-    for (int column = 1; column < JointTreeModel::ColumnCount; ++column)
-      m_skeletonView->resizeColumnToContents(column);
-    m_skeletonView->resizeColumnToContents(JointTreeModel::NameColumn);
-    m_skeletonView->setColumnWidth(JointTreeModel::NameColumn,
-                                   std::clamp(m_skeletonView->columnWidth(JointTreeModel::NameColumn), 120, 240));
-  };
-  connect(m_jointModel, &QAbstractItemModel::modelReset, this, [this, fitColumns] {
-    m_skeletonView->expandAll();
-    fitColumns();
-  });
-  connect(m_jointModel, &QAbstractItemModel::headerDataChanged, this, fitColumns); // "T L2 (cm·°)" …
+  QHeaderView* jointHeader = m_skeletonView->header();
+  jointHeader->setMinimumSectionSize(24);
+  jointHeader->setSectionResizeMode(QHeaderView::ResizeToContents);
+  jointHeader->setSectionResizeMode(JointTreeModel::NameColumn, QHeaderView::Stretch);
+  jointHeader->setDefaultAlignment(Qt::AlignCenter);
+  connect(m_jointModel, &QAbstractItemModel::modelReset, this, [this] { m_skeletonView->expandAll(); });
   connect(m_skeletonView->selectionModel(), &QItemSelectionModel::currentChanged, this,
           [this](const QModelIndex& current) { m_document->setCurrentJoint(m_jointModel->jointAt(current)); });
   addDock("skeletonDock", tr("Skeleton"), m_skeletonView, Qt::LeftDockWidgetArea);
@@ -545,6 +541,9 @@ void MainWindow::buildDocks() {
   m_levelsView->setSelectionMode(QAbstractItemView::SingleSelection);
   m_levelsView->horizontalHeader()->setStretchLastSection(true);
   m_levelsView->verticalHeader()->hide();
+  // rows as tall as the text (the style's 30 px took the Skeleton dock's room)
+  m_levelsView->verticalHeader()->setMinimumSectionSize(m_levelsView->fontMetrics().height() + 6);
+  m_levelsView->verticalHeader()->setDefaultSectionSize(m_levelsView->fontMetrics().height() + 6);
   m_levelsView->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
   connect(m_levelsView->selectionModel(), &QItemSelectionModel::currentRowChanged, this,
           [this](const QModelIndex& current) {

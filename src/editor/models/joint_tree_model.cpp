@@ -221,26 +221,48 @@ QVariant JointTreeModel::headerData(int section, Qt::Orientation orientation, in
   if (orientation != Qt::Horizontal)
     return {};
   const int level = m_document->currentLevel();
+  // Two lines where a unit follows the name, so the figures' columns stay as narrow as their
+  // values and the joint names keep the width (the tooltips say the units in words).
   if (role == Qt::DisplayRole) {
     switch (section) {
     case NameColumn: return tr("Joint");
-    case AlphaColumn: return tr("α (cm)");
-    case ThresholdColumn: return tr("T L%1 (cm·°)").arg(level);
+    case AlphaColumn:
+      return tr("α\n(cm)");
+    case ThresholdColumn:
+      return tr("T L%1\n(cm·°)").arg(level);
     case LockColumn: return tr("Lock");
-    case ImportanceColumn: return tr("Mesh ×");
-    case SimplifiedColumn: return tr("Simpl. % L%1").arg(level);
+    case ImportanceColumn:
+      return tr("Mesh\n×");
+    case SimplifiedColumn:
+      return tr("Simpl.\n% L%1").arg(level);
     default: return {};
     }
   }
   if (role == Qt::ToolTipRole) {
     switch (section) {
-    case AlphaColumn: return tr("Orientation weight α, cm: one degree of twist counts like one degree of swing on an α cm segment");
-    case ThresholdColumn: return tr("Error threshold at the current level, cm·degrees (E/57.3 ≈ cm)");
-    case ImportanceColumn: return tr("Mesh importance: how much the mesh LOD keeps of what the joint moves (1 = as any other)");
-    case SimplifiedColumn: return tr("Simplified frames of the joint, % of the clip, at the current level");
+    case NameColumn:
+      return tr(
+          "The skeleton's joints; a name too long for the column is cut in the middle and shown whole in its tooltip");
+    case AlphaColumn:
+      return tr("α (cm): the orientation weight; one degree of twist counts like one degree of swing on an α cm "
+                "segment. Bold: the joint's own, else the project's (LOD Levels dock)");
+    case ThresholdColumn:
+      return tr("T L%1 (cm·°): the error threshold at level %1, in cm·degrees (E/57.3 ≈ cm). Bold: the joint's own, "
+                "else the level's E")
+          .arg(level);
+    case LockColumn:
+      return tr("Lock: a locked joint is never simplified at any level");
+    case ImportanceColumn:
+      return tr("Mesh × (mesh importance): the mesh LOD's cost of removing the vertices the joint moves is multiplied "
+                "by it; 1 = as any other joint, raise it for the face or hands");
+    case SimplifiedColumn:
+      return tr("Simpl. % L%1: frames in which the joint is frozen at a key posture, % of the clip, at level %1")
+          .arg(level);
     default: return {};
     }
   }
+  if (role == Qt::TextAlignmentRole && section == NameColumn)
+    return QVariant(Qt::AlignLeft | Qt::AlignVCenter);
   return {};
 }
 
