@@ -125,6 +125,15 @@ int BatchCommand::run() const {
     printError(manifest, error.message());
     return kExitBadInput;
   }
+  PluginHost host;
+  host.loadDefault();
+  // Each output's suffix is its plugin's, over the whole manifest (every shard refuses the
+  // same manifest) and before any job runs; an unknown plugin fails its own job below.
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (std::string problem = outputSuffixProblem(host, all[i].plugin, all[i].output); !problem.empty()) {
+      printError(manifest, "job " + std::to_string(i) + ": " + all[i].output + ": " + problem);
+      return kExitBadInput;
+    }
   if (!allowOutside) {
     const std::string inside = normalOutputPath(folder.string());
     for (std::size_t i = 0; i < all.size(); ++i)
@@ -137,8 +146,6 @@ int BatchCommand::run() const {
     if (i % std::size_t(shardCount) == std::size_t(shardIndex))
       mine.push_back(i);
 
-  PluginHost host;
-  host.loadDefault();
   const std::atomic<bool>* cancel = installInterruptHandler();
   const auto start = std::chrono::steady_clock::now();
   std::vector<ExportOutcome> outcomes(mine.size());

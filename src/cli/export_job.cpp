@@ -9,6 +9,7 @@
 #include "io/isolated_import.h"
 
 #include <QFile>
+#include <QFileInfo>
 
 #include <cerrno>
 #include <algorithm>
@@ -168,6 +169,21 @@ bool parseLevelList(const std::string& text, std::vector<int>& out_levels, std::
   return true;
 }
 
+std::string outputSuffixProblem(const PluginHost& host, const std::string& plugin, const std::string& output) {
+  const QString id = QString::fromStdString(plugin);
+  for (const PluginInfo& info : host.plugins()) {
+    if (info.id != id)
+      continue;
+    const QString path = QString::fromStdString(output); // a Latin-1 name's suffix is still ASCII
+    if (hasSuffix(path, info.suffixes))
+      return {};
+    const QString suffix = QFileInfo(path).suffix();
+    return "the " + plugin + " exporter writes " + suffixesText(info.suffixes).toStdString() + " files" +
+           (suffix.isEmpty() ? std::string(", and the name has no suffix") : ", not ." + suffix.toStdString());
+  }
+  return {};
+}
+
 ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const std::atomic<bool>* cancel,
                            const ExportJobProgress& report) {
   const auto cancelled = [cancel] { return cancel && cancel->load(); };
@@ -193,6 +209,10 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
   for (const std::string& file : exportOutputFiles(job.plugin, job.output, options))
     if (std::string problem = outputProblem(file, inputs); !problem.empty())
       return failure(kExitBadInput, file, problem);
+  // the output's suffix says its format (as the Export dialog asks); after the data-loss
+  // checks, which say more about `-o walk.bvh`
+  if (std::string problem = outputSuffixProblem(host, job.plugin, job.output); !problem.empty())
+    return failure(kExitBadInput, job.output, problem);
   // the folder: a missing or read-only one is no bad input (exit 1: a farm retries it)
   std::error_code folderError;
   const std::filesystem::path absolute = std::filesystem::absolute(job.output, folderError);

@@ -54,6 +54,12 @@ bool parseLevelList(const std::string& text, std::vector<int>& out_levels, std::
 // package build and the exporter plugin report it. Called on the job's thread.
 using ExportJobProgress = std::function<void(std::string_view stage, double fraction, std::string_view detail)>;
 
+// Empty when `output` ends in one of the suffixes of the plugin `plugin`'s metadata (or the
+// host has no such plugin: runExportJob() says so), else why not, as the Export dialog refuses
+// it: "the gltf exporter writes .glb or .gltf files, not .bundle". The file's suffix says its
+// format; checked before any work, by export and by batch over the whole manifest.
+std::string outputSuffixProblem(const PluginHost& host, const std::string& plugin, const std::string& output);
+
 // Runs one job with the exporters of `host`. `cancel` (may be null) stops it between steps
 // and inside the package build and the exporter; a cancelled job writes nothing. `progress`
 // may be empty.

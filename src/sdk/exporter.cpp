@@ -156,12 +156,25 @@ bool parseExporterOptions(const ExporterOptions& options, const QStringList& key
   return checkExporterOptions(options, values, out_values, out_error);
 }
 
+bool hasSuffix(const QString& path, const QStringList& suffixes) {
+  for (const QString& suffix : suffixes)
+    if (!suffix.isEmpty() && path.endsWith('.' + suffix, Qt::CaseInsensitive))
+      return true;
+  return false;
+}
+
+QString suffixesText(const QStringList& suffixes) {
+  QStringList dotted;
+  for (const QString& suffix : suffixes)
+    dotted << '.' + suffix;
+  if (dotted.size() < 2)
+    return dotted.join(QString());
+  const QString last = dotted.takeLast();
+  return dotted.join(QStringLiteral(", ")) + QStringLiteral(" or ") + last;
+}
+
 QString withSuffix(const QString& path, const QString& suffix, const QStringList& suffixes) {
-  const QString lower = path.toLower();
-  for (const QString& candidate : suffixes)
-    if (lower.endsWith('.' + candidate.toLower()))
-      return path;
-  return path + '.' + suffix;
+  return hasSuffix(path, suffixes) ? path : path + '.' + suffix;
 }
 
 } // namespace mlod

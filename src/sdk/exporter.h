@@ -127,6 +127,14 @@ ExportResult writeFileAtomically(const QString& path, const QByteArray& data);
 // checksum of the first (the bundle's manifest carries its CRC-32).
 ExportResult writeFilesAtomically(const QList<QPair<QString, QByteArray>>& files);
 
+// Whether `path` ends in one of `suffixes` (without the dot; any case). A file's suffix says
+// its format, so the Export dialog and `motionlod export` / `batch` refuse an output whose
+// suffix is not one of the plugin's (a GLB named x.mlodb would mislead every tool that opens it).
+bool hasSuffix(const QString& path, const QStringList& suffixes);
+
+// The suffixes as a message names them: ".glb or .gltf", ".html, .csv or .json".
+QString suffixesText(const QStringList& suffixes);
+
 // `path` with `suffix` (without the dot) appended unless it already ends with one of `suffixes`.
 QString withSuffix(const QString& path, const QString& suffix, const QStringList& suffixes);
 

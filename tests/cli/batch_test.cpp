@@ -124,6 +124,24 @@ TEST(CliBatch, AFailingJobDoesNotStopTheOthers) {
   EXPECT_FALSE(fs::exists(dir / "out" / "n.mlodb"));
 }
 
+// An output whose suffix is not its plugin's is a manifest error, as `export` refuses it:
+// exit 2 naming the job, checked over the whole manifest before any job runs (every shard).
+TEST(CliBatch, AnOutputOfAnotherFormatRunsNothing) {
+  const fs::path dir = freshFolder("suffix");
+  nlohmann::json manifest = library();
+  manifest["jobs"].push_back(
+      {{"input", MLOD_SAMPLE}, {"plugin", "gltf"}, {"output", "out/walk.mlodb"}, {"unit_scale", "cmu"}});
+  const fs::path file = writeManifest(dir, manifest);
+  for (const std::string shard : {"0/1", "0/2", "1/2"}) {
+    const test::CliRun run = runMotionlod({"batch", file.string(), "--shard", shard, "--json"});
+    EXPECT_EQ(run.status, 2) << shard;
+    EXPECT_EQ(run.err, "error: " + file.string() + ": job 7: " + (dir / "out" / "walk.mlodb").string() +
+                           ": the gltf exporter writes .glb or .gltf files, not .mlodb\n");
+    EXPECT_TRUE(run.out.empty()) << run.out;
+  }
+  EXPECT_TRUE(fs::is_empty(dir / "out"));
+}
+
 TEST(CliBatch, BadManifestsAndShardsRunNothing) {
   const fs::path dir = freshFolder("bad");
   const struct {

@@ -198,6 +198,44 @@ TEST(CliExport, BadArgumentsAreExit2) {
   EXPECT_TRUE(filesIn(dir).empty());
 }
 
+// The output's suffix says its format, as the Export dialog asks: a suffix that is not one
+// of the plugin's (from its metadata), or none, is exit 2 before any work (no import; what is
+// at the output stays as it was); the plugin's own suffix in any case is written. Before:
+// `export --plugin gltf -o x.bundle` wrote a GLB named x.bundle and exited 0.
+TEST(CliExport, OutputSuffixMustBeThePlugins) {
+  const fs::path dir = freshFolder("suffix");
+  const fs::path taken = dir / "x.bundle";
+  std::ofstream(taken) << "someone's bundle";
+  const struct {
+    std::string plugin;
+    fs::path output;
+    std::string reason;
+  } cases[] = {
+      {"gltf", taken, "the gltf exporter writes .glb or .gltf files, not .bundle"},
+      {"gltf", dir / "x", "the gltf exporter writes .glb or .gltf files, and the name has no suffix"},
+      {"bundle", dir / "x.glb", "the bundle exporter writes .mlodb files, not .glb"},
+      {"report", dir / "x.txt", "the report exporter writes .html, .csv or .json files, not .txt"},
+      {"gltf", dir / "x.glb.bak", "the gltf exporter writes .glb or .gltf files, not .bak"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.reason);
+    const test::CliRun run = runMotionlod(
+        {"export", kSample, "--unit-scale", "cmu", "--plugin", c.plugin, "-o", c.output.string(), "--json"});
+    EXPECT_EQ(run.status, 2) << run.err;
+    EXPECT_EQ(run.err, "error: " + c.output.string() + ": " + c.reason + "\n");
+    const nlohmann::json doc = nlohmann::json::parse(run.out);
+    EXPECT_FALSE(doc["ok"].get<bool>());
+    EXPECT_EQ(doc["seconds"]["import"].get<double>(), 0.0); // refused before the import
+  }
+  EXPECT_EQ(filesIn(dir), std::vector<std::string>{"x.bundle"});
+  EXPECT_EQ(test::readText(taken.string()), "someone's bundle");
+  const std::string upper = (dir / "x.GLB").string();
+  const test::CliRun ok =
+      runMotionlod({"export", kSample, "--unit-scale", "cmu", "--plugin", "gltf", "-o", upper, "-q"});
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_GT(fs::file_size(upper), 0u);
+}
+
 TEST(CliExport, UnwritableOutputLeavesNothingAndSaysWhy) {
   const fs::path dir = freshFolder("unwritable");
   const std::string inMissingFolder = (dir / "no" / "such" / "x.mlodb").string();

@@ -170,5 +170,26 @@ TEST(Suffix, AppendedOnlyWhenMissing) {
   EXPECT_EQ(withSuffix("a/b.GLTF", "glb", {"glb", "gltf"}), "a/b.GLTF");
 }
 
+// The output check of the Export dialog and the CLI: one of the plugin's suffixes, in any
+// case, ends the name; one inside the name, another format's or none is not.
+TEST(Suffix, OnlyThePluginsSuffixesEndAnOutput) {
+  EXPECT_TRUE(hasSuffix("out/x.GLB", {"glb", "gltf"}));
+  EXPECT_TRUE(hasSuffix("out/x.gltf", {"glb", "gltf"}));
+  EXPECT_TRUE(hasSuffix("x.summary.json", {"json"}));
+  EXPECT_FALSE(hasSuffix("x.bundle", {"glb", "gltf"}));
+  EXPECT_FALSE(hasSuffix("x.glb.bak", {"glb", "gltf"}));
+  EXPECT_FALSE(hasSuffix("out.glb/x", {"glb", "gltf"}));
+  EXPECT_FALSE(hasSuffix("xglb", {"glb"}));
+  EXPECT_FALSE(hasSuffix("x", {"glb"}));
+  EXPECT_FALSE(hasSuffix("x.", {""}));
+  EXPECT_EQ(withSuffix("a/b.bundle", "glb", {"glb", "gltf"}), "a/b.bundle.glb");
+}
+
+TEST(Suffix, NamedAsAMessageSaysThem) {
+  EXPECT_EQ(suffixesText({"mlodb"}), ".mlodb");
+  EXPECT_EQ(suffixesText({"glb", "gltf"}), ".glb or .gltf");
+  EXPECT_EQ(suffixesText({"html", "csv", "json"}), ".html, .csv or .json");
+}
+
 } // namespace
 } // namespace mlod

@@ -310,16 +310,17 @@ void ExportDialog::startExport() {
     return showResult(false, tr("Choose the output file."));
   // The file's suffix says its format: none gets the plugin's; another format's is refused
   // (a .glb written as a runtime bundle would mislead every tool that opens it).
+  // (the CLI refuses what this refuses: sdk's hasSuffix())
   const QStringList suffixes = exporter->suffixes();
   const QString suffix = QFileInfo(path).suffix();
   if (suffix.isEmpty() && !suffixes.isEmpty()) {
-    path += '.' + suffixes.first();
+    path = withSuffix(path, suffixes.first(), suffixes);
     m_output->setText(path);
-  } else if (!suffixes.isEmpty() && !suffixes.contains(suffix, Qt::CaseInsensitive)) {
-    return showResult(false, tr("%1 ends in .%2, which is not what %3 writes (.%4): change the file's suffix or "
+  } else if (!suffixes.isEmpty() && !hasSuffix(path, suffixes)) {
+    return showResult(false, tr("%1 ends in .%2, which is not what %3 writes (%4): change the file's suffix or "
                                 "the plugin.")
                                  .arg(QFileInfo(path).fileName().toHtmlEscaped(), suffix.toHtmlEscaped(),
-                                      m_plugin->currentText().toHtmlEscaped(), suffixes.join(QStringLiteral(", ."))));
+                                      m_plugin->currentText().toHtmlEscaped(), suffixesText(suffixes).toHtmlEscaped()));
   }
   QVariantMap options;
   QString error;
