@@ -15,6 +15,7 @@
 #include "editor/viewport/crowd_panel.h"
 #include "editor/viewport/playback.h"
 #include "editor/viewport/viewport_panel.h"
+#include "editor/views/budget_dialog.h"
 #include "editor/views/clustering_table_view.h"
 #include "editor/views/export_dialog.h"
 #include "editor/views/help_browser.h"
@@ -156,6 +157,8 @@ MainWindow::MainWindow(QWidget* parent, PluginHost* plugins)
   m_levelsProgress = new JobProgress(tr("LOD levels"), tr("Cancel"), this);
   m_levelsProgress->setObjectName("levelsProgress");
   connect(m_levelsProgress, &QProgressDialog::canceled, m_document->levelGenerator(), &LevelGenerator::cancel);
+  connect(m_document->levelGenerator(), &LevelGenerator::progressed, m_levelsProgress,
+          [this](int percent) { m_levelsProgress->step(percent, 100); }); // only while it runs: start()
   connect(m_document->levelGenerator(), &LevelGenerator::finished, this, [this](bool ok, const QString& message) {
     m_levelsProgress->finish();
     log(ok ? tr("Generated levels: %1").arg(message) : tr("Level generation: %1").arg(message));
@@ -767,17 +770,7 @@ void MainWindow::buildActions() {
   action(edit, "actionGenerateLevels", tr("&Generate Levels from Pixel Budget…"), QKeySequence("Ctrl+Shift+G"),
          tr("Compute every level's threshold, mesh ratio and switch distance so that each stays within N pixels on "
             "screen (motion and mesh together, in the background)"),
-         [this] {
-           bool ok = false;
-           const double pixels = QInputDialog::getDouble(this, tr("Generate levels"), tr("Error budget (pixels on screen):"),
-                                                         1.0, 0.01, 100.0, 2, &ok);
-           if (!ok)
-             return;
-           const int levels = QInputDialog::getInt(this, tr("Generate levels"), tr("Levels (the original included):"),
-                                                   std::max(2, m_document->project().levelCount()), 1, 12, 1, &ok);
-           if (ok)
-             generateLevels(pixels, levels);
-         });
+         [this] { openBudgetDialog(); });
   action(edit, "actionEditMapping", tr("Edit Joint &Mapping…"), QKeySequence("Ctrl+Alt+M"),
          tr("Edit which motion joint drives each character joint, for the asset in view (motion or character)"),
          [this] { editMapping(); });
@@ -919,9 +912,25 @@ bool MainWindow::generateLevels(double pixels, int levels) {
     showError(tr("Cannot generate levels"), tr("The levels were not generated."), error);
     return false;
   }
-  // The core reports no steps: a busy bar until the levels land.
-  m_levelsProgress->begin(tr("Generating levels (motion and mesh) …"));
+  m_levelsProgress->begin(tr("Generating levels (motion and mesh) …"), 100);
   return true;
+}
+
+BudgetDialog* MainWindow::openBudgetDialog() {
+  if (!m_document->currentAssetPtr()) {
+    showError(tr("Cannot generate levels"), tr("The levels were not generated."), tr("no asset in view"));
+    return nullptr;
+  }
+  const LodSet& lods = m_document->project().lods;
+  BudgetRequest initial;
+  initial.levels = std::max(2, m_document->project().levelCount());
+  initial.projection = lods.projection;
+  if (const std::optional<double> made = switchDistancePixelBudget(lods)) // the budget the levels were made with
+    initial.pixels = *made;
+  auto* dialog = new BudgetDialog(m_document->levelGenerator(), initial, this);
+  dialog->setAttribute(Qt::WA_DeleteOnClose);
+  dialog->open();
+  return dialog;
 }
 
 MappingDialog* MainWindow::editMapping() {

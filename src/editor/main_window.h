@@ -33,6 +33,7 @@ class ImportJob;
 class JobProgress;
 class JointTreeModel;
 class LevelsModel;
+class BudgetDialog;
 class MappingDialog;
 class PluginHost;
 class StatisticsView;
@@ -80,6 +81,9 @@ public:
   // Generates the LOD set from a pixel budget in the background with a progress dialog
   // ("levelsProgress", Cancel drops the result); false with a message when it cannot start.
   bool generateLevels(double pixels, int levels);
+  // Edit > Generate Levels from Pixel Budget…: the Budget dialog (window-modal, deleted on
+  // close), seeded with the current levels' pixel error, count and projection.
+  BudgetDialog* openBudgetDialog();
   QProgressDialog* levelsProgress() const;
 
   // Projects: errors show in a non-modal message box and the log; the document is kept.

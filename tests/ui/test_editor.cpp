@@ -15,6 +15,7 @@
 #include "editor/models/levels_model.h"
 #include "editor/models/mapping_model.h"
 #include "editor/viewport/viewport_panel.h"
+#include "editor/views/budget_dialog.h"
 #include "editor/views/clustering_table_view.h"
 #include "editor/views/mapping_dialog.h"
 #include "editor/views/trajectory_view.h"
@@ -40,6 +41,7 @@
 #include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
+#include <QSpinBox>
 #include <QStatusBar>
 #include <QStyle>
 #include <QTableView>
@@ -944,23 +946,15 @@ private slots:
     document->setCurrentAsset(1);
     QVERIFY(waitForFigures(document));
     QSignalSpy finished(document->levelGenerator(), &LevelGenerator::finished);
-    // Two modal input dialogs (pixels, then levels) open inside the click: a timer answers each.
-    int answered = 0;
-    QTimer answer;
-    connect(&answer, &QTimer::timeout, this, [&answered] {
-      auto* dialog = qobject_cast<QInputDialog*>(QApplication::activeModalWidget());
-      if (!dialog)
-        return;
-      if (dialog->inputMode() == QInputDialog::IntInput)
-        dialog->setIntValue(3);
-      ++answered;
-      QTest::keyClick(dialog, Qt::Key_Return);
-    });
-    answer.start(20);
+    // The Budget dialog: 3 levels, its preview computed in the background, then Apply.
     QTest::mouseClick(window->findChild<QToolButton*>("generateLevelsButton"), Qt::LeftButton);
-    answer.stop();
-    QCOMPARE(answered, 2);
-    QVERIFY(finished.wait(240000));
+    auto* dialog = window->findChild<BudgetDialog*>("budgetDialog");
+    QVERIFY(dialog);
+    dialog->findChild<QSpinBox*>("levelsBox")->setValue(3);
+    QTRY_VERIFY_WITH_TIMEOUT(dialog->isPreviewCurrent(), 240000);
+    QCOMPARE(dialog->table()->rowCount(), 3);
+    QTest::mouseClick(dialog->applyButton(), Qt::LeftButton);
+    QCOMPARE(finished.count(), 1);
     QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
     const LodSet& lods = document->project().lods;
     QCOMPARE(lods.levels.size(), std::size_t(3));

@@ -77,12 +77,16 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
   std::vector<glm::vec3> original, simplified;
   const SkinnedMesh* originalMesh = m_mesh ? &*m_mesh : nullptr;
   const SkinnedMesh* levelMesh = out.mesh ? &*out.mesh : nullptr;
+  double clusteredJointFrames = 0.0, jointFrames = 0.0;
   for (std::size_t c = 0; c < m_clips.size(); ++c) {
     const Clip& clip = m_clips[c];
     ClusterSet clusters;
     clusters.frameCount = clip.frameCount;
-    for (JointClustering& joint : m_prepared[c].cluster(level, threshold))
+    for (JointClustering& joint : m_prepared[c].cluster(level, threshold)) {
+      clusteredJointFrames += joint.clusteredFrames;
       clusters.joints.push_back(std::move(joint.clusters));
+    }
+    jointFrames += double(m_prepared[c].clusterableCount()) * clip.frameCount;
     const Clip full = frozenClip(out.bones, simplifiedClip(clip, clusters));
     out.clips.push_back(reduceClip(out.bones, m_skeleton, full));
     out.clusters.push_back(std::move(clusters));
@@ -101,6 +105,7 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
         out.motionErrorCm = std::max(out.motionErrorCm, double(glm::length(simplified[v] - original[v])));
     }
   }
+  out.simplifiedPercent = jointFrames > 0.0 ? 100.0 * clusteredJointFrames / jointFrames : 0.0;
   return out;
 }
 

@@ -173,4 +173,17 @@ LodSetEdit replaceLodLevels(const LodSet& before, LodSet generated) {
   return {std::move(generated), std::move(order)};
 }
 
+std::vector<LodOverrideAbove> overridesAboveLevels(const JpcSettings& settings, const LodSet& lods) {
+  std::vector<LodOverrideAbove> out;
+  for (std::size_t level = 0; level < lods.levels.size(); ++level)
+    for (const auto& [joint, own] : settings.joints) { // a std::map: by name
+      if (level >= own.thresholds.size() || !own.thresholds[level])
+        continue;
+      const double threshold = lods.levels[level].motionThreshold;
+      if (*own.thresholds[level] > threshold)
+        out.push_back({joint, static_cast<int>(level), *own.thresholds[level], threshold});
+    }
+  return out;
+}
+
 } // namespace mlod

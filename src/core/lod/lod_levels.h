@@ -21,6 +21,7 @@
 // Units: thresholds in cm·degrees, distances in cm.
 
 #include "core/error.h"
+#include "core/jpc/jpc_settings.h"
 #include "core/lod/lod_set.h"
 
 #include <optional>
@@ -65,5 +66,19 @@ std::optional<double> switchDistancePixelBudget(const LodSet& lods);
 // `generated` replacing `before` (LodSet::fromPixelBudget()): level i keeps level i's
 // overrides where `before` had a level i.
 LodSetEdit replaceLodLevels(const LodSet& before, LodSet generated);
+
+// A per-joint threshold override above the threshold of the level it belongs to: the
+// author's choice, kept by replaceLodLevels(), but a joint that strays further than its
+// level's budget allowed; the Budget dialog lists each so none stays unseen.
+struct LodOverrideAbove {
+  std::string joint;
+  int level = 0;
+  double overrideThreshold = 0.0; // cm·degrees
+  double levelThreshold = 0.0;    // cm·degrees
+  friend bool operator==(const LodOverrideAbove&, const LodOverrideAbove&) = default;
+};
+// Every override of `settings` at a level of `lods` above that level's threshold, by level
+// then joint name.
+std::vector<LodOverrideAbove> overridesAboveLevels(const JpcSettings& settings, const LodSet& lods);
 
 } // namespace mlod

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <optional>
@@ -51,9 +52,59 @@ std::vector<double> levelRatios(std::span<const double> candidates, int levels) 
   return out;
 }
 
+// Reports the fraction done (LodBudgetOptions::progress); false once the caller cancelled.
+class Progress {
+public:
+  explicit Progress(const std::function<bool(double)>& callback) : m_callback(callback) {}
+  bool operator()(double fraction) {
+    if (!m_cancelled && m_callback && !m_callback(std::clamp(fraction, 0.0, 1.0)))
+      m_cancelled = true;
+    return !m_cancelled;
+  }
+
+private:
+  const std::function<bool(double)>& m_callback;
+  bool m_cancelled = false;
+};
+
+std::string figure(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", value);
+  return text;
+}
+
+// The rules every generated level keeps (lod_set.h): beyond level 0 no threshold of 0 where
+// there is a motion to simplify, and no repeat (same threshold and mesh ratio) of the level
+// kept before it. The reason `level` is left out, or "" to keep it.
+std::string whyLeftOut(const LodLevel& level, const LodLevel& previous, bool hasMotion) {
+  if (hasMotion && level.motionThreshold == 0.0)
+    return "no threshold above 0 keeps its motion within the budget";
+  if (level.motionThreshold == previous.motionThreshold && level.meshRatio == previous.meshRatio)
+    return "it would repeat " + previous.name + " (E " + figure(level.motionThreshold) + " cm·°, mesh ratio " +
+           figure(level.meshRatio) + ")";
+  return {};
+}
+
+// Keeps `level` (named after its position) or reports why it is left out. True when kept.
+bool keepLevel(LodSet& out, LodLevel level, int aimed, bool hasMotion, LodBudgetReport* report,
+               double simplifiedPercent) {
+  const std::string why = whyLeftOut(level, out.levels.back(), hasMotion);
+  if (!why.empty()) {
+    if (report)
+      report->dropped.push_back("Aimed level " + std::to_string(aimed) + " is left out: " + why + ".");
+    return false;
+  }
+  level.name = "LOD" + std::to_string(out.levels.size());
+  out.levels.push_back(std::move(level));
+  if (report)
+    report->simplifiedPercent.push_back(simplifiedPercent);
+  return true;
+}
+
 // Levels for a character that plays no clip (or a mesh without a skeleton): the mesh alone,
 // in its bind pose, no motion to simplify and no joint to remove.
-Result<LodSet> meshOnly(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options) {
+Result<LodSet> meshOnly(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options,
+                        LodBudgetReport* report, Progress& progress) {
   const SkinnedMesh* mesh = asset.meshes.empty() ? nullptr : &asset.meshes.front();
   for (const SkinnedMesh& candidate : asset.meshes)
     if (candidate.skinned()) {
@@ -76,12 +127,15 @@ Result<LodSet> meshOnly(const Asset& asset, double pixels, int levels, const Lod
   original.triangles = static_cast<int>(mesh->triangleCount());
   original.activeJoints = asset.skeleton.jointCount();
   out.levels.push_back(original);
+  if (report)
+    report->simplifiedPercent.push_back(0.0);
   double previousDistance = 0.0;
   const std::vector<double> ratios = levelRatios(options.meshRatios, levels);
   for (int i = 1; i < levels; ++i) {
+    if (!progress(double(i - 1) / double(levels - 1)))
+      return Error(kLodBudgetCancelled);
     const MeshLodLevel level = lod->levelForRatio(ratios[std::size_t(i - 1)]);
     LodLevel entry = original;
-    entry.name = "LOD" + std::to_string(i);
     entry.meshRatio = double(level.triangles()) / double(mesh->triangleCount());
     entry.meshErrorCm = level.maxErrorCm;
     entry.triangles = static_cast<int>(level.triangles());
@@ -90,15 +144,20 @@ Result<LodSet> meshOnly(const Asset& asset, double pixels, int levels, const Lod
     entry.pixelError =
         deviationPixels(entry.deviationCm(), entry.switchDistanceCm, out.boundingRadiusCm, options.projection);
     entry.screenSizePixels = screenSizePixels(out.boundingRadiusCm, entry.switchDistanceCm, options.projection);
-    out.levels.push_back(entry);
-    previousDistance = entry.switchDistanceCm;
+    if (keepLevel(out, entry, i, false, report, 0.0))
+      previousDistance = entry.switchDistanceCm;
   }
+  progress(1.0);
   return out;
 }
 
 } // namespace
 
-Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options) {
+Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options,
+                                       LodBudgetReport* report) {
+  if (report)
+    *report = {};
+  Progress progress(options.progress);
   if (!std::isfinite(pixels) || !(pixels > 0.0))
     return Error("LOD: the pixel budget must be > 0");
   if (levels < 1)
@@ -116,8 +175,10 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
       return Error("LOD: candidate mesh ratios must fall, each in (0, 1]");
   std::vector<Clip> clips = asset.clips;
   clips.insert(clips.end(), options.clips.begin(), options.clips.end());
+  if (!progress(0.0))
+    return Error(kLodBudgetCancelled);
   if (clips.empty() || asset.skeleton.empty())
-    return meshOnly(asset, pixels, levels, options);
+    return meshOnly(asset, pixels, levels, options, report, progress);
   Result<LodCharacter> character =
       LodCharacter::prepare(asset.skeleton, characterMesh(asset), clips, options.jpc, options.mesh);
   if (!character)
@@ -135,6 +196,13 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
   original.triangles = character->mesh() ? static_cast<int>(character->mesh()->triangleCount()) : 0;
   original.activeJoints = asset.skeleton.jointCount();
   out.levels.push_back(original);
+  if (report)
+    report->simplifiedPercent.push_back(0.0);
+  // Preparing takes about a twentieth of the work; each level an equal share of the rest,
+  // its motion search 60% of that (by candidates tried), its mesh the other 40%.
+  const auto done = [&](int aimed, double ofLevel) {
+    return progress(0.05 + 0.95 * (double(aimed - 1) + ofLevel) / double(std::max(1, levels - 1)));
+  };
 
   std::vector<double> candidates = options.thresholds;
   std::sort(candidates.begin(), candidates.end());
@@ -158,6 +226,8 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
       return lod.error();
     fullMotionMesh.emplace(std::move(lod).value());
   }
+  if (!done(1, 0.0))
+    return Error(kLodBudgetCancelled);
   for (int i = 1; i < levels; ++i) {
     double budget = 0.0;
     if (fullMotionMesh) {
@@ -171,11 +241,18 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
     }
 
     Error failed;
-    const auto motionAt = [&](double threshold) -> const LevelMotion* { // computed once per (level, E)
-      const std::pair<int, double> key{perLevel ? i : 0, threshold};
+    double tried = 0.0;
+    // the per-joint overrides of the index the level gets if kept (levels left out close up)
+    const int slot = perLevel ? static_cast<int>(out.levels.size()) : 0;
+    const auto motionAt = [&](double threshold) -> const LevelMotion* { // computed once per (slot, E)
+      const std::pair<int, double> key{slot, threshold};
       auto found = motions.find(key);
       if (found == motions.end()) {
-        Result<LevelMotion> motion = character->motionAt(threshold, perLevel ? i : 0);
+        if (!done(i, 0.6 * std::min(1.0, tried++ / double(candidates.size())))) {
+          failed = Error(kLodBudgetCancelled);
+          return nullptr;
+        }
+        Result<LevelMotion> motion = character->motionAt(threshold, slot);
         if (!motion) {
           failed = motion.error();
           return nullptr;
@@ -208,10 +285,11 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
       if (!chosen)
         return failed;
     }
-    // A level that would repeat the previous one's motion although its budget is larger: the
-    // candidates are too coarse here, so look between the chosen threshold and the first
-    // that misses, in whole cm·degrees (bisection; errors grow with the threshold).
-    if (i >= 2 && chosen->threshold == previousThreshold && firstMiss > 0.0) {
+    // A level that would repeat the previous one's motion (or keep the original's, E = 0)
+    // although its budget is larger: the candidates are too coarse here, so look between the
+    // chosen threshold and the first that misses, in whole cm·degrees (bisection; errors grow
+    // with the threshold).
+    if (chosen->threshold == previousThreshold && firstMiss > 0.0) {
       double lo = std::floor(chosen->threshold) + 1.0, hi = std::ceil(firstMiss) - 1.0; // whole E strictly between
       while (lo <= hi) {
         const double mid = std::floor(0.5 * (lo + hi));
@@ -227,8 +305,9 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
       }
     }
 
+    if (!done(i, 0.6))
+      return Error(kLodBudgetCancelled);
     LodLevel level;
-    level.name = "LOD" + std::to_string(i);
     level.motionThreshold = chosen->threshold;
     level.motionErrorCm = chosen->motionErrorCm;
     level.activeJoints = chosen->bones.skeleton.jointCount();
@@ -246,10 +325,12 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
     level.switchDistanceCm = distance;
     level.pixelError = deviationPixels(level.deviationCm(), distance, radius, options.projection);
     level.screenSizePixels = screenSizePixels(radius, distance, options.projection);
-    out.levels.push_back(level);
-    previousThreshold = level.motionThreshold;
-    previousDistance = distance;
+    if (keepLevel(out, level, i, true, report, chosen->simplifiedPercent)) {
+      previousThreshold = level.motionThreshold;
+      previousDistance = distance;
+    }
   }
+  progress(1.0);
   return out;
 }
 

@@ -16,8 +16,10 @@
 // sphere covers height / 2^i pixels (half the screen, a quarter ...), where N pixels allow a
 // deviation delta_i (error_budget.h) for the motion. Either way the level switches in at the
 // smallest distance where its measured deviation (motion + the mesh error of its own
-// rebound mesh) spans at most N pixels: never nearer than the previous level's. Every
-// figure stays editable; validate() checks an edited set.
+// rebound mesh) spans at most N pixels: never nearer than the previous level's. A level
+// whose threshold is 0 (the original's motion) or that repeats the level kept before it
+// (same threshold and mesh ratio) is left out and reported, so a set may hold fewer levels
+// than asked. Every figure stays editable; validate() checks an edited set.
 //
 // Units: thresholds in cm·degrees, lengths and errors in cm, sizes and errors on screen in
 // pixels.
@@ -29,6 +31,7 @@
 #include "core/lod/error_budget.h"
 #include "core/mesh/mesh_lod.h"
 
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -64,6 +67,20 @@ struct LodBudgetOptions {
   std::vector<double> thresholds = {0.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 300.0, 500.0, 1000.0};
   // The mesh ratios the levels take (falling, each in (0, 1]; the last is the coarsest level's).
   std::vector<double> meshRatios = {0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.25, 0.2, 0.15, 0.1};
+  // Called on the generating thread with the fraction of the work done, in [0, 1], rising;
+  // returning false cancels: fromPixelBudget() then returns kLodBudgetCancelled at once.
+  std::function<bool(double fraction)> progress;
+};
+
+inline constexpr const char* kLodBudgetCancelled = "LOD: level generation cancelled";
+
+// What fromPixelBudget() found besides the set: what the editor's Budget dialog previews.
+struct LodBudgetReport {
+  // Per level of the set: 100 x clustered joint-frames / (clusterable joints x frames) over
+  // every clip the level plays (0 at level 0; the paper's Table 1 figure).
+  std::vector<double> simplifiedPercent;
+  // The aimed levels left out (an E of 0, or a repeat of the level before), one line each.
+  std::vector<std::string> dropped;
 };
 
 class LodSet {
@@ -72,12 +89,14 @@ public:
   double boundingRadiusCm = 0.0; // about the root, holding the posed character in every frame
   std::vector<LodLevel> levels;
 
-  // `levels` levels (>= 1, level 0 the original) within `pixels` (> 0) on screen, for the
-  // asset's character mesh (its first skinned mesh; none: the joints) and skeleton playing
-  // the asset's clips and options.clips. Without a clip (or a skeleton) the levels are the
-  // mesh's alone, measured in its bind pose. Errors: an asset with neither a clip nor a
-  // mesh, bad options.
-  static Result<LodSet> fromPixelBudget(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options);
+  // Up to `levels` levels (>= 1, level 0 the original) within `pixels` (> 0) on screen, for
+  // the asset's character mesh (its first skinned mesh; none: the joints) and skeleton
+  // playing the asset's clips and options.clips. Without a clip (or a skeleton) the levels
+  // are the mesh's alone, measured in its bind pose (every threshold 0: only the repeat rule
+  // applies). `report`, when given, receives the figures of the preview. Errors: an asset
+  // with neither a clip nor a mesh, bad options, a cancel (kLodBudgetCancelled).
+  static Result<LodSet> fromPixelBudget(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options,
+                                        LodBudgetReport* report = nullptr);
   // With the default options (the asset's own clips, default JPC and mesh settings).
   static Result<LodSet> fromPixelBudget(const Asset& asset, double pixels, int levels);
 

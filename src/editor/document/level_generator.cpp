@@ -4,6 +4,7 @@
 #include "editor/document/document.h"
 #include "editor/document/edits.h"
 
+#include <QPointer>
 #include <QtConcurrent/QtConcurrentRun>
 #include <cmath>
 
@@ -20,6 +21,14 @@ LevelGenerator::~LevelGenerator() {
 }
 
 bool LevelGenerator::start(double pixels, int levels, QString* out_error) {
+  return launch(pixels, levels, m_document->project().lods.projection, true, out_error);
+}
+
+bool LevelGenerator::preview(double pixels, int levels, const LodProjection& projection, QString* out_error) {
+  return launch(pixels, levels, projection, false, out_error);
+}
+
+bool LevelGenerator::launch(double pixels, int levels, const LodProjection& projection, bool land, QString* out_error) {
   const auto refuse = [&](const QString& reason) {
     if (out_error)
       *out_error = reason;
@@ -32,33 +41,59 @@ bool LevelGenerator::start(double pixels, int levels, QString* out_error) {
     return refuse(tr("the previous generation is still running"));
   if (!(pixels > 0.0) || !std::isfinite(pixels) || levels < 1)
     return refuse(tr("a budget is > 0 pixels and at least one level"));
+  if (Error error = projection.validate())
+    return refuse(QString::fromStdString(error.message()));
   const Project& project = m_document->project();
   const int index = m_document->currentAsset();
   LodBudgetOptions options;
   options.jpc = project.jpcSettings(index, character->unitScale);
-  options.projection = project.lods.projection;
+  options.projection = projection;
   std::vector<std::shared_ptr<const Asset>> assets; // kept alive while the worker runs
   for (int i = 0; i < m_document->assetCount(); ++i)
     assets.push_back(m_document->asset(i));
   m_cancel = std::make_shared<std::atomic<bool>>(false);
   m_running = true;
-  m_text = tr("Generate %1 levels within %2 px").arg(levels).arg(pixels);
-  m_watcher.setFuture(
-      QtConcurrent::run([project, assets, index, options, pixels, levels, cancel = m_cancel, hook = m_hook]() mutable {
+  m_land = land;
+  m_pending = {};
+  m_pending.asset = index;
+  m_pending.pixels = pixels;
+  m_pending.levels = levels;
+  // The worker's progress reaches the UI thread queued, once per whole percent; a report
+  // still queued when this object goes is dropped with it.
+  auto lastPercent = std::make_shared<std::atomic<int>>(-1);
+  QPointer<LevelGenerator> self(this);
+  const auto report = [self, lastPercent, cancel = m_cancel](double fraction) {
+    const int percent = static_cast<int>(std::floor(100.0 * fraction));
+    if (lastPercent->exchange(percent) != percent && !cancel->load())
+      QMetaObject::invokeMethod(
+          self.data(),
+          [self, percent, cancel] {
+            if (self && !cancel->load())
+              emit self->progressed(percent);
+          },
+          Qt::QueuedConnection);
+    return !cancel->load();
+  };
+  m_watcher.setFuture(QtConcurrent::run(
+      [project, assets, index, options, pixels, levels, report, cancel = m_cancel, hook = m_hook]() mutable {
+        auto out = std::make_shared<Outcome>();
         if (hook)
           hook(*cancel);
         if (cancel->load())
-          return std::shared_ptr<Result<LodSet>>();
+          return out;
         // Motions assigned to this character play on it too: every level must hold for them.
         std::vector<const Asset*> imported;
         for (const auto& asset : assets)
           imported.push_back(asset.get());
         Result<std::vector<Clip>> clips = assignedClips(project, imported, index);
-        if (!clips)
-          return std::make_shared<Result<LodSet>>(clips.error());
+        if (!clips) {
+          out->lods = clips.error();
+          return out;
+        }
         options.clips = *clips;
-        return std::make_shared<Result<LodSet>>(
-            LodSet::fromPixelBudget(*assets[std::size_t(index)], pixels, levels, options));
+        options.progress = report;
+        out->lods = LodSet::fromPixelBudget(*assets[std::size_t(index)], pixels, levels, options, &out->report);
+        return out;
       }));
   return true;
 }
@@ -68,24 +103,63 @@ void LevelGenerator::cancel() {
     return;
   m_cancel->store(true);
   m_running = false;
-  emit m_document->message(tr("Level generation cancelled; the levels are as they were"));
-  emit finished(false, tr("cancelled"));
+  if (m_land) {
+    emit m_document->message(tr("Level generation cancelled; the levels are as they were"));
+    emit finished(false, tr("cancelled"));
+  } else {
+    emit previewed(false, tr("cancelled"));
+  }
 }
 
 void LevelGenerator::onDone() {
-  const std::shared_ptr<Result<LodSet>> result = m_watcher.result();
+  const std::shared_ptr<Outcome> result = m_watcher.result();
   if (!m_running || (m_cancel && m_cancel->load()))
     return; // cancelled: already reported, the result is dropped
   m_running = false;
-  if (!result || !*result) {
-    const QString reason = result ? QString::fromStdString(result->message()) : tr("no result");
-    emit m_document->message(tr("warning: level generation: %1").arg(reason));
-    emit finished(false, reason);
+  if (!result || !result->lods) {
+    const QString reason = result ? QString::fromStdString(result->lods.message()) : tr("no result");
+    if (m_land) {
+      emit m_document->message(tr("warning: level generation: %1").arg(reason));
+      emit finished(false, reason);
+    } else {
+      emit previewed(false, reason);
+    }
     return;
   }
-  edit::applyLevelEdit(*m_document, replaceLodLevels(m_document->project().lods, result->value()), m_text);
-  emit m_document->message(m_text);
-  emit finished(true, m_text);
+  if (m_land) {
+    land(result->lods.value(), m_pending.pixels);
+    return;
+  }
+  m_plan = std::move(m_pending);
+  m_plan.lods = result->lods.value();
+  m_plan.report = std::move(result->report);
+  const Asset* character = m_document->currentAssetPtr();
+  m_plan.overrides = overridesAboveLevels(
+      m_document->project().jpcSettings(m_plan.asset, character ? character->unitScale : 1.0), m_plan.lods);
+  emit previewed(true, tr("%n level(s)", nullptr, static_cast<int>(m_plan.lods.levels.size())));
+}
+
+bool LevelGenerator::apply(QString* out_error) {
+  const auto refuse = [&](const QString& reason) {
+    if (out_error)
+      *out_error = reason;
+    return false;
+  };
+  if (m_plan.lods.levels.empty())
+    return refuse(tr("no preview to apply"));
+  if (m_running)
+    return refuse(tr("a generation is running"));
+  if (m_plan.asset != m_document->currentAsset())
+    return refuse(tr("the preview was made for another asset"));
+  land(m_plan.lods, m_plan.pixels);
+  return true;
+}
+
+void LevelGenerator::land(const LodSet& lods, double pixels) {
+  const QString text = tr("Generate %1 levels within %2 px").arg(lods.levels.size()).arg(pixels);
+  edit::applyLevelEdit(*m_document, replaceLodLevels(m_document->project().lods, lods), text);
+  emit m_document->message(text);
+  emit finished(true, text);
 }
 
 } // namespace mlod

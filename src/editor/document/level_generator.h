@@ -1,12 +1,19 @@
 #pragma once
 // Generates the LOD set of the asset in view from a pixel budget off the UI thread (core:
-// LodSet::fromPixelBudget with the document's JPC settings and projection, playing the motions
-// the project assigns to the asset too, project_package.h's assignedClips()). When it lands,
-// the new levels are one undo step (per-joint overrides kept by level index). One generation
-// at a time; cancelling drops the result at once and leaves the document as it was (the core
-// call has no cancel point, so the worker finishes in the background: isBusy()).
+// LodSet::fromPixelBudget with the document's JPC settings, playing the motions the project
+// assigns to the asset too, project_package.h's assignedClips()). Two ways
+// (docs/architecture.md section 7):
+// - start(): generate and land at once (the stale-distances offer);
+// - preview(), then apply(): the Budget dialog's way. The preview is the generator's whole
+//   result (the set, LodBudgetReport, the overrides above its levels); apply() lands exactly
+//   that set, so what the dialog shows is what the project gets.
+// Either way the new levels are one undo step (per-joint overrides kept by level index).
+// One generation at a time; it reports its progress in percent and stops at the core's next
+// cancel point after cancel(), which drops the result at once and leaves the document as it
+// was (the worker may still run briefly: isBusy()).
 
 #include "core/error.h"
+#include "core/lod/lod_levels.h"
 #include "core/lod/lod_set.h"
 
 #include <QFutureWatcher>
@@ -20,6 +27,16 @@ namespace mlod {
 
 class Document;
 
+// What one generation made, before it lands.
+struct LevelPlan {
+  int asset = -1; // the asset it was made for
+  double pixels = 0.0;
+  int levels = 0; // asked for; lods may hold fewer (report.dropped says why)
+  LodSet lods;
+  LodBudgetReport report;
+  std::vector<LodOverrideAbove> overrides; // per-joint overrides above a generated level's E
+};
+
 class LevelGenerator : public QObject {
   Q_OBJECT
 public:
@@ -27,10 +44,19 @@ public:
   explicit LevelGenerator(Document* document); // a child of the document
   ~LevelGenerator() override;                  // cancels and waits for the worker
 
-  // Starts generating `levels` levels within `pixels` (> 0) on screen. Returns false with a
-  // reason when no asset is in view, the budget is bad, or a worker still runs.
+  // Starts generating up to `levels` levels within `pixels` (> 0) on screen under the
+  // project's projection; they land when done (finished()). Returns false with a reason
+  // when no asset is in view, the budget is bad, or a worker still runs.
   bool start(double pixels, int levels, QString* out_error = nullptr);
-  // Drops the running generation's result; finished(false, "cancelled") follows at once.
+  // The same under `projection`, landing nothing: previewed() then plan().
+  bool preview(double pixels, int levels, const LodProjection& projection, QString* out_error = nullptr);
+  // The last successful preview (empty levels before one).
+  const LevelPlan& plan() const { return m_plan; }
+  // Lands plan() as one undo step (finished(true, ...)). Errors: no preview, a generation
+  // running, or another asset in view than the plan's.
+  bool apply(QString* out_error = nullptr);
+  // Drops the running generation's result; finished() or previewed() (false, "cancelled")
+  // follows at once.
   void cancel();
   bool isRunning() const { return m_running; }                      // a generation whose result will count
   bool isBusy() const { return m_watcher.isRunning(); }             // a worker still runs (a cancelled one too)
@@ -39,16 +65,28 @@ public:
 signals:
   // ok: the levels are in the document (one undo step named `message`); else the reason.
   void finished(bool ok, const QString& message);
+  // A preview ended: ok, plan() holds it; else the reason ("cancelled" after cancel()).
+  void previewed(bool ok, const QString& message);
+  // Percent done (0..100) of the running generation.
+  void progressed(int percent);
 
 private:
+  struct Outcome {
+    Result<LodSet> lods = Error("no result");
+    LodBudgetReport report;
+  };
+  bool launch(double pixels, int levels, const LodProjection& projection, bool land, QString* out_error);
   void onDone();
+  void land(const LodSet& lods, double pixels);
 
   Document* m_document;
-  QFutureWatcher<std::shared_ptr<Result<LodSet>>> m_watcher;
+  QFutureWatcher<std::shared_ptr<Outcome>> m_watcher;
   std::shared_ptr<std::atomic<bool>> m_cancel;
   WorkerHook m_hook;
   bool m_running = false;
-  QString m_text; // the undo text of the running generation
+  bool m_land = false; // the running generation lands when done (start()), else it is a preview
+  LevelPlan m_pending; // the running generation's request
+  LevelPlan m_plan;
 };
 
 } // namespace mlod

@@ -4,6 +4,7 @@
 
 #include "core/lod/error_budget.h"
 #include "core/lod/lod_character.h"
+#include "core/lod/lod_levels.h"
 #include "core/lod/lod_set.h"
 #include "core/mesh/skinning.h"
 #include "core/mesh/surface_distance.h"
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <iostream>
 #include <numbers>
+#include <stdexcept>
 
 namespace mlod {
 namespace {
@@ -245,6 +247,119 @@ TEST(PixelBudgetSkeleton, LevelsDoNotRepeatWhenTheThresholdStepsAreCoarse) {
       EXPECT_GT(level.motionThreshold, set->levels[i - 1].motionThreshold) << level.name;
     }
   }
+}
+
+// The rules of every generated set (lod_set.h): beyond LOD0 no level keeps the original's
+// motion (E = 0) and none repeats the level before it (same E and mesh ratio); what is left
+// out is reported, and every aimed level is either kept or reported.
+void expectTheLevelRules(const LodSet& set, const LodBudgetReport& report, int aimed, bool hasMotion) {
+  EXPECT_FALSE(set.validate()) << set.validate().message();
+  EXPECT_EQ(set.levels.size() + report.dropped.size(), std::size_t(aimed));
+  ASSERT_EQ(report.simplifiedPercent.size(), set.levels.size());
+  EXPECT_EQ(report.simplifiedPercent[0], 0.0);
+  for (std::size_t i = 1; i < set.levels.size(); ++i) {
+    const LodLevel& level = set.levels[i];
+    const LodLevel& previous = set.levels[i - 1];
+    EXPECT_EQ(level.name, "LOD" + std::to_string(i));
+    if (hasMotion) {
+      EXPECT_GT(level.motionThreshold, 0.0) << level.name;
+    }
+    EXPECT_FALSE(level.motionThreshold == previous.motionThreshold && level.meshRatio == previous.meshRatio)
+        << level.name << " repeats " << previous.name;
+    EXPECT_GE(report.simplifiedPercent[i], 0.0);
+    EXPECT_LE(report.simplifiedPercent[i], 100.0);
+  }
+  for (const std::string& line : report.dropped)
+    std::cout << "[ dropped  ] " << line << std::endl;
+}
+
+// The editor's sample (a CMU 01_01 excerpt, 1 inch = 2.54 / 0.45 cm): cheap to generate.
+const Asset& sample() {
+  static const Asset asset = [] {
+    ImportOptions options;
+    options.unitScale = 2.54 / 0.45;
+    Result<Asset> imported = importAsset(MLOD_SAMPLE, options);
+    if (!imported)
+      throw std::runtime_error(std::string(MLOD_SAMPLE) + ": " + imported.message());
+    return std::move(imported).value();
+  }();
+  return asset;
+}
+
+// A budget so tight that no threshold above 0 fits the nearest levels, one so loose that the
+// threshold table runs out: the set holds fewer levels than asked rather than break a rule.
+TEST(PixelBudgetRules, NoLevelKeepsTheOriginalMotionOrRepeatsItsPredecessor) {
+  const Asset& asset = sample();
+  const LodBudgetOptions options;
+  for (double pixels : {0.02, 1.0, 40.0}) {
+    LodBudgetReport report;
+    Result<LodSet> set = LodSet::fromPixelBudget(asset, pixels, 6, options, &report);
+    ASSERT_TRUE(set) << set.message();
+    std::cout << "[ budget   ] " << pixels << " px: " << set->levels.size() << " levels, " << report.dropped.size()
+              << " left out" << std::endl;
+    expectTheLevelRules(*set, report, 6, true);
+    // the report changes nothing of the set
+    Result<LodSet> plain = LodSet::fromPixelBudget(asset, pixels, 6);
+    ASSERT_TRUE(plain);
+    EXPECT_TRUE(*plain == *set);
+    if (pixels == 0.02) {
+      EXPECT_FALSE(report.dropped.empty()) << "0.02 px leaves no room for any motion simplification";
+    }
+    if (set->levels.size() >= 3) {
+      EXPECT_GT(report.simplifiedPercent.back(), report.simplifiedPercent[1]);
+    }
+  }
+}
+
+// Mesh levels alone (no clip): asked for more levels than there are candidate ratios, the
+// ratios reach the candidates' floor, and a level that would repeat it is left out.
+TEST(PixelBudgetRules, MeshOnlyLevelsDoNotRepeat) {
+  Asset noClip = test::bcnEpileptic();
+  noClip.clips.clear();
+  const LodBudgetOptions options;
+  const int aimed = static_cast<int>(options.meshRatios.size()) + 3;
+  LodBudgetReport report;
+  Result<LodSet> set = LodSet::fromPixelBudget(noClip, 1.0, aimed, options, &report);
+  ASSERT_TRUE(set) << set.message();
+  expectTheLevelRules(*set, report, aimed, false);
+  EXPECT_FALSE(report.dropped.empty()) << aimed << " levels over " << options.meshRatios.size() << " ratios";
+}
+
+// Progress rises to 1; returning false cancels at once with kLodBudgetCancelled.
+TEST(PixelBudgetRules, ProgressRisesAndCancels) {
+  const Asset& asset = sample();
+  std::vector<double> seen;
+  LodBudgetOptions options;
+  options.progress = [&](double fraction) {
+    seen.push_back(fraction);
+    return true;
+  };
+  ASSERT_TRUE(LodSet::fromPixelBudget(asset, 1.0, 4, options));
+  ASSERT_GE(seen.size(), 5u);
+  EXPECT_EQ(seen.front(), 0.0);
+  EXPECT_EQ(seen.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  int calls = 0;
+  options.progress = [&](double) { return ++calls < 3; };
+  Result<LodSet> cancelled = LodSet::fromPixelBudget(asset, 1.0, 4, options);
+  ASSERT_FALSE(cancelled);
+  EXPECT_EQ(cancelled.message(), kLodBudgetCancelled);
+  EXPECT_EQ(calls, 3) << "no work after the cancel";
+}
+
+TEST(PixelBudgetRules, OverridesAboveTheirLevelAreListed) {
+  LodSet set;
+  set.levels.resize(3);
+  set.levels[0].name = "LOD0";
+  set.levels[1] = {.name = "LOD1", .motionThreshold = 10.0};
+  set.levels[2] = {.name = "LOD2", .motionThreshold = 50.0};
+  JpcSettings settings;
+  settings.joints["Neck"].thresholds = {std::nullopt, 20.0, 40.0}; // above LOD1's 10, below LOD2's 50
+  settings.joints["Head"].thresholds = {std::nullopt, 10.0, 80.0, 500.0}; // equal at LOD1; LOD3 is not in the set
+  settings.joints["Hips"].locked = true;
+  const std::vector<LodOverrideAbove> above = overridesAboveLevels(settings, set);
+  const std::vector<LodOverrideAbove> expected = {{"Neck", 1, 20.0, 10.0}, {"Head", 2, 80.0, 50.0}};
+  EXPECT_EQ(above, expected);
 }
 
 TEST(PixelBudgetInput, BadRequestsAreErrors) {

@@ -1,0 +1,295 @@
+#include "editor/views/budget_dialog.h"
+
+#include "editor/document/level_generator.h"
+#include "editor/views/job_progress.h"
+
+#include <QDialogButtonBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QListWidget>
+#include <QLocale>
+#include <QPushButton>
+#include <QSpinBox>
+#include <QTableWidget>
+#include <QVBoxLayout>
+#include <cmath>
+
+namespace mlod {
+
+namespace {
+
+QString threshold(double e) {
+  return QString::number(e, 'f', e == std::floor(e) ? 0 : 1);
+}
+
+QTableWidgetItem* cell(const QString& text, Qt::Alignment alignment = Qt::AlignRight | Qt::AlignVCenter) {
+  auto* item = new QTableWidgetItem(text);
+  item->setFlags(Qt::ItemIsEnabled | Qt::ItemIsSelectable);
+  item->setTextAlignment(alignment);
+  return item;
+}
+
+} // namespace
+
+BudgetDialog::BudgetDialog(LevelGenerator* generator, const BudgetRequest& initial, QWidget* parent)
+    : QDialog(parent), m_generator(generator) {
+  setObjectName("budgetDialog");
+  setWindowTitle(tr("Generate Levels from Pixel Budget"));
+
+  m_pixels = new QDoubleSpinBox;
+  m_pixels->setObjectName("pixelsBox");
+  m_pixels->setRange(0.01, 100.0);
+  m_pixels->setDecimals(2);
+  m_pixels->setSingleStep(0.25);
+  m_pixels->setSuffix(tr(" px"));
+  m_pixels->setToolTip(tr("The most any level may stray from the original on screen, motion and mesh together"));
+  m_levels = new QSpinBox;
+  m_levels->setObjectName("levelsBox");
+  m_levels->setRange(1, 12);
+  m_levels->setToolTip(tr("Levels to aim at, the original included: level i at 1/2^i of the screen height. Levels "
+                          "that would repeat the one before, or keep the original motion, are left out"));
+  m_fov = new QDoubleSpinBox;
+  m_fov->setObjectName("fovBox");
+  m_fov->setRange(1.0, 179.0);
+  m_fov->setDecimals(1);
+  m_fov->setSuffix(tr("°"));
+  m_fov->setToolTip(tr("The camera's vertical field of view the pixel figures assume"));
+  m_height = new QSpinBox;
+  m_height->setObjectName("heightBox");
+  m_height->setRange(1, 16384);
+  m_height->setSuffix(tr(" px"));
+  m_height->setToolTip(tr("The viewport's height in pixels the pixel figures assume"));
+  auto* form = new QFormLayout;
+  form->addRow(tr("Pixel error:"), m_pixels);
+  form->addRow(tr("Levels (the original included):"), m_levels);
+  form->addRow(tr("Vertical field of view:"), m_fov);
+  form->addRow(tr("Viewport height:"), m_height);
+
+  m_table = new QTableWidget(0, ColumnCount);
+  m_table->setObjectName("budgetPreview");
+  const QStringList headers = {tr("Level"),        tr("E (cm·°)"),  tr("Mesh ratio"), tr("Switch at (m)"),
+                               tr("Simplified %"), tr("Triangles"), tr("Joints")};
+  const QStringList tips = {
+      tr("The level's name"),
+      tr("Motion threshold E, cm·degrees"),
+      tr("Triangles kept of the original mesh"),
+      tr("Camera distance from which the level is used, metres"),
+      tr("Clustered joint-frames, % of clusterable joint-frames over every clip the level plays (the paper's Table 1)"),
+      tr("Triangles of the level's mesh"),
+      tr("Joints left after bone reduction")};
+  m_table->setHorizontalHeaderLabels(headers);
+  for (int c = 0; c < ColumnCount; ++c)
+    m_table->horizontalHeaderItem(c)->setToolTip(tips[c]);
+  m_table->verticalHeader()->hide();
+  m_table->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  m_table->setSelectionMode(QAbstractItemView::NoSelection);
+  m_table->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  m_table->horizontalHeader()->setStretchLastSection(true);
+
+  m_notes = new QLabel;
+  m_notes->setObjectName("budgetNotes");
+  m_notes->setWordWrap(true);
+  m_notes->hide();
+  m_overridesTitle = new QLabel;
+  m_overridesTitle->setObjectName("overridesTitle");
+  m_overridesTitle->setWordWrap(true);
+  m_overrides = new QListWidget;
+  m_overrides->setObjectName("overridesList");
+  m_overrides->setMaximumHeight(90);
+  m_overrides->hide();
+  m_status = new QLabel;
+  m_status->setObjectName("budgetStatus");
+  m_status->setWordWrap(true);
+
+  m_buttons = new QDialogButtonBox;
+  m_previewButton = m_buttons->addButton(tr("Preview"), QDialogButtonBox::ActionRole);
+  m_previewButton->setObjectName("previewButton");
+  m_previewButton->setToolTip(tr("Compute the preview again now"));
+  m_apply = m_buttons->addButton(tr("Apply"), QDialogButtonBox::AcceptRole);
+  m_apply->setObjectName("applyButton");
+  m_apply->setToolTip(tr("Replace the LOD levels with the previewed ones (one undo step)"));
+  m_apply->setEnabled(false);
+  m_buttons->addButton(QDialogButtonBox::Cancel)->setObjectName("cancelButton");
+  connect(m_previewButton, &QPushButton::clicked, this, [this] {
+    m_settle.stop();
+    runPreview();
+  });
+  connect(m_apply, &QPushButton::clicked, this, &BudgetDialog::applyPlan);
+  connect(m_buttons, &QDialogButtonBox::rejected, this, &BudgetDialog::reject);
+
+  auto* layout = new QVBoxLayout(this);
+  layout->addLayout(form);
+  layout->addWidget(m_table, 1);
+  layout->addWidget(m_notes);
+  layout->addWidget(m_overridesTitle);
+  layout->addWidget(m_overrides);
+  layout->addWidget(m_status);
+  layout->addWidget(m_buttons);
+  resize(720, 520);
+
+  m_progress = new JobProgress(tr("LOD levels"), tr("Cancel"), this);
+  m_progress->setObjectName("budgetProgress");
+  connect(m_progress, &QProgressDialog::canceled, this, [this] {
+    if (m_previewing)
+      m_generator->cancel(); // previewed(false, "cancelled") follows at once
+  });
+  connect(m_generator, &LevelGenerator::progressed, this, [this](int percent) {
+    if (!m_previewing)
+      return;
+    m_progress->step(percent, 100);
+    m_status->setText(tr("Previewing the levels … %1%").arg(percent));
+  });
+  connect(m_generator, &LevelGenerator::previewed, this, &BudgetDialog::onPreviewed);
+
+  m_settle.setSingleShot(true);
+  m_settle.setInterval(kSettleMs);
+  connect(&m_settle, &QTimer::timeout, this, &BudgetDialog::runPreview);
+  setRequest(initial);
+  connect(m_pixels, &QDoubleSpinBox::valueChanged, this, &BudgetDialog::valuesChanged);
+  connect(m_levels, &QSpinBox::valueChanged, this, &BudgetDialog::valuesChanged);
+  connect(m_fov, &QDoubleSpinBox::valueChanged, this, &BudgetDialog::valuesChanged);
+  connect(m_height, &QSpinBox::valueChanged, this, &BudgetDialog::valuesChanged);
+  valuesChanged();
+}
+
+BudgetDialog::~BudgetDialog() {
+  if (m_previewing) {
+    m_previewing = false;
+    m_generator->cancel();
+  }
+}
+
+BudgetRequest BudgetDialog::request() const {
+  BudgetRequest out;
+  out.pixels = m_pixels->value();
+  out.levels = m_levels->value();
+  out.projection.verticalFovDegrees = m_fov->value();
+  out.projection.viewportHeightPixels = m_height->value();
+  return out;
+}
+
+void BudgetDialog::setRequest(const BudgetRequest& request) {
+  m_pixels->setValue(request.pixels);
+  m_levels->setValue(request.levels);
+  m_fov->setValue(request.projection.verticalFovDegrees);
+  m_height->setValue(static_cast<int>(std::lround(request.projection.viewportHeightPixels)));
+}
+
+void BudgetDialog::valuesChanged() {
+  m_current = false;
+  m_apply->setEnabled(false);
+  if (m_previewing) { // superseded: its result would show other values
+    m_previewing = false;
+    m_generator->cancel();
+    m_progress->finish();
+  }
+  m_status->setText(tr("Previewing the levels …"));
+  m_settle.start();
+}
+
+void BudgetDialog::runPreview() {
+  if (m_previewing)
+    return;
+  if (m_generator->isBusy() || m_generator->isRunning()) { // a cancelled worker still ends: soon
+    m_settle.start();
+    return;
+  }
+  const BudgetRequest wanted = request();
+  QString error;
+  if (!m_generator->preview(wanted.pixels, wanted.levels, wanted.projection, &error)) {
+    m_status->setText(tr("Cannot preview: %1").arg(error));
+    return;
+  }
+  m_previewing = true;
+  m_current = false;
+  m_apply->setEnabled(false);
+  m_status->setText(tr("Previewing the levels …"));
+  m_progress->begin(tr("Previewing %1 levels within %2 px …").arg(wanted.levels).arg(wanted.pixels), 100);
+}
+
+void BudgetDialog::onPreviewed(bool ok, const QString& message) {
+  if (!m_previewing)
+    return; // superseded by a change of values, or not ours
+  m_previewing = false;
+  m_progress->finish();
+  if (!ok) {
+    m_table->setRowCount(0);
+    m_notes->hide();
+    m_overrides->hide();
+    m_overridesTitle->clear();
+    m_status->setText(message == tr("cancelled")
+                          ? tr("Preview cancelled; the levels are as they were. Press Preview to compute it.")
+                          : tr("Cannot generate the levels: %1").arg(message));
+    return;
+  }
+  showPlan();
+  m_current = true;
+  m_apply->setEnabled(true);
+  emit previewShown();
+}
+
+void BudgetDialog::showPlan() {
+  const LevelPlan& plan = m_generator->plan();
+  const std::vector<LodLevel>& levels = plan.lods.levels;
+  m_table->setRowCount(static_cast<int>(levels.size()));
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const LodLevel& level = levels[i];
+    const int row = static_cast<int>(i);
+    const double simplified = i < plan.report.simplifiedPercent.size() ? plan.report.simplifiedPercent[i] : 0.0;
+    m_table->setItem(row, LevelColumn, cell(QString::fromStdString(level.name), Qt::AlignLeft | Qt::AlignVCenter));
+    m_table->setItem(row, ThresholdColumn, cell(threshold(level.motionThreshold)));
+    m_table->setItem(row, RatioColumn, cell(QString::number(level.meshRatio, 'f', 2)));
+    m_table->setItem(row, DistanceColumn, cell(QString::number(level.switchDistanceCm / 100.0, 'f', 2)));
+    m_table->setItem(row, SimplifiedColumn, cell(QString::number(simplified, 'f', 1)));
+    m_table->setItem(row, TrianglesColumn, cell(level.triangles > 0 ? QLocale().toString(level.triangles) : tr("—")));
+    m_table->setItem(row, JointsColumn, cell(QString::number(level.activeJoints)));
+  }
+  QStringList notes;
+  for (const std::string& line : plan.report.dropped)
+    notes << QString::fromStdString(line);
+  m_notes->setText(notes.join('\n'));
+  m_notes->setVisible(!notes.isEmpty());
+  m_overrides->clear();
+  for (const LodOverrideAbove& o : plan.overrides) {
+    const QString name = o.level < static_cast<int>(levels.size())
+                             ? QString::fromStdString(levels[static_cast<std::size_t>(o.level)].name)
+                             : tr("level %1").arg(o.level);
+    m_overrides->addItem(
+        tr("%1 at %2: %3 cm·° — above the level's E of %4 cm·°")
+            .arg(QString::fromStdString(o.joint), name, threshold(o.overrideThreshold), threshold(o.levelThreshold)));
+  }
+  m_overrides->setVisible(!plan.overrides.empty());
+  m_overridesTitle->setText(plan.overrides.empty()
+                                ? tr("No per-joint override exceeds a generated level's E.")
+                                : tr("%n per-joint override(s) exceed their level's E and stay as they are "
+                                     "(edit them in the Skeleton dock):",
+                                     nullptr, static_cast<int>(plan.overrides.size())));
+  m_status->setText(tr("%n level(s) within %1 px. Apply replaces the current levels (one undo step).", nullptr,
+                       static_cast<int>(levels.size()))
+                        .arg(plan.pixels));
+}
+
+void BudgetDialog::applyPlan() {
+  if (!m_current)
+    return;
+  QString error;
+  if (!m_generator->apply(&error)) {
+    m_status->setText(tr("Cannot apply: %1").arg(error));
+    return;
+  }
+  accept();
+}
+
+void BudgetDialog::reject() {
+  m_settle.stop();
+  if (m_previewing) {
+    m_previewing = false;
+    m_generator->cancel();
+    m_progress->finish();
+  }
+  QDialog::reject();
+}
+
+} // namespace mlod

@@ -1,0 +1,216 @@
+// The Budget dialog (Edit > Generate Levels from Pixel Budget…, editor/views/budget_dialog.h)
+// on real widgets: its preview is what Apply lands, Cancel leaves the project as it was, one
+// undo restores the previous levels, and per-joint overrides above a generated level's E
+// are listed.
+
+#include "core/project.h"
+#include "editor/document/document.h"
+#include "editor/document/edits.h"
+#include "editor/document/level_generator.h"
+#include "editor/main_window.h"
+#include "editor/views/budget_dialog.h"
+#include "editor/views/job_progress.h"
+
+#include <QApplication>
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QListWidget>
+#include <QPushButton>
+#include <QSignalSpy>
+#include <QSpinBox>
+#include <QTableWidget>
+#include <QTest>
+#include <QThread>
+#include <QUndoStack>
+#include <cmath>
+#include <memory>
+
+using namespace mlod;
+
+namespace {
+
+bool waitForFigures(Document* document) {
+  return QTest::qWaitFor(
+      [&] { return !document->isAnalysing() && !document->isLoading() && document->analysis() != nullptr; }, 60000);
+}
+
+QString text(const QTableWidget* table, int row, int column) {
+  const QTableWidgetItem* item = table->item(row, column);
+  return item ? item->text() : QString();
+}
+
+} // namespace
+
+class TestBudgetDialog : public QObject {
+  Q_OBJECT
+
+  std::unique_ptr<MainWindow> openSample() {
+    auto window = std::make_unique<MainWindow>();
+    window->resize(1400, 900);
+    window->show();
+    QSignalSpy spy(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(MLOD_SAMPLE, 2.54 / 0.45);
+    if (!spy.wait(60000) || !spy.first()[0].toBool())
+      return nullptr;
+    if (!waitForFigures(window->document()))
+      return nullptr;
+    return window;
+  }
+
+  // Opens the dialog through its menu action and waits for the preview of `pixels`, `levels`.
+  static BudgetDialog* previewed(MainWindow& window, double pixels, int levels) {
+    window.findChild<QAction*>("actionGenerateLevels")->trigger();
+    auto* dialog = window.findChild<BudgetDialog*>("budgetDialog");
+    if (!dialog)
+      return nullptr;
+    dialog->findChild<QDoubleSpinBox*>("pixelsBox")->setValue(pixels);
+    dialog->findChild<QSpinBox*>("levelsBox")->setValue(levels);
+    if (!QTest::qWaitFor([&] { return dialog->isPreviewCurrent(); }, 60000))
+      return nullptr;
+    return dialog;
+  }
+
+private slots:
+  void initTestCase() { QApplication::setApplicationName("motionlod-studio-test-budget"); }
+
+  // The table shows every level Apply lands, figure by figure; Apply is one undo step and
+  // undo brings the previous levels back.
+  void previewIsWhatApplyLands() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Project before = document->project();
+    const int steps = document->undoStack()->count();
+    BudgetDialog* dialog = previewed(*window, 1.0, 4);
+    QVERIFY(dialog);
+    QVERIFY(dialog->isVisible());
+    QVERIFY(dialog->applyButton()->isEnabled());
+    const LevelPlan plan = document->levelGenerator()->plan();
+    const QTableWidget* table = dialog->table();
+    QCOMPARE(table->rowCount(), int(plan.lods.levels.size()));
+    QVERIFY(table->rowCount() >= 2);
+    QCOMPARE(document->project().lods, before.lods); // a preview changes nothing
+    std::vector<QStringList> rows;                   // what the user read before pressing Apply
+    for (int row = 0; row < table->rowCount(); ++row) {
+      rows.emplace_back();
+      for (int column = 0; column < BudgetDialog::ColumnCount; ++column)
+        rows.back() << text(table, row, column);
+    }
+
+    QSignalSpy finished(document->levelGenerator(), &LevelGenerator::finished);
+    QTest::mouseClick(dialog->applyButton(), Qt::LeftButton);
+    QCOMPARE(finished.count(), 1);
+    QVERIFY(finished.first()[0].toBool());
+    QTRY_VERIFY(!window->findChild<BudgetDialog*>("budgetDialog")); // closed and deleted
+    QCOMPARE(document->undoStack()->count(), steps + 1);
+    const LodSet& applied = document->project().lods;
+    QCOMPARE(applied, plan.lods);
+    QCOMPARE(applied.levels.size(), rows.size());
+    for (std::size_t i = 0; i < applied.levels.size(); ++i) {
+      const LodLevel& level = applied.levels[i];
+      const QStringList& row = rows[i];
+      QCOMPARE(row[BudgetDialog::LevelColumn], QString::fromStdString(level.name));
+      QCOMPARE(row[BudgetDialog::ThresholdColumn].toDouble(), level.motionThreshold);
+      QCOMPARE(row[BudgetDialog::RatioColumn], QString::number(level.meshRatio, 'f', 2));
+      QCOMPARE(row[BudgetDialog::DistanceColumn], QString::number(level.switchDistanceCm / 100.0, 'f', 2));
+      QCOMPARE(row[BudgetDialog::JointsColumn], QString::number(level.activeJoints));
+      if (i >= 1) { // the rules: no E = 0 beyond LOD0, no repeat of the level before
+        QVERIFY(level.motionThreshold > 0.0);
+        QVERIFY(!(level.motionThreshold == applied.levels[i - 1].motionThreshold &&
+                  level.meshRatio == applied.levels[i - 1].meshRatio));
+      }
+    }
+    QCOMPARE(rows.front()[BudgetDialog::SimplifiedColumn], QString("0.0"));
+    QVERIFY(rows.back()[BudgetDialog::SimplifiedColumn].toDouble() > 0.0);
+
+    document->undoStack()->undo();
+    QCOMPARE(document->project().lods, before.lods);
+    QCOMPARE(document->project(), before);
+  }
+
+  // Cancel on the progress dialog stops the preview; Cancel on the dialog closes it; the
+  // project and its undo history are as they were.
+  void cancelLeavesTheProjectUnchanged() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Project before = document->project();
+    const int steps = document->undoStack()->count();
+    document->levelGenerator()->setWorkerHook([](const std::atomic<bool>& cancel) {
+      while (!cancel.load())
+        QThread::msleep(5);
+    });
+    window->findChild<QAction*>("actionGenerateLevels")->trigger();
+    auto* dialog = window->findChild<BudgetDialog*>("budgetDialog");
+    QVERIFY(dialog);
+    // the preview starts once the values rest, and its progress shows only after 300 ms
+    QTRY_VERIFY_WITH_TIMEOUT(document->levelGenerator()->isRunning(), 5000);
+    QVERIFY(!dialog->progress()->isVisible());
+    QTRY_VERIFY_WITH_TIMEOUT(dialog->progress()->isVisible(), 5000);
+    QTest::mouseClick(dialog->progress()->findChild<QPushButton*>(), Qt::LeftButton);
+    QVERIFY(!document->levelGenerator()->isRunning());
+    QVERIFY(!dialog->progress()->isVisible());
+    QVERIFY(!dialog->applyButton()->isEnabled());
+    QVERIFY(dialog->statusLabel()->text().contains("cancelled"));
+    QCOMPARE(dialog->table()->rowCount(), 0);
+    document->levelGenerator()->setWorkerHook({});
+    QTRY_VERIFY_WITH_TIMEOUT(!document->levelGenerator()->isBusy(), 20000);
+
+    // a second preview, then the dialog's own Cancel: nothing lands
+    QTest::mouseClick(dialog->previewButton(), Qt::LeftButton);
+    QTRY_VERIFY_WITH_TIMEOUT(dialog->isPreviewCurrent(), 60000);
+    QTest::mouseClick(dialog->findChild<QPushButton*>("cancelButton"), Qt::LeftButton);
+    QTRY_VERIFY(!window->findChild<BudgetDialog*>("budgetDialog"));
+    QCOMPARE(document->project(), before);
+    QCOMPARE(document->undoStack()->count(), steps);
+  }
+
+  // A per-joint override above the E of the level it belongs to is listed, not kept unseen;
+  // a value change makes the preview stale (Apply disabled) until it is computed again.
+  void overridesAboveALevelAreListed() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    const Skeleton& skeleton = document->currentAssetPtr()->skeleton;
+    const int joint = skeleton.jointCount() - 1; // a leaf
+    const QString name = QString::fromStdString(skeleton.joints[std::size_t(joint)].name);
+    edit::setJointThreshold(*document, {joint}, 1, 900.0);
+    QVERIFY(waitForFigures(document));
+    BudgetDialog* dialog = previewed(*window, 1.0, 3);
+    QVERIFY(dialog);
+    const LevelPlan& plan = document->levelGenerator()->plan();
+    QVERIFY(plan.lods.levels.size() >= 2);
+    QVERIFY(plan.lods.levels[1].motionThreshold < 900.0);
+    QCOMPARE(int(plan.overrides.size()), 1);
+    QCOMPARE(dialog->overridesList()->count(), 1);
+    QVERIFY(dialog->overridesList()->isVisibleTo(dialog));
+    const QString line = dialog->overridesList()->item(0)->text();
+    QVERIFY2(line.contains(name) && line.contains("LOD1") && line.contains("900"), qPrintable(line));
+
+    dialog->findChild<QSpinBox*>("levelsBox")->setValue(2);
+    QVERIFY(!dialog->isPreviewCurrent());
+    QVERIFY(!dialog->applyButton()->isEnabled());
+    QTRY_VERIFY_WITH_TIMEOUT(dialog->isPreviewCurrent(), 60000);
+    QCOMPARE(dialog->table()->rowCount(), int(document->levelGenerator()->plan().lods.levels.size()));
+    dialog->reject();
+  }
+
+  // A budget too tight for any motion simplification near the camera: the aimed levels left
+  // out are said so, and no row has E = 0 beyond LOD0.
+  void levelsLeftOutAreExplained() {
+    auto window = openSample();
+    QVERIFY(window);
+    BudgetDialog* dialog = previewed(*window, 0.02, 4);
+    QVERIFY(dialog);
+    const QTableWidget* table = dialog->table();
+    QVERIFY(table->rowCount() < 4);
+    for (int row = 1; row < table->rowCount(); ++row)
+      QVERIFY(text(table, row, BudgetDialog::ThresholdColumn).toDouble() > 0.0);
+    QVERIFY(dialog->notesLabel()->isVisibleTo(dialog));
+    QVERIFY2(dialog->notesLabel()->text().contains("left out"), qPrintable(dialog->notesLabel()->text()));
+    dialog->reject();
+  }
+};
+
+QTEST_MAIN(TestBudgetDialog)
+#include "test_budget_dialog.moc"
