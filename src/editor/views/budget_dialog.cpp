@@ -86,7 +86,7 @@ BudgetDialog::BudgetDialog(LevelGenerator* generator, const BudgetRequest& initi
   m_table->setEditTriggers(QAbstractItemView::NoEditTriggers);
   m_table->setSelectionMode(QAbstractItemView::NoSelection);
   m_table->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
-  m_table->horizontalHeader()->setStretchLastSection(true);
+  m_table->horizontalHeader()->setStretchLastSection(false);
 
   m_notes = new QLabel;
   m_notes->setObjectName("budgetNotes");
@@ -261,14 +261,14 @@ void BudgetDialog::showPlan() {
             .arg(QString::fromStdString(o.joint), name, threshold(o.overrideThreshold), threshold(o.levelThreshold)));
   }
   m_overrides->setVisible(!plan.overrides.empty());
-  m_overridesTitle->setText(plan.overrides.empty()
-                                ? tr("No per-joint override exceeds a generated level's E.")
-                                : tr("%n per-joint override(s) exceed their level's E and stay as they are "
-                                     "(edit them in the Skeleton dock):",
-                                     nullptr, static_cast<int>(plan.overrides.size())));
-  m_status->setText(tr("%n level(s) within %1 px. Apply replaces the current levels (one undo step).", nullptr,
-                       static_cast<int>(levels.size()))
-                        .arg(plan.pixels));
+  m_overridesTitle->setText(
+      plan.overrides.empty() ? tr("No per-joint override exceeds a generated level's E.")
+                             : tr("Per-joint overrides above their level's E: %1, kept as they are (edit them in the "
+                                  "Skeleton dock):")
+                                   .arg(plan.overrides.size()));
+  m_status->setText(tr("Levels within %1 px: %2. Apply replaces the current levels (one undo step).")
+                        .arg(plan.pixels)
+                        .arg(levels.size()));
 }
 
 void BudgetDialog::applyPlan() {
