@@ -275,7 +275,7 @@ int BenchCrowdCommand::run() const {
     doc["skinning"] = skin;
   }
   if (json) {
-    std::cout << doc.dump(2) << std::endl;
+    std::cout << jsonText(doc) << std::endl;
     return kExitOk;
   }
   std::printf("file:       %s, clip '%s' (%d frames at %g fps, looped), %zu joints (%d animated)\n", file.c_str(),
@@ -429,7 +429,7 @@ int BenchCrowdCommand::runScene() const {
     speedup[runs[r].name] = compared->speedup(r);
   doc["speedup"] = speedup;
   if (json) {
-    std::cout << doc.dump(2) << std::endl;
+    std::cout << jsonText(doc) << std::endl;
     return kExitOk;
   }
   std::printf("character:  %s (%zu vertices, %d joints)\n", file.c_str(), mesh->vertexCount(),

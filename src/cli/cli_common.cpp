@@ -4,8 +4,8 @@
 #include "io/isolated_import.h"
 
 #include <CLI/CLI.hpp>
-
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 
@@ -44,7 +44,8 @@ void exitFromInterrupt() {
   std::_Exit(128 + signal);
 }
 
-std::string jsonText(const nlohmann::json& doc) {
+namespace {
+template <typename Json> std::string jsonTextOf(const Json& doc) {
   try {
     return doc.dump(2);
   } catch (const nlohmann::json::type_error&) {
@@ -53,6 +54,20 @@ std::string jsonText(const nlohmann::json& doc) {
               << std::endl;
     return doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
   }
+}
+} // namespace
+
+std::string jsonText(const nlohmann::json& doc) {
+  return jsonTextOf(doc);
+}
+std::string jsonText(const nlohmann::ordered_json& doc) {
+  return jsonTextOf(doc);
+}
+
+std::string exactNumber(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
 }
 
 void warnIfNotUtf8(const std::string& file) {

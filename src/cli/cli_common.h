@@ -25,6 +25,10 @@ void printError(const std::string& file, const std::string& reason);
 // (file names are kept as bytes; names from files are made valid on import) are written
 // with U+FFFD for their bad bytes, and a warning on stderr says so.
 std::string jsonText(const nlohmann::json& doc);
+std::string jsonText(const nlohmann::ordered_json& doc);
+
+// A number as text that parses back to the same double ("%.17g").
+std::string exactNumber(double value);
 
 // Warns on stderr when `file` is not valid UTF-8: JSON written from it holds U+FFFD instead.
 void warnIfNotUtf8(const std::string& file);

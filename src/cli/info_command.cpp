@@ -38,12 +38,6 @@ void printJointTree(const Skeleton& skeleton, const Clip* clip) {
 
 namespace {
 
-std::string exactNumber(double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
-
 // The project's settings, levels and mappings, and every asset imported as the editor would.
 int describeProject(const std::string& file, bool json, const ImportArguments& import) {
   Result<Project> read = loadProjectFile(file);

@@ -55,13 +55,6 @@ void SimplifyCommand::attach(CLI::App& app) {
 
 namespace {
 
-// A number as text that parses back to the same double.
-std::string exactNumber(double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
-
 std::string formatNumber(double value) {
   std::ostringstream out;
   out << value;

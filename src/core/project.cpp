@@ -129,7 +129,11 @@ std::string projectToJson(const Project& project, int indent) {
       entry["mesh_importance"] = settings.meshImportance;
       joints[name] = std::move(entry);
     }
-    assets.push_back({{"path", asset.path}, {"unit_scale", asset.unitScale}, {"joints", std::move(joints)}});
+    json entry = {{"path", asset.path}};
+    if (asset.unitScale > 0.0) // absent: the file's own unit
+      entry["unit_scale"] = asset.unitScale;
+    entry["joints"] = std::move(joints);
+    assets.push_back(std::move(entry));
   }
   doc["assets"] = std::move(assets);
   json mappings = json::array();
@@ -142,7 +146,9 @@ std::string projectToJson(const Project& project, int indent) {
                     {"clip", project.view.clip},
                     {"level", project.view.level},
                     {"joint", project.view.joint}};
-  return doc.dump(indent);
+  // A name that is not UTF-8 (an asset path kept as bytes) is written with U+FFFD, as every
+  // JSON writer does (core/utf8.h), where dump() would throw type_error 316.
+  return doc.dump(indent, ' ', false, json::error_handler_t::replace);
 }
 
 namespace {
@@ -269,7 +275,14 @@ Result<Project> projectFromJson(std::string_view textIn) {
       const std::string where = "asset " + std::to_string(a);
       ProjectAsset asset;
       asset.path = text(field(assets[a], "path", where), where + " path");
-      asset.unitScale = number(field(assets[a], "unit_scale", where), where + " unit_scale");
+      if (version <= 2) { // always there; 0 stood for the file's own unit
+        asset.unitScale = number(field(assets[a], "unit_scale", where), where + " unit_scale");
+      } else if (assets[a].is_object() && assets[a].contains("unit_scale")) {
+        asset.unitScale = number(assets[a]["unit_scale"], where + " unit_scale");
+        if (!std::isfinite(asset.unitScale) || !(asset.unitScale > 0.0))
+          return Error(where + ": unit_scale must be positive (cm per file unit); it is " +
+                       assets[a]["unit_scale"].dump() + " (leave it out for the file's own unit)");
+      }
       const json& joints = field(assets[a], "joints", where);
       if (!joints.is_object())
         return Error(where + " \"joints\" is not an object");

@@ -24,17 +24,20 @@
 
 namespace mlod {
 
-// Version 2: {"format":"motionlod-project","version":2,"alpha","mode",
+// Version 3: {"format":"motionlod-project","version":3,"alpha","mode",
 //             "lods":{"projection":{"vertical_fov_degrees","viewport_height_pixels"},"bounding_radius_cm",
 //                     "levels":[{"name","threshold","mesh_ratio","switch_distance_cm","pixel_error",
 //                                "screen_size_pixels","motion_error_cm","mesh_error_cm","triangles","active_joints"}]},
-//             "assets":[{"path","unit_scale","joints":{NAME:{"alpha","thresholds":[E|null],"locked"}}}],
+//             "assets":[{"path","unit_scale" (> 0; absent: the file's own unit),
+//                        "joints":{NAME:{"alpha","thresholds":[E|null],"locked"}}}],
 //             "mappings":[{"motion","character","table":<motion_mapping.h's JSON>}],  (optional)
 //             "current":{"asset","clip","level","joint"}}
+// Version 2 (read, never written): as version 3, with "unit_scale" always present and 0 for
+// the file's own unit.
 // Version 1 (read, never written): "levels":[{"threshold"}] with no original level: level i
 // of version 1 becomes LodSet level i + 1 ("LOD<i+1>", mesh ratio 1, distance 0), and with it
 // the per-joint overrides and the current level.
-inline constexpr int kProjectVersion = 2;
+inline constexpr int kProjectVersion = 3;
 // Caps checked when a project is read, before anything is built from it: a file of 70,000
 // levels would otherwise run for minutes (every level is clustered on every export).
 inline constexpr int kMaxProjectLevels = 32;                      // level 0 included

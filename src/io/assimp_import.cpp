@@ -8,6 +8,7 @@
 #include "io/gltf_metadata.h"
 #include "runtime/input_file.h"
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
@@ -900,10 +901,47 @@ private:
   int m_replacedNames = 0;
 };
 
+// Every file Assimp opens goes through this: the file itself and what it names beside it
+// (an OBJ's mtllib, a glTF's buffers ...). One that exists and is no regular file of bounded
+// size is refused before it is opened (a FIFO blocked the import until its timeout, a link
+// to /dev/zero would never end): Assimp sees it as missing, and the import fails with the
+// reason. A side file that does not exist is Assimp's to report, as before.
+class SideFileGuard : public Assimp::DefaultIOSystem {
+public:
+  bool Exists(const char* file) const override { return !refused(file) && DefaultIOSystem::Exists(file); }
+  Assimp::IOStream* Open(const char* file, const char* mode = "rb") override {
+    return refused(file) ? nullptr : DefaultIOSystem::Open(file, mode);
+  }
+  // The first side file refused and why; empty when none was.
+  const std::string& problem() const { return m_problem; }
+
+private:
+  bool refused(const char* file) const {
+    if (!file)
+      return false;
+    std::error_code error;
+    if (!std::filesystem::exists(std::filesystem::status(file, error)))
+      return false;
+    std::string problem = inputFileProblem(file, kMaxImportFileBytes);
+    if (problem.empty())
+      return false;
+    if (m_problem.empty())
+      m_problem = "the file it reads beside it, '" + std::string(file) + "', is refused: " + problem;
+    return true;
+  }
+  mutable std::string m_problem;
+};
+
+// The guard that `importer` (configured by configure()) opens its files through.
+const SideFileGuard& sideFileGuard(const Assimp::Importer& importer) {
+  return *static_cast<const SideFileGuard*>(importer.GetIOHandler());
+}
+
 void configure(Assimp::Importer& importer) {
   // FBX: fold pivots into the nodes instead of inserting helper nodes into the hierarchy.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
   importer.SetPropertyInteger(AI_CONFIG_PP_LBW_MAX_WEIGHTS, kMaxInfluences);
+  importer.SetIOHandler(new SideFileGuard); // the importer owns it
 }
 
 // The scene made ours and the importer (its loaders' buffers: a BVH's whole text and
@@ -972,6 +1010,8 @@ Result<Asset> importAsset(const std::string& path, const ImportOptions& options)
   configure(*importer);
   try {
     const aiScene* scene = importer->ReadFile(path, kPostProcess);
+    if (const std::string& refused = sideFileGuard(*importer).problem(); !refused.empty())
+      return Error(refused);
     std::string gltf; // a glTF's own JSON: what it states beyond what Assimp reads
     if (scene && (extension == "glb" || extension == "gltf")) {
       stream.clear();
@@ -1000,6 +1040,8 @@ Result<Asset> importAssetFromMemory(const void* data, std::size_t size, const st
   configure(*importer);
   try {
     const aiScene* scene = importer->ReadFileFromMemory(data, size, kPostProcess, ext.c_str());
+    if (const std::string& refused = sideFileGuard(*importer).problem(); !refused.empty())
+      return Error(refused);
     const std::string head(static_cast<const char*>(data), std::min<std::size_t>(size, 4096));
     const bool gltf = ext == "glb" || ext == "gltf";
     return convert(std::move(importer), scene, "memory." + ext, ext, options, colladaUnitOf(ext, head),

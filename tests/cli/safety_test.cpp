@@ -153,6 +153,28 @@ TEST(CliSafety, InputsThatAreNoRegularFilesAreRefusedAtOnce) {
   EXPECT_FALSE(fs::exists(dir / "out.mlodb"));
 }
 
+// An OBJ whose mtllib named a FIFO blocked until the import timeout (or Ctrl+C): a file
+// an asset reads beside it is refused like the asset itself, at once.
+TEST(CliSafety, SideFilesThatAreNoRegularFilesAreRefusedAtOnce) {
+  const fs::path dir = freshFolder("side_files");
+  ASSERT_EQ(::mkfifo((dir / "fifo.mtl").c_str(), 0600), 0);
+  fs::create_symlink("/dev/zero", dir / "zero.mtl");
+  for (const char* library : {"fifo.mtl", "zero.mtl"}) {
+    const fs::path obj = dir / (std::string(library) + ".obj");
+    std::ofstream(obj) << "mtllib " << library << "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n";
+    const test::CliRun run = runMotionlod({"info", obj.string()}, kTimeout);
+    EXPECT_EQ(run.status, 2) << obj << ": " << run.err;
+    EXPECT_TRUE(startsWith(run.err, "error: " + obj.string() + ": the file it reads beside it, '")) << run.err;
+    EXPECT_NE(run.err.find(std::string(library) + "', is refused: it is a "), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("not a regular file"), std::string::npos) << run.err;
+  }
+  // A regular mtllib still imports.
+  std::ofstream(dir / "ok.mtl") << "newmtl a\nKd 1 0 0\n";
+  std::ofstream(dir / "ok.obj") << "mtllib ok.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n";
+  const test::CliRun ok = runMotionlod({"info", (dir / "ok.obj").string()}, kTimeout);
+  EXPECT_EQ(ok.status, 0) << ok.err;
+}
+
 // A project of 70,000 levels ran for minutes growing memory: levels are capped on load.
 TEST(CliSafety, ProjectLevelsAreCappedOnLoad) {
   const fs::path dir = freshFolder("levels");
@@ -182,6 +204,23 @@ TEST(CliSafety, ProjectLevelsAreCappedOnLoad) {
   }();
   EXPECT_EQ(negative.status, 2);
   EXPECT_TRUE(startsWith(negative.err, "error: " + file.string() + ": asset 0: unit_scale -2")) << negative.err;
+  // unit_scale 0 was accepted: a written unit must be positive; the file's own unit is no key.
+  const test::CliRun zero = [&] {
+    nlohmann::json bad = {
+        {"format", "motionlod-project"},
+        {"version", 3},
+        {"alpha", 5.0},
+        {"mode", "greedy"},
+        {"lods",
+         {{"projection", {{"vertical_fov_degrees", 60.0}, {"viewport_height_pixels", 1080.0}}},
+          {"bounding_radius_cm", 0.0},
+          {"levels", nlohmann::json::array()}}},
+        {"assets", {{{"path", "walk.bvh"}, {"unit_scale", 0}, {"joints", nlohmann::json::object()}}}}};
+    std::ofstream(file) << bad.dump();
+    return runMotionlod({"simplify", file.string(), "--threshold", "5"}, kTimeout);
+  }();
+  EXPECT_EQ(zero.status, 2);
+  EXPECT_TRUE(startsWith(zero.err, "error: " + file.string() + ": asset 0: unit_scale must be positive")) << zero.err;
 }
 
 // A Latin-1 output name was written as U+FFFD yet reported success: the file now has the
@@ -379,6 +418,13 @@ TEST(CliSafety, Latin1NamesNeverThrow) {
   const nlohmann::json doc = nlohmann::json::parse(info.out, nullptr, false);
   ASSERT_FALSE(doc.is_discarded()) << info.out;
   EXPECT_NE(info.out.find("Cou\xEF\xBF\xBD"), std::string::npos) << info.out;
+  const test::CliRun bench = runMotionlod({"bench-crowd", file.string(), "--characters", "2", "--frames", "2",
+                                           "--threshold", "50", "--repetitions", "1", "--json"},
+                                          kTimeout);
+  EXPECT_EQ(bench.status, 0) << bench.err;
+  EXPECT_EQ(bench.err.find("json.exception"), std::string::npos) << bench.err;
+  EXPECT_FALSE(nlohmann::json::parse(bench.out, nullptr, false).is_discarded()) << bench.out;
+  EXPECT_NE(bench.out.find("d\xEF\xBF\xBDmo.bvh"), std::string::npos) << bench.out;
   for (const char* plugin : {"gltf", "report"}) {
     const fs::path out = dir / (std::string("out.") + (std::string(plugin) == "gltf" ? "gltf" : "json"));
     const test::CliRun run =

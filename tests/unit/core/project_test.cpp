@@ -4,6 +4,7 @@
 #include "core/project.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -90,7 +91,7 @@ TEST(Project, BadDocumentsAreRefusedWithAReason) {
       {"[1, 2]", "not a Motion LOD project"},
       {"{\"format\": \"something-else\", \"version\": 1}", "not a Motion LOD project"},
       {"{\"format\": \"motionlod-project\"}", "no version"},
-      {"{\"format\": \"motionlod-project\", \"version\": 3}", "newer Motion LOD Studio"},
+      {"{\"format\": \"motionlod-project\", \"version\": 4}", "newer Motion LOD Studio"},
       {"{\"format\": \"motionlod-project\", \"version\": 2, \"alpha\": 5, \"mode\": \"greedy\", \"assets\": []}",
        "has no \"lods\""},
       {"{\"format\": \"motionlod-project\", \"version\": 1}", "has no \"alpha\""},
@@ -133,6 +134,52 @@ TEST(Project, BadDocumentsAreRefusedWithAReason) {
   EXPECT_NE(projectFromJson(projectToJson(bad)).message().find("level 0 is the original"), std::string::npos);
 }
 
+// Guards the file's-own-unit rule (issue 16: a project with unit_scale 0 was accepted): an
+// asset at its file's own unit is written without "unit_scale" and reads back at 0; a
+// written unit must be positive, so 0 and less are refused with the reason; version 2
+// (0.1.0), which wrote 0 for the file's own unit, reads as before.
+TEST(Project, UnitScaleIsPositiveOrAbsent) {
+  const Project project = sampleProject(); // asset 1 at its file's own unit
+  const nlohmann::json written = nlohmann::json::parse(projectToJson(project));
+  EXPECT_EQ(written["version"], kProjectVersion);
+  EXPECT_EQ(written["assets"][0]["unit_scale"], 2.54 / 0.45);
+  EXPECT_FALSE(written["assets"][1].contains("unit_scale"));
+  const Result<Project> read = projectFromJson(written.dump());
+  ASSERT_TRUE(read) << read.message();
+  EXPECT_EQ(read->assets[1].unitScale, 0.0);
+  for (const nlohmann::json& bad : {nlohmann::json(0), nlohmann::json(0.0), nlohmann::json(-2.5)}) {
+    nlohmann::json doc = written;
+    doc["assets"][1]["unit_scale"] = bad;
+    const Result<Project> refused = projectFromJson(doc.dump());
+    ASSERT_FALSE(refused) << bad;
+    EXPECT_EQ(
+        refused.message().rfind("asset 1: unit_scale must be positive (cm per file unit); it is " + bad.dump(), 0), 0u)
+        << refused.message();
+  }
+  nlohmann::json version2 = written;
+  version2["version"] = 2;
+  version2["assets"][1]["unit_scale"] = 0.0;
+  const Result<Project> old = projectFromJson(version2.dump());
+  ASSERT_TRUE(old) << old.message();
+  EXPECT_EQ(*old, *read);
+  version2["assets"][1].erase("unit_scale"); // version 2 always wrote it
+  EXPECT_NE(projectFromJson(version2.dump()).message().find("asset 1 has no \"unit_scale\""), std::string::npos);
+}
+
+// Guards that saving never throws for a name that is not UTF-8 (issue 16: nlohmann's dump()
+// threw type_error 316 for a Latin-1 byte): such bytes are written as U+FFFD.
+TEST(Project, Latin1NamesAreWrittenWithReplacementCharacters) {
+  Project project = sampleProject();
+  project.assets[0].path = "clips/d\xE9mo.bvh";
+  project.assets[0].joints["Cou\xE9"].locked = true;
+  std::string text;
+  ASSERT_NO_THROW(text = projectToJson(project));
+  const Result<Project> read = projectFromJson(text);
+  ASSERT_TRUE(read) << read.message();
+  EXPECT_EQ(read->assets[0].path, "clips/d\xEF\xBF\xBDmo.bvh");
+  EXPECT_TRUE(read->assets[0].joints.at("Cou\xEF\xBF\xBD").locked);
+}
+
 // Guards version 1 (a threshold per level, no original): it reads as a LodSet with the
 // original in front, every per-joint override and the current level one level later.
 TEST(Project, VersionOneGetsTheOriginalLevelInFront) {
@@ -152,9 +199,9 @@ TEST(Project, VersionOneGetsTheOriginalLevelInFront) {
   EXPECT_TRUE(read->assets[0].joints.at("K").thresholds.empty());
   EXPECT_EQ(read->assets[0].joints.at("K").meshImportance, 1.0) << "absent before issue 14: 1";
   EXPECT_EQ(read->view.level, 2);
-  // Saved again, it is version 2 and reads back equal.
+  // Saved again, it is the current version and reads back equal.
   const std::string saved = projectToJson(*read);
-  EXPECT_NE(saved.find("\"version\": 2"), std::string::npos);
+  EXPECT_NE(saved.find("\"version\": " + std::to_string(kProjectVersion)), std::string::npos);
   EXPECT_TRUE(*projectFromJson(saved) == *read);
 }
 
