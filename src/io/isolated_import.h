@@ -20,6 +20,11 @@ struct IsolationLimits {
   const std::atomic<bool>* cancel = nullptr; // when set to true, the child is stopped
 };
 
+// For tests of stopping a stuck import: the worker for exactly the file this environment
+// variable names blocks instead of importing, until it is killed (a cancel, the timeout,
+// its parent's death).
+inline constexpr const char* kStuckImportVariable = "MLOD_TEST_STUCK_IMPORT";
+
 Result<Asset> importAssetIsolated(const std::string& path, const ImportOptions& options = {},
                                   const IsolationLimits& limits = {});
 

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <sys/stat.h>
 #include <thread>
@@ -86,16 +87,16 @@ bool runs(pid_t pid) {
   return close != std::string::npos && close + 2 < line.size() && line[close + 2] != 'Z' && line[close + 2] != 'X';
 }
 
-// An OBJ whose material library is a FIFO: Assimp opens it and blocks forever, as a stuck
-// import does (the worker never answers).
+// An OBJ that the import worker blocks on (kStuckImportVariable names it), as a stuck
+// import does: a FIFO material library no longer blocks (the import refuses it).
 std::string stuckImport() {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("mlod-stuck-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  std::ofstream(dir / "s.obj") << "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-  ::unlink((dir / "m.mtl").c_str());
-  ::mkfifo((dir / "m.mtl").c_str(), 0600);
-  return (dir / "s.obj").string();
+  const std::string file = (dir / "s.obj").string();
+  std::ofstream(file) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  ::setenv("MLOD_TEST_STUCK_IMPORT", file.c_str(), 1); // io/isolated_import.h's kStuckImportVariable
+  return file;
 }
 
 } // namespace mlod::test

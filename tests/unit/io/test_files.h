@@ -24,7 +24,7 @@ std::string makeBvh(const std::string& rootChannels, const std::string& chestCha
 pid_t workerOf(pid_t parent, double seconds);
 // Whether process `pid` still runs (a zombie waiting for its reaper does not).
 bool runs(pid_t pid);
-// An OBJ file whose material library is a FIFO: Assimp opens it and blocks forever, as a
+// An OBJ file the import worker blocks on (through kStuckImportVariable, set here), as a
 // stuck import does. The worker never answers; only a timeout, a cancel or a kill ends it.
 std::string stuckImport();
 
