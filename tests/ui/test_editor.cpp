@@ -28,6 +28,7 @@
 #include <QDoubleSpinBox>
 #include <QFile>
 #include <QFont>
+#include <QGraphicsView>
 #include <QHeaderView>
 #include <QInputDialog>
 #include <QJsonArray>
@@ -44,6 +45,8 @@
 #include <QSpinBox>
 #include <QStatusBar>
 #include <QStyle>
+#include <QTabWidget>
+#include <QWheelEvent>
 #include <QTableView>
 #include <QTableWidget>
 #include <QTemporaryDir>
@@ -52,7 +55,6 @@
 #include <QToolButton>
 #include <QTreeView>
 #include <QUndoStack>
-#include <QWheelEvent>
 
 using namespace mlod;
 
@@ -618,6 +620,52 @@ private slots:
     QVERIFY(playhead->at(1).y() > playhead->at(0).y());
     statistics->setPlayhead(-1);
     QCOMPARE(playhead->count(), 0);
+  }
+
+  // The per-frame chart zooms with the wheel towards the frame under the cursor (that frame
+  // stays under it), never below 10 frames; a right click shows the whole clip again.
+  void perFrameChartZoomsTowardsTheCursor() {
+    auto window = openSample();
+    QVERIFY(window);
+    StatisticsView* statistics = window->statisticsView();
+    QTabWidget* tabs = statistics->findChild<QTabWidget*>();
+    QVERIFY(tabs);
+    tabs->setCurrentIndex(1); // Per frame
+    QChart* chart = statistics->frameChart();
+    QVERIFY(!chart->scene()->views().isEmpty());
+    QGraphicsView* view = chart->scene()->views().first();
+    QTRY_VERIFY(chart->plotArea().width() > 50.0);
+    QCOMPARE(statistics->visibleFramesMin(), 0.0);
+    QCOMPARE(statistics->visibleFramesMax(), 479.0);
+    const QRectF plot = chart->plotArea();
+    const QPoint at = view->mapFromScene(chart->mapToScene(QPointF(plot.left() + 0.75 * plot.width(), plot.center().y())));
+    const auto wheel = [&](int delta) {
+      QWheelEvent event(at, view->viewport()->mapToGlobal(at), {}, QPoint(0, delta), Qt::NoButton, Qt::NoModifier,
+                        Qt::NoScrollPhase, false);
+      QApplication::sendEvent(view->viewport(), &event);
+    };
+    const auto frameUnderCursor = [&] {
+      const double x = (chart->mapFromScene(view->mapToScene(at)).x() - plot.left()) / plot.width();
+      return statistics->visibleFramesMin() + x * (statistics->visibleFramesMax() - statistics->visibleFramesMin());
+    };
+    const double before = frameUnderCursor();
+    QVERIFY(std::abs(before - 0.75 * 479.0) < 2.0);
+    wheel(120);
+    QVERIFY(std::abs((statistics->visibleFramesMax() - statistics->visibleFramesMin()) - 0.8 * 479.0) < 1e-6);
+    QVERIFY(std::abs(frameUnderCursor() - before) < 1e-6);
+    QVERIFY(statistics->visibleFramesMin() > 0.0);
+    for (int step = 0; step < 40; ++step)
+      wheel(120);
+    QCOMPARE(statistics->visibleFramesMax() - statistics->visibleFramesMin(), 10.0);
+    QVERIFY(std::abs(frameUnderCursor() - before) < 1e-6);
+    wheel(-120 * 60); // out past the clip: the whole clip, no further
+    QCOMPARE(statistics->visibleFramesMin(), 0.0);
+    QCOMPARE(statistics->visibleFramesMax(), 479.0);
+    wheel(240);
+    QVERIFY(statistics->visibleFramesMax() - statistics->visibleFramesMin() < 479.0);
+    QTest::mouseClick(view->viewport(), Qt::RightButton, {}, at);
+    QCOMPARE(statistics->visibleFramesMin(), 0.0);
+    QCOMPARE(statistics->visibleFramesMax(), 479.0);
   }
 
   // At the first run's size (1600 x 1000) and layout, the Skeleton dock shows every joint

@@ -7,12 +7,17 @@
 #include <QChartView>
 #include <QHeaderView>
 #include <QLineSeries>
+#include <QMouseEvent>
 #include <QPen>
 #include <QSplitter>
 #include <QTabWidget>
 #include <QTableWidget>
 #include <QVBoxLayout>
+#include <QWheelEvent>
 #include <QValueAxis>
+
+#include <algorithm>
+#include <cmath>
 
 namespace mlod {
 
@@ -46,8 +51,67 @@ StatisticsView::StatisticsView(QWidget* parent)
   m_tabs->addTab(m_frameView, tr("Per frame"));
   m_tabs->addTab(m_errorView, tr("Position error"));
   m_jointView->setToolTip(tr("Simplified frames per joint at the current level, % of the clip"));
-  m_frameView->setToolTip(tr("Joints frozen at a key posture per frame, at the current level"));
+  m_frameView->setToolTip(tr("Joints frozen at a key posture per frame, at the current level "
+                              "(wheel: zoom towards the cursor; right click: the whole clip)"));
+  m_frameView->viewport()->installEventFilter(this);
   m_errorView->setToolTip(tr("Max joint-position error of each level, cm (forward kinematics)"));
+}
+
+bool StatisticsView::eventFilter(QObject* watched, QEvent* event) {
+  if (watched == m_frameView->viewport()) {
+    if (event->type() == QEvent::Wheel) {
+      const auto* wheel = static_cast<QWheelEvent*>(event);
+      zoomFrames(wheel->position(), wheel->angleDelta().y());
+      return true;
+    }
+    if (event->type() == QEvent::MouseButtonPress && static_cast<QMouseEvent*>(event)->button() == Qt::RightButton) {
+      showAllFrames();
+      return true;
+    }
+  }
+  return QWidget::eventFilter(watched, event);
+}
+
+namespace {
+QValueAxis* frameAxisOf(QChart* chart) {
+  const auto axes = chart->axes(Qt::Horizontal);
+  return axes.isEmpty() ? nullptr : qobject_cast<QValueAxis*>(axes.first());
+}
+} // namespace
+
+double StatisticsView::visibleFramesMin() const {
+  const QValueAxis* axis = frameAxisOf(m_frameView->chart());
+  return axis ? axis->min() : 0.0;
+}
+
+double StatisticsView::visibleFramesMax() const {
+  const QValueAxis* axis = frameAxisOf(m_frameView->chart());
+  return axis ? axis->max() : 0.0;
+}
+
+void StatisticsView::zoomFrames(const QPointF& viewportPos, int wheelDelta) {
+  QChart* chart = m_frameView->chart();
+  QValueAxis* axis = frameAxisOf(chart);
+  if (!axis || wheelDelta == 0 || m_frameCount < 2)
+    return;
+  const double last = m_frameCount - 1;
+  const QRectF plot = chart->plotArea();
+  if (plot.width() <= 0.0)
+    return;
+  const QPointF at = chart->mapFromScene(m_frameView->mapToScene(viewportPos.toPoint()));
+  const double x = std::clamp((at.x() - plot.left()) / plot.width(), 0.0, 1.0);
+  const double min = axis->min();
+  const double span = axis->max() - min;
+  const double cursor = min + x * span;
+  // One wheel step (120) shows 80% of the frames; never fewer than 10 frames nor more than the clip.
+  const double zoomed = std::clamp(span * std::pow(0.8, wheelDelta / 120.0), std::min(10.0, last), last);
+  const double from = std::clamp(cursor - x * zoomed, 0.0, last - zoomed);
+  axis->setRange(from, from + zoomed);
+}
+
+void StatisticsView::showAllFrames() {
+  if (QValueAxis* axis = frameAxisOf(m_frameView->chart()); axis && m_frameCount >= 1)
+    axis->setRange(0, std::max(1, m_frameCount - 1));
 }
 
 QChart* StatisticsView::jointChart() const { return m_jointView->chart(); }
@@ -164,6 +228,7 @@ void StatisticsView::fillCharts() {
   chart = m_frameView->chart();
   chart->addSeries(line);
   auto* frameAxis = new QValueAxis;
+  m_frameCount = clusters.frameCount;
   frameAxis->setRange(0, std::max(1, clusters.frameCount - 1));
   frameAxis->setTitleText(tr("frame"));
   frameAxis->setLabelFormat("%d");

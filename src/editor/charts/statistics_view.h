@@ -15,6 +15,7 @@ class QTabWidget;
 class QChartView;
 class QChart;
 class QLineSeries;
+class QPointF;
 
 namespace mlod {
 
@@ -32,15 +33,27 @@ public:
   // The frame the 3D views show, drawn as a vertical line on the per-frame chart; -1: none.
   void setPlayhead(int frame);
   int playhead() const { return m_playhead; }
+  // The per-frame chart zooms with the wheel towards the frame under the cursor (as the
+  // Clustering Table does); a right click shows the whole clip again.
+  double visibleFramesMin() const;
+  double visibleFramesMax() const;
+
+protected:
+  bool eventFilter(QObject* watched, QEvent* event) override;
 
 private:
   void placePlayhead();
+  // Zooms the per-frame chart's frame axis by `wheelDelta` (1/8 degrees, + = in) about the
+  // frame under `viewportPos`; the frame there stays under the cursor.
+  void zoomFrames(const QPointF& viewportPos, int wheelDelta);
+  void showAllFrames();
   void fillTable();
   void fillCharts();
 
   std::shared_ptr<const JpcAnalysis> m_analysis;
   int m_level = 0;
   int m_playhead = -1;
+  int m_frameCount = 0; // of the per-frame chart
   QStringList m_names;
   QTableWidget* m_table;
   QTabWidget* m_tabs;
