@@ -48,28 +48,22 @@ exact() {
   printf '%-12s %-24s documented %-14s today %-14s %s\n' "$state" "$file" "$text" "$today" "$what"
 }
 
-# timing FILE TEXT SECONDS_DOCUMENTED SECONDS_TODAY [WHAT]: informational.
-timing() {
-  local file=$1 text=$2 documented=$3 today=$4 what=${5:-}
-  local state=timing
+# measured LABEL FACTOR FILE TEXT DOCUMENTED TODAY [WHAT]: a figure that depends on the
+# machine or moves a little with every change; informational, flagged "LABEL >xFACTOR" when
+# today's value differs from the documented one by more than FACTOR either way.
+measured() {
+  local label=$1 factor=$2 file=$3 text=$4 documented=$5 today=$6 what=${7:-}
+  local state=$label
   grep -qF -- "$text" "$file" || { state="NOT IN FILE"; stale=1; }
-  if [ "$state" = timing ] && awk -v a="$documented" -v b="$today" 'BEGIN { exit !(b > 2 * a || 2 * b < a) }'; then
-    state="timing x2"
+  if [ "$state" = "$label" ] && awk -v a="$documented" -v b="$today" -v f="$factor" 'BEGIN { exit !(b > f * a || f * b < a) }'; then
+    state="$label >x$factor"
   fi
   printf '%-12s %-24s documented %-14s today %-14s %s\n' "$state" "$file" "$documented" "$today" "$what"
 }
-
-# approx FILE TEXT DOCUMENTED TODAY [WHAT]: a size that moves a little with every change;
-# informational, flagged when it differs from the documented value by more than 10%.
-approx() {
-  local file=$1 text=$2 documented=$3 today=$4 what=${5:-}
-  local state=size
-  grep -qF -- "$text" "$file" || { state="NOT IN FILE"; stale=1; }
-  if [ "$state" = size ] && awk -v a="$documented" -v b="$today" 'BEGIN { exit !(b > 1.1 * a || 1.1 * b < a) }'; then
-    state="size >10%"
-  fi
-  printf '%-12s %-24s documented %-14s today %-14s %s\n' "$state" "$file" "$documented" "$today" "$what"
-}
+# timing FILE TEXT SECONDS_DOCUMENTED SECONDS_TODAY [WHAT]: flagged beyond 2x.
+timing() { measured timing 2 "$@"; }
+# approx FILE TEXT DOCUMENTED TODAY [WHAT]: a size, flagged beyond 10%.
+approx() { measured size 1.1 "$@"; }
 
 fmt() { # printf format, value
   LC_ALL=C printf "$1" "$2"
