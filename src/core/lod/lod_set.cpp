@@ -153,6 +153,14 @@ Result<LodSet> meshOnly(const Asset& asset, double pixels, int levels, const Lod
 
 } // namespace
 
+double motionShareByCost(int joints, std::size_t vertices) {
+  const double pose = kPoseCostPerJoint * std::max(joints, 0);
+  const double skin = kSkinCostPerVertex * static_cast<double>(vertices);
+  if (!(pose + skin > 0.0))
+    return kMaxMotionShare;
+  return std::clamp(pose / (pose + skin), kMinMotionShare, kMaxMotionShare);
+}
+
 Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options,
                                        LodBudgetReport* report) {
   if (report)
@@ -164,7 +172,7 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
     return Error("LOD: at least one level (the original)");
   if (Error error = options.projection.validate())
     return error;
-  if (!(options.motionShare > 0.0 && options.motionShare <= 1.0))
+  if (options.motionShare && !(*options.motionShare > 0.0 && *options.motionShare <= 1.0))
     return Error("LOD: the motion's share of the budget must be in (0, 1]");
   for (double threshold : options.thresholds)
     if (Error error = validateThreshold(threshold, "candidate threshold"))
@@ -216,6 +224,12 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
   // measures, motion and mesh rebound to its skeleton, spans N pixels. Without a mesh each
   // level aims where the character is height / 2^i pixels tall.
   const std::vector<double> ratios = levelRatios(options.meshRatios, levels);
+  const double motionShare = !character->mesh() ? 1.0
+                             : options.motionShare
+                                 ? *options.motionShare
+                                 : motionShareByCost(asset.skeleton.jointCount(), character->mesh()->vertexCount());
+  if (report)
+    report->motionShare = motionShare;
   std::optional<MeshLod> fullMotionMesh;
   if (character->mesh()) {
     Result<LevelMotion> full = character->motionAt(0.0);
@@ -232,7 +246,7 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
     double budget = 0.0;
     if (fullMotionMesh) {
       const double meshErrorCm = fullMotionMesh->levelForRatio(ratios[std::size_t(i - 1)]).maxErrorCm;
-      budget = meshErrorCm / std::max(1.0 - options.motionShare, 0.05);
+      budget = meshErrorCm / std::max(1.0 - motionShare, 0.05);
     } else {
       // the level's aim: the character at height / 2^i pixels, and the deviation N pixels allow there
       const double aimedSize = options.projection.viewportHeightPixels / std::pow(2.0, i);
@@ -261,7 +275,7 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
       }
       return &found->second;
     };
-    const auto fits = [&](const LevelMotion& motion) { return motion.motionErrorCm <= options.motionShare * budget; };
+    const auto fits = [&](const LevelMotion& motion) { return motion.motionErrorCm <= motionShare * budget; };
     const LevelMotion* chosen = nullptr;
     double firstMiss = 0.0; // the smallest candidate above the chosen one that does not fit (0: none tried)
     for (double threshold : candidates) {

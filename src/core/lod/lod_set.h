@@ -12,7 +12,8 @@
 // the motion takes the largest candidate threshold whose motion error stays within
 // motionShare x delta_i (bone reduction included, lod_character.h; where that would repeat
 // the previous level's threshold, the largest whole threshold below the first candidate that
-// misses). Without a mesh, level i is aimed at the distance where the character's bounding
+// misses); motionShare is the pose's share of the character's frame cost
+// (motionShareByCost()). Without a mesh, level i is aimed at the distance where the character's bounding
 // sphere covers height / 2^i pixels (half the screen, a quarter ...), where N pixels allow a
 // deviation delta_i (error_budget.h) for the motion. Either way the level switches in at the
 // smallest distance where its measured deviation (motion + the mesh error of its own
@@ -32,6 +33,7 @@
 #include "core/mesh/mesh_lod.h"
 
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -61,7 +63,10 @@ struct LodBudgetOptions {
   JpcSettings jpc;
   MeshLodSettings mesh;
   LodProjection projection;
-  double motionShare = 0.5; // (0, 1]: of each level's deviation, the part the motion may take first
+  // (0, 1]: of each level's deviation (with a mesh), the part the motion may take first;
+  // unset: the motion's share of the character's frame cost at level 0, between
+  // kMinMotionShare and kMaxMotionShare (motionShareByCost()).
+  std::optional<double> motionShare;
   // The thresholds tried for the motion (cm·degrees, ascending): the paper's Table 1 values and
   // the steps between.
   std::vector<double> thresholds = {0.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 300.0, 500.0, 1000.0};
@@ -72,6 +77,21 @@ struct LodBudgetOptions {
   std::function<bool(double fraction)> progress;
 };
 
+// The deviation a level may spend goes where it buys frame time (docs/architecture.md
+// section 5): a character's frame costs pose evaluation (about kPoseCostPerJoint per joint:
+// 3,115 instructions for CMU 01_01's 38 joints, callgrind on this runtime) plus CPU skinning
+// (about kSkinCostPerVertex per vertex: 29.4 on BCN_Epileptic), and the motion's share of a
+// level's deviation is the pose's share of that cost, clamped to [kMinMotionShare,
+// kMaxMotionShare]: the mesh leads, and at least 5% keeps a threshold above 0 within reach
+// (at 2%, BCN_Epileptic's LOD1 finds none and is left out). 54 joints and 3,014 vertices
+// (BCN_Epileptic): 4.8%, so 5%; 28 joints and 471 vertices (the paper's crowd): 14%; a
+// skeleton without a mesh: the motion takes the whole deviation.
+inline constexpr double kPoseCostPerJoint = 82.0;
+inline constexpr double kSkinCostPerVertex = 29.4;
+inline constexpr double kMinMotionShare = 0.05;
+inline constexpr double kMaxMotionShare = 0.5;
+double motionShareByCost(int joints, std::size_t vertices);
+
 inline constexpr const char* kLodBudgetCancelled = "LOD: level generation cancelled";
 
 // What fromPixelBudget() found besides the set: what the editor's Budget dialog previews.
@@ -81,6 +101,9 @@ struct LodBudgetReport {
   std::vector<double> simplifiedPercent;
   // The aimed levels left out (an E of 0, or a repeat of the level before), one line each.
   std::vector<std::string> dropped;
+  // The motion's share of each level's deviation that was used (LodBudgetOptions::motionShare;
+  // 1 without a mesh: the motion takes all of it; 0 without a clip).
+  double motionShare = 0.0;
 };
 
 class LodSet {

@@ -266,9 +266,15 @@ void BudgetDialog::showPlan() {
                              : tr("Per-joint overrides above their level's E: %1, kept as they are (edit them in the "
                                   "Skeleton dock):")
                                    .arg(plan.overrides.size()));
-  m_status->setText(tr("Levels within %1 px: %2. Apply replaces the current levels (one undo step).")
+  const QString share =
+      plan.report.motionShare > 0.0 && plan.report.motionShare < 1.0
+          ? tr(" The motion takes %1% of each level's deviation (its share of the frame cost), the mesh the rest.")
+                .arg(QString::number(100.0 * plan.report.motionShare, 'f', 0))
+          : QString();
+  m_status->setText(tr("Levels within %1 px: %2.%3 Apply replaces the current levels (one undo step).")
                         .arg(plan.pixels)
-                        .arg(levels.size()));
+                        .arg(levels.size())
+                        .arg(share));
 }
 
 void BudgetDialog::applyPlan() {

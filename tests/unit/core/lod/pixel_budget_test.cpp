@@ -313,6 +313,42 @@ TEST(PixelBudgetRules, NoLevelKeepsTheOriginalMotionOrRepeatsItsPredecessor) {
 
 // Mesh levels alone (no clip): asked for more levels than there are candidate ratios, the
 // ratios reach the candidates' floor, and a level that would repeat it is left out.
+// The motion's share of a level's deviation is the pose's share of the frame cost (54 joints
+// x 82 against 3,014 vertices x 29.4 instructions: 4.8%, clamped to 5%), not a fixed half:
+// the same asset with the old fixed half gets larger thresholds and farther switch distances,
+// because the mesh, which costs most of the frame, would get only half of each deviation.
+TEST(PixelBudgetRules, TheMotionsShareOfTheDeviationFollowsTheFrameCost) {
+  EXPECT_EQ(motionShareByCost(54, 3014), kMinMotionShare);
+  EXPECT_NEAR(motionShareByCost(28, 471), 28 * 82.0 / (28 * 82.0 + 471 * 29.4), 1e-12); // the paper's crowd: 14%
+  EXPECT_NEAR(motionShareByCost(28, 471), 0.142, 0.001);
+  EXPECT_EQ(motionShareByCost(38, 0), kMaxMotionShare);
+  EXPECT_EQ(motionShareByCost(0, 0), kMaxMotionShare);
+
+  const Asset& asset = test::bcnEpileptic();
+  LodBudgetReport byCost, half;
+  const LodBudgetOptions defaults;
+  Result<LodSet> costSet = LodSet::fromPixelBudget(asset, 1.0, 3, defaults, &byCost);
+  ASSERT_TRUE(costSet) << costSet.message();
+  LodBudgetOptions halfOptions;
+  halfOptions.motionShare = 0.5;
+  Result<LodSet> halfSet = LodSet::fromPixelBudget(asset, 1.0, 3, halfOptions, &half);
+  ASSERT_TRUE(halfSet) << halfSet.message();
+  EXPECT_EQ(byCost.motionShare, motionShareByCost(asset.skeleton.jointCount(), asset.meshes.at(0).vertexCount()));
+  EXPECT_EQ(half.motionShare, 0.5);
+  ASSERT_EQ(costSet->levels.size(), 3u);
+  ASSERT_EQ(halfSet->levels.size(), 3u);
+  for (std::size_t i = 1; i < 3; ++i) {
+    SCOPED_TRACE(costSet->levels[i].name);
+    const LodLevel& cost = costSet->levels[i];
+    const LodLevel& old = halfSet->levels[i];
+    EXPECT_EQ(cost.triangles, old.triangles) << "the mesh leads either way";
+    EXPECT_GT(cost.motionThreshold, 0.0);
+    EXPECT_LT(cost.motionThreshold, old.motionThreshold);
+    EXPECT_LT(cost.motionErrorCm, old.motionErrorCm);
+    EXPECT_LT(cost.switchDistanceCm, old.switchDistanceCm) << "the level starts nearer";
+  }
+}
+
 TEST(PixelBudgetRules, MeshOnlyLevelsDoNotRepeat) {
   Asset noClip = test::bcnEpileptic();
   noClip.clips.clear();
@@ -354,7 +390,7 @@ TEST(PixelBudgetRules, OverridesAboveTheirLevelAreListed) {
   set.levels[1] = {.name = "LOD1", .motionThreshold = 10.0};
   set.levels[2] = {.name = "LOD2", .motionThreshold = 50.0};
   JpcSettings settings;
-  settings.joints["Neck"].thresholds = {std::nullopt, 20.0, 40.0}; // above LOD1's 10, below LOD2's 50
+  settings.joints["Neck"].thresholds = {std::nullopt, 20.0, 40.0};        // above LOD1's 10, below LOD2's 50
   settings.joints["Head"].thresholds = {std::nullopt, 10.0, 80.0, 500.0}; // equal at LOD1; LOD3 is not in the set
   settings.joints["Hips"].locked = true;
   const std::vector<LodOverrideAbove> above = overridesAboveLevels(settings, set);
