@@ -5,10 +5,11 @@
 // Garland & Heckbert, "Surface Simplification Using Quadric Error Metrics" (1997), with the
 // quadrics accumulated over several poses of the skinned surface instead of one: each vertex
 // keeps one quadric per pose (the bind pose and poses of the clips the character plays),
-// and a collapse u -> v costs sum over poses p of Q_u^p(x_v^p) per unit of the area u's
-// quadrics gathered (an area-weighted mean squared distance, as meshoptimizer ranks its
-// collapses: the sum alone would rank a small part that moves far, an eye or a finger tip,
-// below a large part that moves a little), so a collapse that looks
+// and a collapse u -> v costs sum over poses p of Q_u^p(x_v^p) per unit of the weight u's
+// quadrics gathered (a weighted mean squared distance, as meshoptimizer 0.18 ranks its
+// collapses; triangles weigh the square root of their area, border and seam edges their
+// length: the sum of area weights would rank a small part that moves far, an eye or a
+// finger tip, below a large part that moves a little), so a collapse that looks
 // harmless in the bind pose but folds an elbow or a knee when it bends costs what it costs
 // there. Halfedge collapses keep the original vertices (v keeps its position, normal, UV and
 // skin weights), so every level is drawn with the original vertex data and skins exactly like
@@ -41,7 +42,7 @@
 //    neighbour but the opposite corners of the edge's triangles) and flip no triangle's
 //    normal in the bind pose.
 // Beyond geometry, a collapse between vertices with different skin influences costs more:
-// skinWeight x (1 - sum_j min(w_u[j], w_v[j])) x |u - v|^2 x importance (the weight mass that
+// skinWeight x (1 - sum_j min(w_u[j], w_v[j])) x |u - v|^2 x importance (the skin weight mass that
 // changes bone), so bones keep their own vertices. Per-vertex
 // importance (the joints' mesh importance, weighted by the skin) scales the vertex's
 // quadrics (not the area they are divided by), and so the cost of removing it and of
@@ -51,8 +52,8 @@
 // A closed component cannot collapse below a tetrahedron, so a mesh of many small closed
 // parts (64 cubes) stops far above 10% by collapses alone. A step may also *prune* a whole
 // connected component (after meshoptimizer's prune option), costed in the same metric: sum
-// over poses of its quadrics' area weight times its radius squared in that pose, per unit of
-// its area (what moving all its vertices that far costs). Prunings rank with the collapses;
+// over poses of its quadrics' weight times its radius squared in that pose, per unit of its
+// weight (what moving all its vertices that far costs). Prunings rank with the collapses;
 // a component with a locked vertex or a degenerate triangle is never pruned, nor
 // the last one with triangles.
 //
@@ -107,8 +108,8 @@ public:
   // The fewest collapses that leave at most `triangles` triangles; collapseCount() when
   // even all of them leave more.
   std::size_t collapsesFor(std::size_t triangles) const;
-  // The quadric cost of collapse k (0-based), in cm^2 (the sum over poses of area-weighted
-  // squared distances, per unit of area): for ordering, not a distance.
+  // The quadric cost of collapse k (0-based), in cm^2 (the sum over poses of weighted squared
+  // distances, per unit of weight): for ordering, not a distance.
   double costOf(std::size_t collapse) const { return m_collapses[collapse].cost; }
   // Collapses before the first attribute collapse or pruning (collapseCount() when there is none).
   std::size_t cleanCollapseCount() const { return m_cleanCollapses; }
