@@ -3,6 +3,7 @@
 // undo restores the previous levels, and per-joint overrides above a generated level's E
 // are listed.
 
+#include "core/lod/lod_set.h"
 #include "core/project.h"
 #include "editor/document/document.h"
 #include "editor/document/edits.h"
@@ -126,6 +127,35 @@ private slots:
     document->undoStack()->undo();
     QCOMPARE(document->project().lods, before.lods);
     QCOMPARE(document->project(), before);
+  }
+
+  // A character with a mesh: the dialog says which share of each level's deviation the
+  // motion takes (the pose's share of the frame cost: 5% for BCN_Epileptic's 54 joints and
+  // 3,014 vertices, LodBudgetReport::motionShare); a motion alone takes all of it and gets
+  // no such line.
+  void motionShareIsSaid() {
+    auto window = std::make_unique<MainWindow>();
+    window->resize(1400, 900);
+    window->show();
+    QSignalSpy spy(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0);
+    QVERIFY(spy.wait(60000));
+    QVERIFY(spy.first()[0].toBool());
+    QVERIFY(waitForFigures(window->document()));
+    BudgetDialog* dialog = previewed(*window, 1.0, 4);
+    QVERIFY(dialog);
+    const LevelPlan plan = window->document()->levelGenerator()->plan();
+    QCOMPARE(plan.report.motionShare, kMinMotionShare);
+    QVERIFY2(dialog->statusLabel()->text().contains("The motion takes 5% of each level's deviation"),
+             qPrintable(dialog->statusLabel()->text()));
+    dialog->reject();
+
+    auto sample = openSample();
+    QVERIFY(sample);
+    BudgetDialog* motionOnly = previewed(*sample, 1.0, 4);
+    QVERIFY(motionOnly);
+    QCOMPARE(sample->document()->levelGenerator()->plan().report.motionShare, 1.0);
+    QVERIFY(!motionOnly->statusLabel()->text().contains("The motion takes"));
   }
 
   // Cancel on the progress dialog stops the preview; Cancel on the dialog closes it; the
