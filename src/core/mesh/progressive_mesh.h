@@ -24,10 +24,10 @@
 //    wedge of the target: an interior vertex without a seam onto any neighbour; a seam vertex
 //    (two wedges) only along its seam, both sides at once, each onto its own side, so no
 //    crack and no T-junction opens along a seam;
-//  - seams are a cost, not a wall: once no such collapse is left (corners of three or more
-//    wedges, seams across a flat-shaded mesh), a collapse may also move a wedge that the
-//    edge's triangles do not map onto the target's wedge with the nearest attributes
-//    (normal, then UV). Such *attribute collapses* rank with the clean ones by their cost,
+//  - seams are a cost, not a wall: a collapse may also move a wedge that the edge's
+//    triangles do not map (corners of three or more wedges, a seam left across, a
+//    flat-shaded mesh) onto the target's wedge with the nearest attributes (normal, then
+//    UV). Such *attribute collapses* rank with the clean ones by their cost,
 //    which the seam's edge quadrics raise (one queue: a second tier after every clean
 //    collapse left cheap seam collapses behind costly clean ones); positions stay welded,
 //    so they open no crack either, only an attribute discontinuity;
