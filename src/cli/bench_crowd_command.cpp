@@ -251,6 +251,14 @@ int BenchCrowdCommand::run() const {
   const double fullSeconds = median(sides[0].poseSeconds), lodSeconds = median(sides[1].poseSeconds);
   doc["speedup"] = runFull && runLod && lodSeconds > 0.0 ? nlohmann::ordered_json(fullSeconds / lodSeconds)
                                                          : nlohmann::ordered_json();
+  // the ratio of each repetition's full and LOD runs, taken one after the other: how far
+  // the speedup moves with the machine's noise
+  std::vector<double> pairs;
+  if (runFull && runLod)
+    for (std::size_t r = 0; r < sides[0].poseSeconds.size() && r < sides[1].poseSeconds.size(); ++r)
+      if (sides[1].poseSeconds[r] > 0.0)
+        pairs.push_back(sides[0].poseSeconds[r] / sides[1].poseSeconds[r]);
+  doc["speedup_pairs"] = runFull && runLod ? nlohmann::ordered_json(pairs) : nlohmann::ordered_json();
   doc["memory"] = {{"full_bytes", fullBytes},          {"lod_bytes", lodBytes},
                    {"full_plan_bytes", fullPlanBytes}, {"lod_plan_bytes", lodPlanBytes},
                    {"plan_frames", planFrames},        {"per_character_bytes", perCharacter}};
@@ -293,8 +301,13 @@ int BenchCrowdCommand::run() const {
     std::printf("  %-6s %12.6f %18.1f %16.2f\n", side.name, seconds, 1e9 * seconds / charFrames,
                 static_cast<double>(side.sampled) / charFrames);
   }
-  if (runFull && runLod)
-    std::printf("  speedup (pose): %.3fx\n", fullSeconds / lodSeconds);
+  if (runFull && runLod) {
+    std::printf("  speedup (pose): %.3fx", fullSeconds / lodSeconds);
+    if (pairs.size() > 1)
+      std::printf(" (repetition by repetition %.3fx to %.3fx)", *std::min_element(pairs.begin(), pairs.end()),
+                  *std::max_element(pairs.begin(), pairs.end()));
+    std::printf("\n");
+  }
   if (skinning) {
     std::printf("skinning:   %d vertices: %.1f ns/character-frame", skinning->vertexCount(),
                 1e9 * (runFull ? fullSkin : lodSkin) / charFrames);

@@ -42,6 +42,11 @@ TEST(CliBenchCrowd, JsonOnCmuClip) {
   EXPECT_LT(doc["lod"]["joints_evaluated"].get<std::int64_t>(), doc["full"]["joints_evaluated"].get<std::int64_t>());
   EXPECT_NEAR(doc["speedup"].get<double>(), doc["full"]["seconds"].get<double>() / doc["lod"]["seconds"].get<double>(),
               1e-9);
+  // one ratio per repetition: its full run's seconds over its LOD run's
+  ASSERT_EQ(doc["speedup_pairs"].size(), 1u);
+  EXPECT_NEAR(doc["speedup_pairs"][0].get<double>(),
+              doc["full"]["repetition_seconds"][0].get<double>() / doc["lod"]["repetition_seconds"][0].get<double>(),
+              1e-9);
   EXPECT_GT(doc["memory"]["full_bytes"].get<std::int64_t>(), 0);
   EXPECT_GT(doc["memory"]["lod_bytes"].get<std::int64_t>(), 0);
   EXPECT_GT(doc["memory"]["per_character_bytes"].get<std::int64_t>(), 0);
