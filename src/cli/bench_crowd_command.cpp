@@ -13,7 +13,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iostream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -255,9 +257,8 @@ int BenchCrowdCommand::run() const {
   // the speedup moves with the machine's noise
   std::vector<double> pairs;
   if (runFull && runLod)
-    for (std::size_t r = 0; r < sides[0].poseSeconds.size() && r < sides[1].poseSeconds.size(); ++r)
-      if (sides[1].poseSeconds[r] > 0.0)
-        pairs.push_back(sides[0].poseSeconds[r] / sides[1].poseSeconds[r]);
+    std::transform(sides[0].poseSeconds.begin(), sides[0].poseSeconds.end(), sides[1].poseSeconds.begin(),
+                   std::back_inserter(pairs), std::divides<>());
   doc["speedup_pairs"] = runFull && runLod ? nlohmann::ordered_json(pairs) : nlohmann::ordered_json();
   doc["memory"] = {{"full_bytes", fullBytes},          {"lod_bytes", lodBytes},
                    {"full_plan_bytes", fullPlanBytes}, {"lod_plan_bytes", lodPlanBytes},
@@ -303,9 +304,10 @@ int BenchCrowdCommand::run() const {
   }
   if (runFull && runLod) {
     std::printf("  speedup (pose): %.3fx", fullSeconds / lodSeconds);
-    if (pairs.size() > 1)
-      std::printf(" (repetition by repetition %.3fx to %.3fx)", *std::min_element(pairs.begin(), pairs.end()),
-                  *std::max_element(pairs.begin(), pairs.end()));
+    if (pairs.size() > 1) {
+      const auto [lowest, highest] = std::minmax_element(pairs.begin(), pairs.end());
+      std::printf(" (repetition by repetition %.3fx to %.3fx)", *lowest, *highest);
+    }
     std::printf("\n");
   }
   if (skinning) {
