@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <sys/stat.h>
 #include <random>
 
@@ -99,6 +101,31 @@ TEST(BadInput, BvhFrameTimeMustBeFiniteAndPositive) {
   const Result<Asset> fine = importAsset(test::writeTemp("time.bvh", test::makeBvh(kRoot6, kZyx, 2, "0.04", rows)));
   ASSERT_TRUE(fine.ok()) << fine.message();
   EXPECT_DOUBLE_EQ(fine->clips.front().fps, 25.0);
+}
+
+// Guards the frame rate a glTF states (extras.fps, docs/gltf-extension.md): 500,000 fps made
+// `info` resample a clip of 2.75 million frames (24 s, 5.9 GB) before the clip's own check
+// refused the rate (../shared/repro/fps_5e5.glb); it is refused before anything is resampled.
+TEST(BadInput, GltfFrameRateIsCheckedBeforeResampling) {
+  const std::filesystem::path source = test::modelPath("glTF2/simple_skin/simple_skin.gltf");
+  std::ifstream in(source);
+  std::ostringstream read;
+  read << in.rdbuf();
+  const std::string text = read.str();
+  const std::size_t animations = text.find("\"animations\"");
+  ASSERT_NE(animations, std::string::npos);
+  const std::size_t first = text.find('{', animations);
+  ASSERT_NE(first, std::string::npos);
+  const std::string stated = text.substr(0, first + 1) + "\"extras\":{\"fps\":500000}," + text.substr(first + 1);
+  const std::filesystem::path dir = std::filesystem::path(test::writeTemp("fps_5e5.gltf", stated)).parent_path();
+  for (const auto& entry : std::filesystem::directory_iterator(source.parent_path()))
+    if (entry.path().extension() == ".bin")
+      std::filesystem::copy_file(entry.path(), dir / entry.path().filename(),
+                                 std::filesystem::copy_options::overwrite_existing);
+  expectRefused(dir / "fps_5e5.gltf", "has a frame rate of 500000.000000 fps; it must be in (0, 10000] fps");
+  // the file's own rate, and none stated, still import
+  const std::string fine = text.substr(0, first + 1) + "\"extras\":{\"fps\":30}," + text.substr(first + 1);
+  EXPECT_TRUE(importAsset(test::writeTemp("fps_30.gltf", fine)).ok());
 }
 
 // Guards glTF buffer URIs: one that climbs out of the file's folder (../../etc/passwd) was
