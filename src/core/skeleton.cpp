@@ -92,6 +92,13 @@ Error Skeleton::validate() const {
         return Error(where + " has a singular inverse bind matrix");
     }
   }
+  // finite offsets can still add up past float's range (a BVH with every OFFSET 1e38): such
+  // a skeleton has no height, and every distance derived from it is infinite
+  const std::vector<glm::mat4> rest = restModelMatrices();
+  for (std::size_t i = 0; i < rest.size(); ++i)
+    if (!isFinite(rest[i]))
+      return Error("joint " + std::to_string(i) + " '" + joints[i].name +
+                   "' lies at a non-finite position in the rest pose (its offsets add up past 3.4e38)");
   return {};
 }
 

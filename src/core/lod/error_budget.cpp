@@ -53,10 +53,15 @@ double distanceForPixels(double deviationCm, double pixels, double radiusCm, con
   assert(pixels > 0.0 && deviationCm >= 0.0);
   if (deviationCm == 0.0)
     return radiusCm;
+  // an infinite (or NaN) size has no distance: the doubling below would never end
+  if (!std::isfinite(deviationCm) || !std::isfinite(radiusCm))
+    return std::numeric_limits<double>::infinity();
   // pixels(d) falls as d grows: grow an upper end, then bisect
   double lo = radiusCm + deviationCm, hi = 2.0 * lo + 1.0;
-  while (deviationPixels(deviationCm, hi, radiusCm, projection) > pixels)
+  while (deviationPixels(deviationCm, hi, radiusCm, projection) > pixels && std::isfinite(hi))
     hi *= 2.0;
+  if (!std::isfinite(hi))
+    return hi;
   for (int i = 0; i < 200 && hi - lo > 1e-9 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);
     if (deviationPixels(deviationCm, mid, radiusCm, projection) <= pixels)

@@ -196,6 +196,9 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
   out.projection = options.projection;
   out.boundingRadiusCm = character->boundingRadiusCm();
   const double radius = out.boundingRadiusCm;
+  if (!std::isfinite(radius)) // (the skeleton check refuses offsets that overflow; this guards the rest)
+    return Error("LOD: the character's bounding radius is not finite (" + std::to_string(radius) +
+                 " cm), so a pixel budget gives no switch distance");
   if (!(radius > 0.0)) // a character of no size stays under any pixel budget at any distance
     return Error("LOD: the character has no size (every joint and vertex sits at one point, e.g. a BVH whose "
                  "offsets are all zero), so a pixel budget gives no switch distance; give the levels in a project");

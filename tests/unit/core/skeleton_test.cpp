@@ -64,6 +64,12 @@ TEST(Skeleton, ValidateRejectsEachRule) {
   s = test::makeChain(3);
   s.joints[1].inverseBind = glm::mat4(std::numeric_limits<float>::infinity());
   expectError(s, "non-finite inverse bind");
+  // finite offsets that add up past float's range (../shared/repro/hang_offset_1e38_2frames.bvh:
+  // "height: inf cm", then an export that never ended)
+  s = test::makeChain(4);
+  for (Joint& joint : s.joints)
+    joint.rest.translation = glm::vec3(0.0f, 1e38f, 0.0f);
+  expectError(s, "joint 3 'j3' lies at a non-finite position in the rest pose");
 }
 
 // Guards the valid edge cases: no joints, one joint, zero-length bones (CMU hips).

@@ -128,6 +128,18 @@ TEST(BadInput, GltfFrameRateIsCheckedBeforeResampling) {
   EXPECT_TRUE(importAsset(test::writeTemp("fps_30.gltf", fine)).ok());
 }
 
+// Guards a BVH whose offsets add up past float's range (here 2e38 each; every OFFSET 1e38 in
+// ../shared/repro/hang_offset_1e38_2frames.bvh): `info` said "height: inf cm" and `export`
+// spun forever in the pixel budget; the import refuses it and names the joint.
+TEST(BadInput, BvhOffsetsThatOverflowAreRefused) {
+  std::string bvh = test::makeBvh(kRoot6, kZyx, 2, "0.01", "0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 0 0 0\n");
+  for (std::size_t at = bvh.find("OFFSET"); at != std::string::npos; at = bvh.find("OFFSET", at + 1)) {
+    const std::size_t end = bvh.find('\n', at);
+    bvh.replace(at, end - at, "OFFSET 0 2e38 0");
+  }
+  expectRefused(test::writeTemp("huge_offsets.bvh", bvh), "lies at a non-finite position in the rest pose");
+}
+
 // Guards glTF buffer URIs: one that climbs out of the file's folder (../../etc/passwd) was
 // read; absolute ones, schemes and special files are refused too.
 TEST(BadInput, GltfBuffersStayInTheFilesFolder) {

@@ -20,6 +20,22 @@
 namespace mlod {
 namespace {
 
+// Guards the distance search against sizes without a distance: an infinite or NaN radius or
+// deviation (../shared/repro/hang_offset_1e38_2frames.bvh gave an infinite height) doubled
+// its upper end forever and `export` never ended; it answers "no distance" (infinity).
+TEST(ErrorBudget, InfiniteSizesHaveNoDistanceAndDoNotHang) {
+  const LodProjection projection;
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(distanceForPixels(1.0, 1.0, inf, projection), inf);
+  EXPECT_EQ(distanceForPixels(inf, 1.0, 100.0, projection), inf);
+  EXPECT_EQ(distanceForPixels(1.0, 1.0, nan, projection), inf);
+  EXPECT_EQ(distanceForPixels(nan, 1.0, 100.0, projection), inf);
+  // huge but finite sizes still get their (huge, finite) distance
+  const double far = distanceForPixels(1e17, 1.0, 7.2e17, projection);
+  EXPECT_TRUE(std::isfinite(far));
+  EXPECT_NEAR(deviationPixels(1e17, far, 7.2e17, projection), 1.0, 1e-6);
+}
+
 TEST(ErrorBudget, PixelsFallWithDistanceAndTheInversesAgree) {
   const LodProjection projection; // 60 degrees, 1080 pixels
   EXPECT_NEAR(projection.focalPixels(), 1080.0 / (2.0 * std::tan(std::numbers::pi / 6.0)), 1e-9);
