@@ -495,10 +495,12 @@ bool ProgressiveMeshBuilder::wedgeMap(std::uint32_t u, std::uint32_t v, const st
           const glm::dvec2 delta = glm::dvec2(m_mesh.uvs[c]) - glm::dvec2(m_mesh.uvs[d]);
           score += glm::dot(delta, delta);
         }
-        if (score < bestScore)
+        // (a NaN score, from a degenerate triangle's normal, must still name a wedge)
+        if (best == kNone || score < bestScore)
           bestScore = score, best = d;
       }
-      assert(best != kNone);
+      if (best == kNone)
+        return false; // v keeps no wedge of its own to take u's: no collapse
       m_map.emplace_back(c, best);
     }
   return true;
@@ -652,8 +654,11 @@ void ProgressiveMeshBuilder::push(std::uint32_t u) {
 void ProgressiveMeshBuilder::collapse(std::uint32_t u, std::uint32_t v, double cost, bool attribute) {
   std::vector<std::uint32_t> fanU = fan(u);
   bool mapAttribute = false;
-  [[maybe_unused]] const bool mapped = wedgeMap(u, v, fanU, mapAttribute);
-  assert(mapped && mapAttribute == attribute);
+  // ranked legal; a map that cannot be made now (damaged input: ../shared/repro/crash_segv_min.obj
+  // mapped a corner to no wedge and crashed) leaves the mesh as it is
+  if (!wedgeMap(u, v, fanU, mapAttribute))
+    return;
+  assert(mapAttribute == attribute);
   (void)attribute;
   ProgressiveMesh::Collapse record;
   record.firstWedge = static_cast<std::uint32_t>(m_out.m_from.size());
@@ -678,8 +683,11 @@ void ProgressiveMeshBuilder::collapse(std::uint32_t u, std::uint32_t v, double c
     }
     for (int k = 0; k < 3; ++k) {
       std::uint32_t& c = m_corners[std::size_t(t) * 3 + k];
-      if (welded(c) == u)
-        c = std::find_if(m_map.begin(), m_map.end(), [&](const auto& e) { return e.first == c; })->second;
+      if (welded(c) == u) {
+        const auto mapped = std::find_if(m_map.begin(), m_map.end(), [&](const auto& e) { return e.first == c; });
+        assert(mapped != m_map.end()); // wedgeMap() maps every corner of u in its fan
+        c = mapped->second;
+      }
     }
     fanV.push_back(t);
   }

@@ -445,5 +445,24 @@ TEST_F(MeshLodBcn, LevelsAreNestedAndCountsMatchTheProgressiveMesh) {
     ASSERT_LE(pm.trianglesAfter(k + 1), pm.trianglesAfter(k));
 }
 
+// Guards the collapse of a damaged mesh (../shared/repro/crash_segv_min.obj: assimp-testmodels'
+// spider.obj with a block of face lines deleted): a collapse ranked legal whose wedge map could
+// no longer be made (a corner mapped to no wedge of the other vertex) crashed the simplifier
+// (SIGSEGV in ProgressiveMeshBuilder::collapse under `export` and `meshlod`). It is skipped,
+// and every level is a valid mesh.
+TEST(MeshLodDamaged, ACollapseWithoutAWedgeMapIsSkipped) {
+  Result<Asset> asset = importAsset(std::string(MLOD_TEST_DATA_DIR) + "/bad/crash_segv_min.obj");
+  ASSERT_TRUE(asset) << asset.message();
+  ASSERT_FALSE(asset->meshes.empty());
+  const SkinnedMesh& mesh = asset->meshes.front();
+  Result<MeshLod> lod = MeshLod::build(mesh, nullptr);
+  ASSERT_TRUE(lod) << lod.message();
+  for (double ratio : {0.5, 0.25, 0.1}) {
+    const MeshLodLevel level = lod->levelForRatio(ratio);
+    EXPECT_FALSE(level.mesh.validate(0)) << "ratio " << ratio;
+    EXPECT_LE(level.triangles(), mesh.triangleCount());
+  }
+}
+
 } // namespace
 } // namespace mlod
