@@ -9,6 +9,9 @@
 //   none): after any failure the previous set is intact. A kill between two renames can
 //   leave a new bundle beside an old manifest: the manifest carries the bundle's size and
 //   CRC-32, so a reader tells (motionlod info does);
+// - the renames of a set hold an exclusive flock() on each of its folders, so that two
+//   writers of the same set (four exports of different clips to one .mlodb at once) land
+//   one whole set after the other, never one's bundle beside the other's manifest;
 // - temporaries and kept links that a killed writer left behind (its PID no longer runs)
 //   are removed the next time the same file is written;
 // - a failure names the file and the system's reason ("No space left on device").
@@ -17,12 +20,14 @@
 #include "sdk/exporter.h"
 
 #include <QFile>
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
 #include <string>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
@@ -102,6 +107,33 @@ std::string writeTemporary(const std::string& path, const QByteArray& data) {
   return temporary;
 }
 
+// Exclusive flock()s on folders, taken in name order (no two writers wait on each other),
+// released when it goes: a set's renames run whole, one writer's after another's.
+class FolderLocks {
+public:
+  explicit FolderLocks(std::vector<std::string> folders) {
+    std::sort(folders.begin(), folders.end());
+    folders.erase(std::unique(folders.begin(), folders.end()), folders.end());
+    for (const std::string& folder : folders) {
+      const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+      if (fd < 0)
+        continue; // the renames then fail and say why
+      while (::flock(fd, LOCK_EX) != 0 && errno == EINTR) {
+      }
+      m_fds.push_back(fd);
+    }
+  }
+  ~FolderLocks() {
+    for (const int fd : m_fds)
+      ::close(fd); // releases the lock
+  }
+  FolderLocks(const FolderLocks&) = delete;
+  FolderLocks& operator=(const FolderLocks&) = delete;
+
+private:
+  std::vector<int> m_fds;
+};
+
 void syncFolder(const std::string& path) {
   const int fd = ::open(folderOf(path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd >= 0) {
@@ -146,6 +178,11 @@ ExportResult writeFilesAtomically(const QList<QPair<QString, QByteArray>>& files
     }
     entries.push_back(std::move(entry));
   }
+  // from here to the last rename, one writer of these folders at a time
+  std::vector<std::string> folders;
+  for (const Entry& entry : entries)
+    folders.push_back(folderOf(entry.path));
+  const FolderLocks locks(std::move(folders));
   // keep what is replaced until every file is in place (a file system without hard
   // links keeps nothing: a failed rename then removes the new files, as before)
   for (Entry& entry : entries) {

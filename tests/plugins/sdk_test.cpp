@@ -8,6 +8,9 @@
 #include <QTemporaryDir>
 
 #include <gtest/gtest.h>
+#include <vector>
+#include <thread>
+#include <atomic>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -127,6 +130,36 @@ TEST(AtomicWrite, FailedSetKeepsThePreviousVersion) {
   ASSERT_TRUE(file.open(QIODevice::ReadOnly));
   EXPECT_EQ(file.readAll(), QByteArray("old bundle"));
   EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{"x.mlodb"}) << "no temporary left";
+}
+
+// Guards two writers of one set (issue 29: four exports of different clips to one .mlodb
+// at once, 100 rounds, once gave one clip's bundle beside another's manifest): racing
+// writers land whole sets one after another, so after every round the bundle and manifest
+// on disk come from the same writer.
+TEST(AtomicWrite, RacingWritersLandWholeSets) {
+  QTemporaryDir dir;
+  const QString bundle = dir.filePath("x.mlodb"), manifest = dir.filePath("x.mlodb.json");
+  constexpr int kWriters = 4, kRounds = 150;
+  int mixed = 0;
+  for (int round = 0; round < kRounds; ++round) {
+    std::atomic<int> ready{0};
+    std::vector<std::thread> writers;
+    for (int w = 0; w < kWriters; ++w)
+      writers.emplace_back([&, w] {
+        const QByteArray tag = QByteArray::number(round * kWriters + w);
+        ready.fetch_add(1);
+        while (ready.load() < kWriters) {
+        }
+        EXPECT_TRUE(writeFilesAtomically({{bundle, "bundle " + tag}, {manifest, "manifest " + tag}}).ok);
+      });
+    for (std::thread& writer : writers)
+      writer.join();
+    QFile b(bundle), m(manifest);
+    ASSERT_TRUE(b.open(QIODevice::ReadOnly) && m.open(QIODevice::ReadOnly));
+    mixed += b.readAll().mid(7) != m.readAll().mid(9) ? 1 : 0;
+  }
+  EXPECT_EQ(mixed, 0) << "rounds that left one writer's bundle beside another's manifest";
+  EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size(), 2) << "no temporary left";
 }
 
 // Guards the leftovers of a killed writer: its temporaries and kept links (named with its
