@@ -4,7 +4,8 @@
 // - each file is written to a temporary beside it (".NAME.mlod-tmp-PID-XXXXXX"), in full,
 //   and fsync'ed before it is renamed into place, so a crash never leaves a torn file;
 // - a set of files (a bundle and its manifest) is renamed in order; before that, each file
-//   it replaces is kept as a hard link (".NAME.mlod-old-PID-XXXXXX"). When a rename fails,
+//   it replaces is kept as a hard link (".NAME.mlod-old-PID-XXXXXX"), or a copy where no
+//   link can be made (another user's file under fs.protected_hardlinks). When a rename fails,
 //   the files already renamed get their previous version back (or go, where there was
 //   none): after any failure the previous set is intact. A kill between two renames can
 //   leave a new bundle beside an old manifest: the manifest carries the bundle's size and
@@ -107,6 +108,46 @@ std::string writeTemporary(const std::string& path, const QByteArray& data) {
   return temporary;
 }
 
+// A copy of the file at `from` as `to` (created, fsync'ed): where no hard link can be made
+// (fs.protected_hardlinks: another user's file; file systems without links). False and errno.
+bool copyFile(const std::string& from, const std::string& to) {
+  const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC);
+  if (in < 0)
+    return false;
+  const int out = ::open(to.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (out < 0) {
+    const int reason = errno;
+    ::close(in);
+    errno = reason;
+    return false;
+  }
+  std::vector<char> buffer(1 << 20);
+  bool ok = true;
+  for (;;) {
+    const ssize_t n = ::read(in, buffer.data(), buffer.size());
+    if (n < 0 && errno == EINTR)
+      continue;
+    if (n <= 0) {
+      ok = n == 0;
+      break;
+    }
+    if (!writeAll(out, buffer.data(), std::size_t(n))) {
+      ok = false;
+      break;
+    }
+  }
+  ok = ok && ::fsync(out) == 0;
+  const int reason = errno;
+  ::close(in);
+  if (::close(out) != 0)
+    ok = false;
+  if (!ok) {
+    ::unlink(to.c_str());
+    errno = reason;
+  }
+  return ok;
+}
+
 // Exclusive flock()s on folders, taken in name order (no two writers wait on each other),
 // released when it goes: a set's renames run whole, one writer's after another's.
 class FolderLocks {
@@ -183,16 +224,22 @@ ExportResult writeFilesAtomically(const QList<QPair<QString, QByteArray>>& files
   for (const Entry& entry : entries)
     folders.push_back(folderOf(entry.path));
   const FolderLocks locks(std::move(folders));
-  // keep what is replaced until every file is in place (a file system without hard
-  // links keeps nothing: a failed rename then removes the new files, as before)
+  // keep what is replaced until every file is in place: a hard link, or where none can be
+  // made (another user's file under fs.protected_hardlinks, Debian's default) a copy. If
+  // neither can be kept, nothing is renamed: the previous set stays whole.
   for (Entry& entry : entries) {
     struct stat info {};
     if (::lstat(entry.path.c_str(), &info) != 0 || !S_ISREG(info.st_mode))
       continue;
     std::string kept = entry.temporary;
     kept.replace(kept.rfind(kTemporaryTag), std::strlen(kTemporaryTag), kKeptTag);
-    if (::link(entry.path.c_str(), kept.c_str()) == 0)
+    if (::link(entry.path.c_str(), kept.c_str()) == 0 || copyFile(entry.path, kept)) {
       entry.kept = std::move(kept);
+      continue;
+    }
+    const std::string reason = std::strerror(errno);
+    discard();
+    return failure(entry.name, "cannot keep the version it replaces: " + reason);
   }
   for (std::size_t i = 0; i < entries.size(); ++i) {
     if (::rename(entries[i].temporary.c_str(), entries[i].path.c_str()) == 0) {

@@ -8,6 +8,7 @@
 #include <QTemporaryDir>
 
 #include <gtest/gtest.h>
+#include <fstream>
 #include <vector>
 #include <thread>
 #include <atomic>
@@ -126,6 +127,40 @@ TEST(AtomicWrite, FailedSetKeepsThePreviousVersion) {
   const ExportResult result = writeFilesAtomically({{bundle, "new bundle"}, {manifest, "{}"}});
   EXPECT_FALSE(result.ok);
   EXPECT_TRUE(result.message.startsWith(manifest + ": cannot write: ")) << result.message.toStdString();
+  QFile file(bundle);
+  ASSERT_TRUE(file.open(QIODevice::ReadOnly));
+  EXPECT_EQ(file.readAll(), QByteArray("old bundle"));
+  EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{"x.mlodb"}) << "no temporary left";
+}
+
+// Guards the previous version when no hard link to it can be made (issue 29: the exporting
+// user did not own the old out.mlodb, so under fs.protected_hardlinks = 1, Debian's default,
+// the kept link failed; when the manifest's rename then failed, the new bundle was removed
+// and the old one was gone). A copy is kept instead. Run as root: the writer is a child that
+// becomes `nobody`, replacing root's files in a folder anyone may write.
+TEST(AtomicWrite, AnotherUsersFileIsKeptWhereNoLinkCanBeMade) {
+  if (::geteuid() != 0)
+    GTEST_SKIP() << "needs root (to write as another user)";
+  std::ifstream setting("/proc/sys/fs/protected_hardlinks");
+  int protectedLinks = 0;
+  if (!(setting >> protectedLinks) || protectedLinks != 1)
+    GTEST_SKIP() << "fs.protected_hardlinks is not 1 here: links to another user's file can be made";
+  QTemporaryDir dir;
+  ASSERT_TRUE(QFile::setPermissions(dir.path(), QFileDevice::Permissions(0x7777)));
+  const QString bundle = dir.filePath("x.mlodb"), manifest = dir.filePath("x.mlodb.json");
+  ASSERT_TRUE(writeFileAtomically(bundle, "old bundle").ok); // root's, 0644
+  ASSERT_TRUE(QDir(dir.path()).mkpath("x.mlodb.json/taken")); // no file can replace this folder
+  const pid_t writer = ::fork();
+  if (writer == 0) {
+    if (::setgid(65534) != 0 || ::setuid(65534) != 0)
+      ::_exit(3);
+    const ExportResult result = writeFilesAtomically({{bundle, "new bundle"}, {manifest, "{}"}});
+    ::_exit(result.ok ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(writer, &status, 0), writer);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1) << "the set cannot land (the manifest's place is a folder)";
   QFile file(bundle);
   ASSERT_TRUE(file.open(QIODevice::ReadOnly));
   EXPECT_EQ(file.readAll(), QByteArray("old bundle"));
