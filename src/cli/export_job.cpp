@@ -40,6 +40,9 @@ double secondsSince(Clock::time_point start) {
 // std::bad_alloc before the bundle refused it. Level 0 is the original (every joint); any
 // other level keeps at least its root, so this is a lower bound of what the bundle needs.
 std::string bundleBudgetProblem(std::span<const Clip* const> clips, int joints, int levels, bool withOriginal) {
+  // (a mesh alone exited 1 with the plugin's "no joint": bad input, said before the build)
+  if (joints < 1)
+    return "has no skeleton: a runtime bundle holds a skeleton and its clips (a mesh alone exports to glTF)";
   std::uint64_t frames = 0;
   for (const Clip* clip : clips)
     frames += std::uint64_t(std::max(clip->frameCount, 0));

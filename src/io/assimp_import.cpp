@@ -222,6 +222,18 @@ Error checkBvhFrameTime(std::string_view header) {
   if (value.empty() || stop == value.c_str() || !std::isfinite(seconds) || seconds < 1e-4)
     return Error("its Frame Time '" + value.substr(0, 40) +
                  "' is not a finite number of seconds per frame of at least 0.0001 (10,000 frames per second)");
+  // "Frames: 0" made Assimp's duration frames - 1 wrap to 4,294,967,295 ("too long")
+  const std::size_t frames = header.rfind("Frames:", at);
+  if (frames != std::string_view::npos) {
+    const std::size_t from = header.find_first_not_of(" \t", frames + 7);
+    const std::size_t to = header.find_first_of("\r\n", frames);
+    const std::string count(from == std::string_view::npos || from >= to ? std::string_view()
+                                                                           : header.substr(from, to - from));
+    char* countEnd = nullptr;
+    const long long n = std::strtoll(count.c_str(), &countEnd, 10);
+    if (count.empty() || countEnd == count.c_str() || n < 1)
+      return Error("its 'Frames: " + count.substr(0, 40) + "' is not a count of at least 1 frame");
+  }
   return {};
 }
 

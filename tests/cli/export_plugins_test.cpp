@@ -195,6 +195,13 @@ TEST(CliExport, BadArgumentsAreExit2) {
   const test::CliRun missing = runMotionlod({"export", "/no/such/file.bvh", "--plugin", "bundle", "-o", out});
   EXPECT_EQ(missing.status, 2);
   EXPECT_EQ(missing.err.rfind("error: /no/such/file.bvh: ", 0), 0u) << missing.err;
+  // a mesh without a skeleton has no bundle (it exited 1 with the plugin's "no joint")
+  const std::string spider = std::string(MLOD_ASSIMP_MODELS) + "/OBJ/spider.obj";
+  const test::CliRun meshOnly = runMotionlod({"export", spider, "--plugin", "bundle", "-o", out});
+  EXPECT_EQ(meshOnly.status, 2) << meshOnly.err;
+  EXPECT_NE(meshOnly.err.find("error: " + spider + ": has no skeleton: a runtime bundle holds a skeleton"),
+            std::string::npos)
+      << meshOnly.err;
   EXPECT_TRUE(filesIn(dir).empty());
 }
 

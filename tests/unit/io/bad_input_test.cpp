@@ -140,6 +140,18 @@ TEST(BadInput, BvhOffsetsThatOverflowAreRefused) {
   expectRefused(test::writeTemp("huge_offsets.bvh", bvh), "lies at a non-finite position in the rest pose");
 }
 
+// Guards a BVH that says "Frames: 0": Assimp's duration (frames - 1) wrapped, and the clip
+// was refused as "too long (4294967295 frames)" (issue 29, item 8); the header is named.
+TEST(BadInput, BvhWithoutFramesSaysSo) {
+  for (const char* frames : {"0", "-3"}) {
+    SCOPED_TRACE(frames);
+    std::string bvh = test::makeBvh(kRoot6, kZyx, 1, "0.01", "");
+    bvh.replace(bvh.find("Frames: 1"), 9, std::string("Frames: ") + frames);
+    expectRefused(test::writeTemp("no_frames.bvh", bvh),
+                  std::string("its 'Frames: ") + frames + "' is not a count of at least 1 frame");
+  }
+}
+
 // Guards glTF buffer URIs: one that climbs out of the file's folder (../../etc/passwd) was
 // read; absolute ones, schemes and special files are refused too.
 TEST(BadInput, GltfBuffersStayInTheFilesFolder) {
