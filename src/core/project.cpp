@@ -209,12 +209,17 @@ Result<Project> projectFromJson(std::string_view textIn) {
     return Error("not a Motion LOD project (no \"format\": \"motionlod-project\")");
   if (!doc.contains("version") || !doc["version"].is_number_integer())
     return Error("the project has no version number");
-  const int version = doc["version"].get<int>();
-  if (version > kProjectVersion)
-    return Error("the project is version " + std::to_string(version) + ", made by a newer Motion LOD Studio; this one reads up to version " +
-                 std::to_string(kProjectVersion));
-  if (version < 1)
-    return Error("the project version " + std::to_string(version) + " is not valid");
+  // read wide first: 2^63 narrowed to int read as "version 0" (issue 29)
+  const std::int64_t wide = doc["version"].is_number_unsigned()
+                                ? static_cast<std::int64_t>(std::min<std::uint64_t>(doc["version"].get<std::uint64_t>(),
+                                                                                    std::uint64_t(std::numeric_limits<std::int64_t>::max())))
+                                : doc["version"].get<std::int64_t>();
+  if (wide > kProjectVersion)
+    return Error("the project is version " + doc["version"].dump() +
+                 ", made by a newer Motion LOD Studio; this one reads up to version " + std::to_string(kProjectVersion));
+  if (wide < 1)
+    return Error("the project version " + doc["version"].dump() + " is not valid");
+  const int version = static_cast<int>(wide);
   Project project;
   try {
     project.alpha = number(field(doc, "alpha", "the project"), "alpha");

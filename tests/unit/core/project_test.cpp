@@ -92,6 +92,12 @@ TEST(Project, BadDocumentsAreRefusedWithAReason) {
       {"{\"format\": \"something-else\", \"version\": 1}", "not a Motion LOD project"},
       {"{\"format\": \"motionlod-project\"}", "no version"},
       {"{\"format\": \"motionlod-project\", \"version\": 4}", "newer Motion LOD Studio"},
+      // 2^63 and -2^63 read whole (narrowed to int, 2^63 read as "version 0": issue 29)
+      {"{\"format\": \"motionlod-project\", \"version\": 9223372036854775808}",
+       "the project is version 9223372036854775808, made by a newer"},
+      {"{\"format\": \"motionlod-project\", \"version\": -9223372036854775808}",
+       "the project version -9223372036854775808 is not valid"},
+      {"{\"format\": \"motionlod-project\", \"version\": 4294967297}", "the project is version 4294967297"},
       {"{\"format\": \"motionlod-project\", \"version\": 2, \"alpha\": 5, \"mode\": \"greedy\", \"assets\": []}",
        "has no \"lods\""},
       {"{\"format\": \"motionlod-project\", \"version\": 1}", "has no \"alpha\""},
