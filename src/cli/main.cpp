@@ -15,6 +15,7 @@
 #include <assimp/version.h>
 
 #include <iostream>
+#include <new>
 
 namespace {
 std::string versionText() {
@@ -70,6 +71,18 @@ int main(int argc, char** argv) {
       return plugins.run();
     if (app.got_subcommand("batch"))
       return batch.run();
+  } catch (const std::bad_alloc&) {
+    // (it printed "error: std::bad_alloc" alone: the file and a reason a user can act on)
+    const std::string input = app.got_subcommand("info")          ? info.file
+                              : app.got_subcommand("simplify")    ? simplify.file
+                              : app.got_subcommand("meshlod")     ? meshLod.file
+                              : app.got_subcommand("bench-crowd") ? benchCrowd.file
+                              : app.got_subcommand("export")      ? exportCommand.job.input
+                              : app.got_subcommand("batch")       ? batch.manifest
+                                                                  : std::string("motionlod");
+    std::cerr << "error: " << input << ": not enough memory for this input (the process's memory limit was reached)"
+              << std::endl;
+    return mlod::cli::kExitFailure;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << std::endl;
     return mlod::cli::kExitFailure;
