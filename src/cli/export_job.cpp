@@ -35,11 +35,12 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// The runtime bundle's joint-frame cap (runtime/bundle.h kMaxBundleJointFrames), checked
-// before the package is built: a 1,000,000-frame clip grew past 12 GB and died with
-// std::bad_alloc before the bundle refused it. Level 0 is the original (every joint); any
-// other level keeps at least its root, so this is a lower bound of what the bundle needs.
-std::string bundleBudgetProblem(std::span<const Clip* const> clips, int joints, int levels, bool withOriginal) {
+// What a runtime bundle cannot hold, checked before the package is built: no skeleton, and
+// past its joint-frame cap (runtime/bundle.h kMaxBundleJointFrames: a 1,000,000-frame clip
+// grew past 12 GB and died with std::bad_alloc before the bundle refused it). Level 0 is the
+// original (every joint); any other level keeps at least its root, so this is a lower bound
+// of what the bundle needs.
+std::string bundleProblem(std::span<const Clip* const> clips, int joints, int levels, bool withOriginal) {
   // (a mesh alone exited 1 with the plugin's "no joint": bad input, said before the build)
   if (joints < 1)
     return "has no skeleton: a runtime bundle holds a skeleton and its clips (a mesh alone exports to glTF)";
@@ -319,7 +320,7 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
       const int levels = job.levels.empty() ? project->levelCount() : int(job.levels.size());
       const bool original = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
       if (std::string problem =
-              bundleBudgetProblem(clips, imported[std::size_t(character)]->skeleton.jointCount(), levels, original);
+              bundleProblem(clips, imported[std::size_t(character)]->skeleton.jointCount(), levels, original);
           !problem.empty())
         return failure(kExitBadInput, job.input, problem);
     }
@@ -339,7 +340,7 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
       const int all = job.meshRatios.empty() ? 4 : int(job.meshRatios.size()) + 1;
       const int levels = job.levels.empty() ? all : int(job.levels.size());
       const bool original = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
-      if (std::string problem = bundleBudgetProblem(clips, asset->skeleton.jointCount(), levels, original);
+      if (std::string problem = bundleProblem(clips, asset->skeleton.jointCount(), levels, original);
           !problem.empty())
         return failure(kExitBadInput, job.input, problem);
     }

@@ -14,6 +14,7 @@
 #include <QCoreApplication>
 #include <assimp/version.h>
 
+#include <functional>
 #include <iostream>
 #include <new>
 
@@ -56,36 +57,35 @@ int main(int argc, char** argv) {
     app.exit(e);
     return mlod::cli::kExitBadInput;
   }
-  try {
-    if (app.got_subcommand("info"))
-      return mlod::cli::isBundleFile(info.file) ? mlod::cli::describeBundle(info.file, info.json) : info.run();
-    if (app.got_subcommand("simplify"))
-      return simplify.run();
-    if (app.got_subcommand("meshlod"))
-      return meshLod.run();
-    if (app.got_subcommand("bench-crowd"))
-      return benchCrowd.run();
-    if (app.got_subcommand("export"))
-      return exportCommand.run();
-    if (app.got_subcommand("plugins"))
-      return plugins.run();
-    if (app.got_subcommand("batch"))
-      return batch.run();
-  } catch (const std::bad_alloc&) {
-    // (it printed "error: std::bad_alloc" alone: the file and a reason a user can act on)
-    const std::string input = app.got_subcommand("info")          ? info.file
-                              : app.got_subcommand("simplify")    ? simplify.file
-                              : app.got_subcommand("meshlod")     ? meshLod.file
-                              : app.got_subcommand("bench-crowd") ? benchCrowd.file
-                              : app.got_subcommand("export")      ? exportCommand.job.input
-                              : app.got_subcommand("batch")       ? batch.manifest
-                                                                  : std::string("motionlod");
-    std::cerr << "error: " << input << ": not enough memory for this input (the process's memory limit was reached)"
-              << std::endl;
-    return mlod::cli::kExitFailure;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << std::endl;
-    return mlod::cli::kExitFailure;
+  // each command, what runs it and the input its errors name
+  const struct {
+    const char* name;
+    std::function<int()> run;
+    const std::string* input; // null: none
+  } commands[] = {
+      {"info", [&] { return mlod::cli::isBundleFile(info.file) ? mlod::cli::describeBundle(info.file, info.json) : info.run(); },
+       &info.file},
+      {"simplify", [&] { return simplify.run(); }, &simplify.file},
+      {"meshlod", [&] { return meshLod.run(); }, &meshLod.file},
+      {"bench-crowd", [&] { return benchCrowd.run(); }, &benchCrowd.file},
+      {"export", [&] { return exportCommand.run(); }, &exportCommand.job.input},
+      {"plugins", [&] { return plugins.run(); }, nullptr},
+      {"batch", [&] { return batch.run(); }, &batch.manifest},
+  };
+  for (const auto& command : commands) {
+    if (!app.got_subcommand(command.name))
+      continue;
+    try {
+      return command.run();
+    } catch (const std::bad_alloc&) {
+      // (it printed "error: std::bad_alloc" alone: the file and a reason a user can act on)
+      std::cerr << "error: " << (command.input ? *command.input : std::string("motionlod"))
+                << ": not enough memory for this input (the process's memory limit was reached)" << std::endl;
+      return mlod::cli::kExitFailure;
+    } catch (const std::exception& e) {
+      std::cerr << "error: " << e.what() << std::endl;
+      return mlod::cli::kExitFailure;
+    }
   }
   return mlod::cli::kExitFailure;
 }

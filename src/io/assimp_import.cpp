@@ -206,10 +206,11 @@ void releaseKeys(aiNodeAnim& channel) {
   channel.mNumPositionKeys = channel.mNumRotationKeys = channel.mNumScalingKeys = 0;
 }
 
-// A BVH's "Frame Time:" (seconds per frame). Assimp turns "inf" into 0 ticks per second
-// (then 25 fps are assumed) and 0 or NaN into a tick rate nobody can name: the header says
-// what is wrong instead. A file without one is Assimp's to refuse.
-Error checkBvhFrameTime(std::string_view header) {
+// A BVH's "Frame Time:" (seconds per frame) and "Frames:" count. Assimp turns an "inf" time
+// into 0 ticks per second (then 25 fps are assumed), 0 or NaN into a tick rate nobody can
+// name, and 0 frames into a duration that wraps: the header says what is wrong instead. A
+// file without them is Assimp's to refuse.
+Error checkBvhHeader(std::string_view header) {
   const std::size_t at = header.find("Frame Time:");
   if (at == std::string_view::npos)
     return {};
@@ -303,7 +304,7 @@ Error checkBeforeImport(const std::filesystem::path& file, const std::string& ex
     return {};
   std::ifstream stream(file, std::ios::binary);
   if (extension == "bvh")
-    return checkBvhFrameTime(bvhHeader(stream));
+    return checkBvhHeader(bvhHeader(stream));
   std::string json;
   if (extension == "gltf") {
     std::optional<std::string> text = readInputFile(file, kMaxImportFileBytes);
@@ -1051,7 +1052,7 @@ Result<Asset> importAssetFromMemory(const void* data, std::size_t size, const st
     return Error("the file is empty");
   const std::string ext = lower(extension);
   if (ext == "bvh")
-    if (Error error = checkBvhFrameTime(std::string_view(static_cast<const char*>(data), size)))
+    if (Error error = checkBvhHeader(std::string_view(static_cast<const char*>(data), size)))
       return error;
   auto importer = std::make_unique<Assimp::Importer>();
   configure(*importer);
