@@ -98,6 +98,10 @@ TEST(CliSimplify, BadInputExitsTwoWithMessage) {
       {{"simplify", "/no/such/project.mlod", "--threshold", "5"}, "no such file"},
       {{"simplify", test::writeTemp("bad_project.mlod", "{\"format\": \"motionlod-project\", \"version\": 99}")},
        "newer Motion LOD Studio"},
+      // ../shared/repro: a 3DS with one bit flipped imports as 786,645 frames; it ran past
+      // 1,200 s in the key search (issue 29, item 3)
+      {{"simplify", std::string(MLOD_TEST_DATA_DIR) + "/bad/rotcube__038_g038.3ds", "--threshold", "5"},
+       "786645 frames are more than joint posture clustering takes (at most 100000 frames per clip)"},
   };
   for (const auto& c : cases) {
     const test::CliRun run = runMotionlod(c.arguments);

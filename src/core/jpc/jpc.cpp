@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <string>
 #include <thread>
 
 namespace mlod {
@@ -49,6 +50,18 @@ Result<JpcClip> JpcClip::prepare(const Skeleton& skeleton, const Clip& clip, con
     return error;
   if (Error error = settings.validate(skeleton))
     return error;
+  // (callers name the clip)
+  if (clip.frameCount > kMaxJpcFrames)
+    return Error(std::to_string(clip.frameCount) + " frames are more than joint posture clustering takes (at most " +
+                 std::to_string(kMaxJpcFrames) + " frames per clip): trim or split the clip");
+  std::int64_t jointFrames = 0; // of the joints that will be clustered
+  for (int j = 0; j < skeleton.jointCount(); ++j)
+    if (clip.hasRotation[static_cast<std::size_t>(j)] &&
+        !settings.lockedFor(skeleton.joints[static_cast<std::size_t>(j)].name))
+      jointFrames += clip.frameCount;
+  if (jointFrames > kMaxJpcJointFrames)
+    return Error(std::to_string(jointFrames) + " rotating joint-frames are more than joint posture clustering takes (at most " +
+                 std::to_string(kMaxJpcJointFrames) + " per clip): trim the clip or lock joints");
   JpcClip out;
   out.m_settings = settings;
   out.m_frameCount = clip.frameCount;

@@ -49,13 +49,23 @@ enum class JpcTracks {
             // time (the command line, long clips); the clip must outlive the JpcClip
 };
 
+// The most work JPC takes on for one clip, refused by JpcClip::prepare() before any
+// clustering with the limit named: the key-posture search grows faster than the length
+// of a cluster (about m^1.8 on a slow wobble that stays within the threshold: 100,000
+// frames took 5.5 s per joint here, 200,000 frames 43 s), so a clip whose joints might
+// hold one posture for hours could run for hours. 100,000 frames is 14 minutes at 120 fps;
+// 4 million joint-frames is 18 minutes of a 31-joint CMU skeleton at 120 fps.
+inline constexpr int kMaxJpcFrames = 100'000;
+inline constexpr std::int64_t kMaxJpcJointFrames = 4'000'000;
+
 // What JPC needs from one clip, prepared once for any number of thresholds: the error
 // tracks of every clusterable joint (those with a rotation channel) that is not locked.
 // Re-clustering one joint after an edit of its threshold is clusterJoint(track(j), T, mode).
 class JpcClip {
 public:
   // Checks `settings` (unknown joint names, negative or NaN alpha ...) and `clip` against
-  // `skeleton`; bad input is an Error with a message. With JpcTracks::OnDemand the JpcClip
+  // `skeleton`, and the work limits (kMaxJpcFrames, kMaxJpcJointFrames); bad input is an
+  // Error with a message. With JpcTracks::OnDemand the JpcClip
   // refers to `clip`, which must outlive it.
   static Result<JpcClip> prepare(const Skeleton& skeleton, const Clip& clip, const JpcSettings& settings,
                                  JpcTracks tracks = JpcTracks::Kept);

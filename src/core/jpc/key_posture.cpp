@@ -136,11 +136,6 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
     bound[i] =
         (v * prefixCount[below] - prefixSum[below]) + ((total - prefixSum[below]) - v * (m - prefixCount[below]));
   }
-  std::vector<std::size_t> order(count);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t x, std::size_t y) { return bound[x] != bound[y] ? bound[x] < bound[y] : x < y; });
-
   // Landmarks (long clusters): a few approximate rows p, chosen farthest-first, bound each
   // row k below frame by frame, sum_t max_p |E(t, p) - E(k, p)|, far tighter than one
   // pivot's sum (the metric has a few dimensions: a direction and a rotation).
@@ -148,10 +143,12 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
   const int length = range.length();
   const int landmarks = length >= kLandmarkMinFrames ? kLandmarks : 0;
   std::vector<float> landmarkRows(static_cast<std::size_t>(landmarks) * static_cast<std::size_t>(length));
+  std::vector<int> landmarkFrames(static_cast<std::size_t>(landmarks));
   if (landmarks > 0) {
     std::vector<float> nearest(static_cast<std::size_t>(length), std::numeric_limits<float>::infinity());
     int frame = runs[pivot].frame;
     for (int p = 0; p < landmarks; ++p) {
+      landmarkFrames[static_cast<std::size_t>(p)] = frame;
       float* row = &landmarkRows[static_cast<std::size_t>(p) * static_cast<std::size_t>(length)];
       track.approximateErrors(frame, range.first, length, row);
       std::size_t farthest = 0;
@@ -181,6 +178,53 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
     return false;
   };
 
+  // Each landmark p also bounds every row's whole sum at once, as the pivot does:
+  // sum_t |E(t, p) - E(k, p)| from sorted prefix sums, O(log m) per row, from the landmark's
+  // exact errors (the float rows' slack, m delta, can exceed the spread of the sums of a
+  // slow motion). On a motion along one path (a slow turn) a landmark at its end makes this
+  // the row's sum itself, so only the rows near the best are ever summed: O(m log m) in
+  // all, not m^2 (a 50,000-frame turn took 41 s).
+  std::vector<double> landmarkLower(count, 0.0);
+  if (landmarks > 0) {
+    std::vector<double> exact(static_cast<std::size_t>(length)), sorted(exact.size()), prefix(exact.size() + 1);
+    for (const int p : landmarkFrames) {
+      for (const Run& run : runs) {
+        const double error = track.error(run.frame, p);
+        ++out.evaluations;
+        std::fill_n(exact.begin() + (run.frame - range.first), run.count, error);
+      }
+      sorted = exact;
+      std::sort(sorted.begin(), sorted.end());
+      prefix[0] = 0.0;
+      for (std::size_t t = 0; t < sorted.size(); ++t)
+        prefix[t + 1] = prefix[t] + sorted[t];
+      const double sum = prefix.back();
+      for (std::size_t i = 0; i < count; ++i) {
+        const double v = exact[static_cast<std::size_t>(runs[i].frame - range.first)];
+        const std::size_t below =
+            static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), v) - sorted.begin());
+        const double lower = (v * static_cast<double>(below) - prefix[below]) +
+                             ((sum - prefix[below]) - v * static_cast<double>(exact.size() - below));
+        // per term: each computed error within eta of the pseudometric; the sums and their
+        // differences: m epsilon of the whole
+        landmarkLower[i] = std::max(landmarkLower[i], lower - 3.0 * m * eta - 4.0 * m * kEpsilon * (sum + v * m));
+      }
+    }
+  }
+  // Rows by their best lower bound: once one is past the best upper bound, so are the rest.
+  const auto margin = [&](std::size_t i) {
+    // rounding: each computed error is within eta of the pseudometric; sums of m terms lose
+    // at most m epsilon relative
+    return 3.0 * m * eta + 4.0 * m * kEpsilon * (bound[i] + total + pivotErrors[i] * m);
+  };
+  std::vector<double> rowLower(count);
+  for (std::size_t i = 0; i < count; ++i)
+    rowLower[i] = std::max(bound[i] - margin(i), landmarkLower[i]);
+  std::vector<std::size_t> order(count);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t x, std::size_t y) { return rowLower[x] != rowLower[y] ? rowLower[x] < rowLower[y] : x < y; });
+
   // Approximate phase: the float kernel over every frame gives each surviving row its
   // sum to within m delta; rows that cannot beat the best upper bound drop out early.
   struct Survivor {
@@ -198,11 +242,8 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
     // E(t, k) >= |E(t, p) - E(k, p)|: some frame is over the threshold.
     if (std::max(v - lowest, highest - v) - 2.0 * eta > threshold)
       continue;
-    // Rounding: each computed error is within eta of the pseudometric; sums of m terms
-    // lose at most m epsilon relative.
-    const double margin = 3.0 * m * eta + 4.0 * m * kEpsilon * (bound[i] + total + v * m);
-    if (bound[i] - margin > upperBest)
-      continue;
+    if (rowLower[i] > upperBest)
+      break;
     if (ruledOutByTable(k))
       continue;
     if (landmarks > 0 && landmarkRules(k, upperBest))

@@ -211,12 +211,17 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
 Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> levels, const LodPackageProgress& progress) {
   if (!step(progress, 0.0, "generating the default LOD set"))
     return Error(kLodPackageCancelled);
+  // the budget's search is the first half of the work, the levels the second; a cancel
+  // during either stops it at once
   LodBudgetOptions options;
   options.jpc.zeroLength = 1e-6 * asset.unitScale; // docs/architecture.md section 4: 1e-6 file units
+  options.progress = [&](double fraction) { return step(progress, 0.5 * fraction, "generating the default LOD set"); };
   Result<LodSet> lods = LodSet::fromPixelBudget(asset, 1.0, 4, options);
   if (!lods)
-    return lods.error();
-  return buildLodPackage(asset, *lods, options.jpc, levels, progress);
+    return lods.message() == kLodBudgetCancelled ? Error(kLodPackageCancelled) : lods.error();
+  return buildLodPackage(asset, *lods, options.jpc, levels, [&](double fraction, std::string_view message) {
+    return step(progress, 0.5 + 0.5 * fraction, message);
+  });
 }
 
 Result<Bundle> packageBundle(const LodPackage& package) {

@@ -75,6 +75,48 @@ TEST(JpcSettings, MismatchedClipIsRejected) {
   EXPECT_NE(failure(nanClip, {}).find("non-finite rotation"), std::string::npos) << failure(nanClip, {});
 }
 
+// Guards the work limits (issue 29, item 3: a 786,645-frame 3DS ran past 1,200 s): a clip
+// one frame past kMaxJpcFrames, or past kMaxJpcJointFrames in rotating joints, is refused
+// before any clustering with the limit named; at the limits it is taken, and locked
+// joints do not count.
+TEST(JpcSettings, WorkLimitsAreRefusedBeforeClustering) {
+  const Skeleton chain = test::makeChain(3, 10.0f);
+  const auto prepare = [&](int frames, const JpcSettings& settings = {}) {
+    const Clip clip = test::chainClip(chain, frames, [](int t) { return axisAngle(t % 7 * 0.01f, {0, 0, 1}); });
+    Result<JpcClip> prepared = JpcClip::prepare(chain, clip, settings, JpcTracks::OnDemand);
+    return prepared ? std::string() : prepared.message();
+  };
+  const std::string tooLong = prepare(kMaxJpcFrames + 1);
+  EXPECT_NE(tooLong.find(std::to_string(kMaxJpcFrames + 1) + " frames are more than joint posture clustering takes"),
+            std::string::npos)
+      << tooLong;
+  EXPECT_NE(tooLong.find("at most " + std::to_string(kMaxJpcFrames) + " frames per clip"), std::string::npos) << tooLong;
+  EXPECT_EQ(prepare(kMaxJpcFrames), "");
+
+  // Many rotating joints: the joint-frames limit.
+  Skeleton wide = test::makeChain(3, 10.0f);
+  const int frames = 20000;
+  const int joints = static_cast<int>(kMaxJpcJointFrames / frames) + 1; // one joint too many
+  while (wide.jointCount() < joints) {
+    Joint joint = wide.joints.back();
+    joint.name = "j" + std::to_string(wide.jointCount());
+    joint.parent = wide.jointCount() - 1;
+    wide.joints.push_back(joint);
+  }
+  Clip clip = Clip::restPose(wide, frames, 30.0);
+  std::fill(clip.hasRotation.begin(), clip.hasRotation.end(), std::uint8_t{1});
+  Result<JpcClip> prepared = JpcClip::prepare(wide, clip, {}, JpcTracks::OnDemand);
+  ASSERT_FALSE(prepared);
+  EXPECT_NE(prepared.message().find(std::to_string(static_cast<std::int64_t>(joints) * frames) +
+                                    " rotating joint-frames are more than joint posture clustering takes (at most " +
+                                    std::to_string(kMaxJpcJointFrames) + " per clip)"),
+            std::string::npos)
+      << prepared.message();
+  JpcSettings lockOne;
+  lockOne.joints["j1"].locked = true;
+  EXPECT_TRUE(JpcClip::prepare(wide, clip, lockOne, JpcTracks::OnDemand)) << "a locked joint is not clustered";
+}
+
 // Valid edge cases: alpha 0, T 0, one frame, a threshold beyond every error.
 TEST(JpcSettings, EdgeCasesWork) {
   Chain chain;

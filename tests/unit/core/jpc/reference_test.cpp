@@ -11,7 +11,12 @@
 #include "unit/core/jpc/reference.h"
 
 #include <gtest/gtest.h>
+#include <cmath>
+#include <functional>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace mlod {
 namespace {
@@ -138,6 +143,39 @@ TEST(JpcReference, SyntheticHoldsNoiseAndJumpsMatchBruteForce) {
         return;
     }
   }
+}
+
+// Guards the key search on slow motions that stay inside the threshold for thousands of
+// frames (issue 29, item 3: a slow turn of 50,000 frames took 41 s, quadratic): the key is
+// the full table's, and the search evaluates each frame a few times, not every row (before,
+// thousands of rows of a 20,000-frame turn were summed exactly: tens of millions).
+TEST(JpcReference, SlowMotionsKeyAsTheFullTableSaysInFewEvaluations) {
+  const Skeleton chain = test::makeChain(3, 10.0f);
+  const auto turn = [](int frames) {
+    return [frames](int t) { return test::axisAngle(0.4f * std::sqrt(static_cast<float>(t) / frames), {0, 0, 1}); };
+  };
+  const auto wobble = [](int t) {
+    const float a = static_cast<float>(t);
+    return test::axisAngle(0.3f * std::sin(a * 0.011f), {0, 0, 1}) * test::axisAngle(0.3f * std::sin(a * 0.0071f + 1.0f), {1, 0, 0});
+  };
+  const int n = 2500;
+  for (const auto& [what, rotation] :
+       std::vector<std::pair<std::string, std::function<glm::quat(int)>>>{{"turn", turn(n)}, {"wobble", wobble}}) {
+    SCOPED_TRACE(what);
+    const Clip clip = test::chainClip(chain, n, rotation);
+    const JointTrack track = test::chainTrack(clip, 5.0);
+    const std::vector<double> table = test::fullTable(track);
+    const FrameRange all{0, n - 1};
+    const double threshold = 100.0;
+    const int key = test::referenceKey(table, n, all, threshold);
+    ASSERT_GE(key, 0);
+    EXPECT_EQ(keyPosture(track, all, threshold).key, key);
+  }
+  const int frames = 20000;
+  const Clip clip = test::chainClip(chain, frames, turn(frames));
+  const KeyPosture key = keyPosture(test::chainTrack(clip, 0.0), {0, frames - 1}, 100.0);
+  EXPECT_GE(key.key, 0);
+  EXPECT_LT(key.evaluations, 20 * static_cast<std::int64_t>(frames));
 }
 
 } // namespace
