@@ -30,6 +30,7 @@ void BatchCommand::attach(CLI::App& app) {
   command->add_flag("-q,--quiet", quiet, "no progress line on the terminal (stderr)");
   command->add_flag("--allow-outside", allowOutside,
                     "write outputs outside the manifest's folder without a warning");
+  addProjectOptions(*command, project);
 }
 
 namespace {
@@ -119,8 +120,10 @@ int BatchCommand::run() const {
     return kExitBadInput;
   }
   std::vector<ExportJob> all;
-  for (const ManifestJob& entry : *parsed)
+  for (const ManifestJob& entry : *parsed) {
     all.push_back(toExportJob(entry));
+    all.back().project = project;
+  }
   if (Error error = checkOutputs(manifest, all)) {
     printError(manifest, error.message());
     return kExitBadInput;

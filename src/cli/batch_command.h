@@ -34,6 +34,7 @@ struct BatchCommand {
   bool json = false;
   bool quiet = false; // no progress line on the terminal
   bool allowOutside = false; // no warning for outputs outside the manifest's folder
+  ProjectFileOptions project; // where the projects' assets may be (every job)
 
   void attach(CLI::App& app);
   int run() const;

@@ -21,6 +21,12 @@ void addImportOptions(CLI::App& command, ImportArguments& import) {
       ->check(CLI::Range(1.0, 86400.0));
 }
 
+void addProjectOptions(CLI::App& command, ProjectFileOptions& options) {
+  command.add_flag("--allow-outside-assets", options.allowOutsideAssets,
+                   "follow a project's relative asset paths that leave its folder (../../x.bvh); "
+                   "absolute ones are always followed");
+}
+
 namespace {
 std::atomic<bool> g_interrupted{false};
 volatile std::sig_atomic_t g_signal = 0;

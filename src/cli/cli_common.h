@@ -2,6 +2,7 @@
 // What every motionlod command shares: exit codes, error printing, importing a file.
 
 #include "core/asset.h"
+#include "core/project.h"
 #include "io/import_options.h"
 
 #include <nlohmann/json.hpp>
@@ -42,6 +43,10 @@ struct ImportArguments {
 
 // Adds --unit-scale, --fps and --import-timeout to a command.
 void addImportOptions(CLI::App& command, ImportArguments& import);
+
+// Adds --allow-outside-assets to a command that reads projects: their relative asset paths
+// may then leave the project's folder (core/project.h, ProjectFileOptions).
+void addProjectOptions(CLI::App& command, ProjectFileOptions& options);
 
 // Makes SIGINT and SIGTERM (Ctrl+C, a farm scheduler stopping the job) set the returned
 // flag instead of killing the process, so that a running export stops and leaves nothing

@@ -31,6 +31,7 @@ void ExportCommand::attach(CLI::App& app) {
   command->add_option("--asset", job.asset, "a project's asset to export, by index (default: its character)");
   command->add_option("--import-timeout", job.importTimeoutSeconds, "seconds before a stuck import is stopped")
       ->check(CLI::Range(1.0, 86400.0));
+  addProjectOptions(*command, job.project);
   command->add_flag("--json", json, "print one JSON document on stdout");
   command->add_flag("-q,--quiet", quiet, "no progress line on the terminal (stderr)");
 }

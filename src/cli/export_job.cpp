@@ -256,7 +256,7 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
   Result<LodPackage> package = Error("no package");
   Clock::time_point start = Clock::now();
   if (isProjectFile(job.input)) {
-    Result<Project> project = loadProjectFile(job.input);
+    Result<Project> project = loadProjectFile(job.input, job.project);
     if (!project)
       return failure(kExitBadInput, job.input, project.message());
     const int assets = static_cast<int>(project->assets.size());

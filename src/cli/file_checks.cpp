@@ -41,7 +41,9 @@ std::vector<std::string> exportInputFiles(const std::string& input) {
   std::vector<std::string> files{input};
   if (!isProjectFile(input))
     return files;
-  const Result<Project> project = loadProjectFile(input);
+  // every asset, inside the folder or not: listing one the export will refuse only makes the
+  // output check stricter
+  const Result<Project> project = loadProjectFile(input, {.allowOutsideAssets = true});
   if (project)
     for (const ProjectAsset& asset : project->assets)
       files.push_back(resolveAssetPath(input, asset.path).string());

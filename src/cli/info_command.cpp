@@ -17,6 +17,7 @@ void InfoCommand::attach(CLI::App& app) {
   command->add_option("FILE", file, "character or motion file (any format Assimp reads), or a .mlod project")->required();
   command->add_flag("--json", json, "print one JSON document on stdout");
   addImportOptions(*command, import);
+  addProjectOptions(*command, project);
 }
 
 namespace {
@@ -39,8 +40,9 @@ void printJointTree(const Skeleton& skeleton, const Clip* clip) {
 namespace {
 
 // The project's settings, levels and mappings, and every asset imported as the editor would.
-int describeProject(const std::string& file, bool json, const ImportArguments& import) {
-  Result<Project> read = loadProjectFile(file);
+int describeProject(const std::string& file, bool json, const ImportArguments& import,
+                    const ProjectFileOptions& options) {
+  Result<Project> read = loadProjectFile(file, options);
   if (!read) {
     printError(file, read.message());
     return kExitBadInput;
@@ -138,7 +140,7 @@ int describeProject(const std::string& file, bool json, const ImportArguments& i
 
 int InfoCommand::run() const {
   if (isProjectFile(file))
-    return describeProject(file, json, import);
+    return describeProject(file, json, import, project);
   const std::optional<Asset> asset = importForCommand(file, import);
   if (!asset)
     return kExitBadInput;

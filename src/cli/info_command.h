@@ -13,6 +13,7 @@ struct InfoCommand {
   std::string file;
   bool json = false;
   ImportArguments import;
+  ProjectFileOptions project;
 
   void attach(CLI::App& app);
   int run() const;

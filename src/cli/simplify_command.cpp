@@ -50,6 +50,7 @@ void SimplifyCommand::attach(CLI::App& app) {
                     "print one JSON document on stdout (\"joints\" lists the joints with a rotation channel; "
                     "\"seconds\" is clustering and measuring, import excluded)");
   addImportOptions(*command, import);
+  addProjectOptions(*command, projectOptions);
   subcommand = command;
 }
 
@@ -190,7 +191,7 @@ int SimplifyCommand::run() const {
   ImportArguments importArguments = import;
   int assetIndex = -1;
   if (project) {
-    Result<Project> read = loadProjectFile(file);
+    Result<Project> read = loadProjectFile(file, projectOptions);
     if (!read) {
       printError(file, read.message());
       return kExitBadInput;

@@ -30,6 +30,7 @@ struct SimplifyCommand {
   std::string mode = "greedy";
   bool json = false;
   ImportArguments import;
+  ProjectFileOptions projectOptions;
   const CLI::App* subcommand = nullptr; // set by attach(): tells a flag given from its default
 
   void attach(CLI::App& app);

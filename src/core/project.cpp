@@ -67,10 +67,16 @@ Error Project::validate() const {
     const std::string where = "asset " + std::to_string(a);
     if (asset.path.empty())
       return Error(where + " has no path");
+    if (asset.path.size() > kMaxAssetPathBytes)
+      return Error(where + ": the path is " + std::to_string(asset.path.size()) + " bytes long; a path has at most " +
+                   std::to_string(kMaxAssetPathBytes));
     if (!nonNegative(asset.unitScale))
       return Error(where + ": unit_scale " + std::to_string(asset.unitScale) +
                    " is not a finite number >= 0 (cm per file unit; 0 = the file's own unit)");
     for (const auto& [name, joint] : asset.joints) {
+      if (name.size() > kMaxJointNameBytes)
+        return Error(where + ": a joint name is " + std::to_string(name.size()) +
+                     " bytes long; a joint name has at most " + std::to_string(kMaxJointNameBytes));
       if (Error error = joint.alpha ? validateAlpha(*joint.alpha, where + ", joint " + name + ": alpha") : Error())
         return error;
       for (const std::optional<double>& threshold : joint.thresholds)
@@ -193,6 +199,8 @@ void clampView(Project& project) {
   if (view.asset < -1 || view.asset >= static_cast<int>(project.assets.size()))
     view.asset = project.assets.empty() ? -1 : 0;
   view.clip = std::max(0, view.clip);
+  if (view.joint.size() > kMaxJointNameBytes) // no joint has such a name
+    view.joint.clear();
 }
 std::string text(const json& value, const std::string& what) {
   if (!value.is_string())
@@ -345,32 +353,72 @@ Result<Project> projectFromJson(std::string_view textIn) {
   return project;
 }
 
-Result<Project> loadProjectFile(const std::filesystem::path& file) {
+Result<Project> loadProjectFile(const std::filesystem::path& file, const ProjectFileOptions& options) {
   std::string error;
   const std::optional<std::string> text = readInputFile(file, kMaxProjectFileBytes, &error);
   if (!text)
     return Error(error);
   if (text->empty())
     return Error("the file is empty");
-  return projectFromJson(*text);
+  Result<Project> project = projectFromJson(*text);
+  if (project && !options.allowOutsideAssets)
+    if (Error outside = checkAssetPaths(*project, file))
+      return outside;
+  return project;
+}
+
+namespace {
+namespace fs = std::filesystem;
+
+fs::path projectFolder(const fs::path& projectFile) {
+  return fs::absolute(projectFile).parent_path().lexically_normal();
+}
+
+bool lexicallyInside(const fs::path& path, const fs::path& folder) {
+  const fs::path relative = path.lexically_relative(folder);
+  return !relative.empty() && *relative.begin() != "..";
+}
+
+// `file` (absolute, lexically normal) inside `folder` both as written and with symlinks
+// followed as far as the path exists (weakly_canonical), so a link cannot lead out. Where the
+// links cannot be followed (a loop, no permission) the file cannot be read either: the
+// lexical answer stands, and the import says what is wrong.
+bool insideFolder(const fs::path& file, const fs::path& folder) {
+  if (!lexicallyInside(file, folder))
+    return false;
+  std::error_code fileError, folderError;
+  const fs::path realFile = fs::weakly_canonical(file, fileError);
+  const fs::path realFolder = fs::weakly_canonical(folder, folderError);
+  return fileError || folderError || lexicallyInside(realFile, realFolder);
+}
+} // namespace
+
+Error checkAssetPaths(const Project& project, const std::filesystem::path& projectFile) {
+  const fs::path folder = projectFolder(projectFile);
+  for (std::size_t a = 0; a < project.assets.size(); ++a) {
+    const std::string& stored = project.assets[a].path;
+    if (fs::path(stored).is_absolute())
+      continue; // the author's explicit choice
+    const fs::path file = resolveAssetPath(projectFile, stored);
+    if (!insideFolder(file, folder))
+      return Error("asset " + std::to_string(a) + " ('" + stored + "') leads outside the project's folder " +
+                   folder.string() + " (to " + file.string() +
+                   "); a relative asset path must stay inside it unless assets outside are allowed");
+  }
+  return {};
 }
 
 std::string storedAssetPath(const std::filesystem::path& projectFile, const std::filesystem::path& assetFile) {
-  namespace fs = std::filesystem;
-  const fs::path folder = fs::absolute(projectFile).parent_path().lexically_normal();
+  const fs::path folder = projectFolder(projectFile);
   const fs::path asset = fs::absolute(assetFile).lexically_normal();
-  if (asset.root_name() != folder.root_name())
-    return asset.generic_string();
-  const fs::path relative = asset.lexically_relative(folder);
-  return relative.empty() ? asset.generic_string() : relative.generic_string();
+  return insideFolder(asset, folder) ? asset.lexically_relative(folder).generic_string() : asset.generic_string();
 }
 
 std::filesystem::path resolveAssetPath(const std::filesystem::path& projectFile, const std::string& stored) {
-  namespace fs = std::filesystem;
   const fs::path path(stored);
   if (path.is_absolute())
     return path.lexically_normal();
-  return (fs::absolute(projectFile).parent_path() / path).lexically_normal();
+  return (projectFolder(projectFile) / path).lexically_normal();
 }
 
 void eraseProjectAsset(Project& project, int index) {

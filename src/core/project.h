@@ -42,6 +42,11 @@ inline constexpr int kProjectVersion = 3;
 // levels would otherwise run for minutes (every level is clustered on every export).
 inline constexpr int kMaxProjectLevels = 32;                      // level 0 included
 inline constexpr std::uint64_t kMaxProjectFileBytes = 64u << 20; // 64 MiB
+// Names and paths are refused past these lengths (bytes) with the field named, never clipped:
+// a clipped joint name would silently tune another joint, a clipped path name another file.
+// Level names: kMaxLevelNameBytes (lod/lod_set.h).
+inline constexpr std::size_t kMaxJointNameBytes = 1024;
+inline constexpr std::size_t kMaxAssetPathBytes = 4096; // Linux's PATH_MAX
 inline constexpr const char* kProjectFormat = "motionlod-project";
 
 struct ProjectAsset {
@@ -90,8 +95,9 @@ struct Project {
   std::vector<double> levelThresholds() const;
   int levelCount() const { return static_cast<int>(lods.levels.size()); }
 
-  // Rules: alpha finite and >= 0; at most kMaxProjectLevels levels; the LodSet validates (LodSet::validate(): level 0 the
-  // original, names unique ...); no joint overrides level 0's threshold; every asset has a path and a unit scale finite and >= 0; every per-joint alpha
+  // Rules: alpha finite and >= 0; at most kMaxProjectLevels levels; the LodSet validates (LodSet::validate(): level 0
+  // the original, names unique ...); no joint overrides level 0's threshold; every asset has a path of at most
+  // kMaxAssetPathBytes and a unit scale finite and >= 0; joint names at most kMaxJointNameBytes; every per-joint alpha
   // and threshold finite and >= 0; every mapping names two different assets of the project.
   Error validate() const;
 
@@ -104,14 +110,32 @@ std::string projectToJson(const Project& project, int indent = 2);
 // kProjectVersion ("made by a newer Motion LOD Studio"), a missing or mistyped field, or
 // values that do not validate.
 Result<Project> projectFromJson(std::string_view text);
-// Reads a .mlod file (errors name what is wrong, never the path: callers add it): a regular
-// file of at most kMaxProjectFileBytes (runtime/input_file.h), at most kMaxProjectLevels levels.
-Result<Project> loadProjectFile(const std::filesystem::path& file);
 
-// An asset path as stored in a project saved at `projectFile`: relative to its folder,
-// with '/' separators (absolute when on another root).
+// Where a project's assets may be (issue 29: `../../../../etc/passwd` was followed and read).
+// An absolute asset path is its author's explicit choice and is always followed. A relative
+// one must stay inside the project's folder: lexically ("a/../../b" leaves it) and, for what
+// exists of it, once symlinks are followed (a link in the folder pointing elsewhere leaves it
+// too). One that leaves is refused unless the user allowed it (the CLI's
+// --allow-outside-assets, the studio's confirmation).
+struct ProjectFileOptions {
+  bool allowOutsideAssets = false; // follow relative asset paths that leave the project's folder
+};
+
+// Reads a .mlod file (errors name what is wrong, never the project's path: callers add it): a
+// regular file of at most kMaxProjectFileBytes (runtime/input_file.h), at most
+// kMaxProjectLevels levels, its relative asset paths inside its folder (checkAssetPaths())
+// unless options allow otherwise.
+Result<Project> loadProjectFile(const std::filesystem::path& file, const ProjectFileOptions& options = {});
+// The first asset of `project` (saved at `projectFile`) whose relative path leaves the
+// project's folder, named with its index, its stored path and where it leads; none: no error.
+Error checkAssetPaths(const Project& project, const std::filesystem::path& projectFile);
+
+// An asset path as stored in a project saved at `projectFile`, with '/' separators: relative
+// to its folder when the file is inside it (as checkAssetPaths() sees it), else absolute, so
+// that every project saved opens without asking.
 std::string storedAssetPath(const std::filesystem::path& projectFile, const std::filesystem::path& assetFile);
-// The file a stored path names for a project at `projectFile`.
+// The file a stored path names for a project at `projectFile` (lexically normal; no check:
+// loadProjectFile() made it).
 std::filesystem::path resolveAssetPath(const std::filesystem::path& projectFile, const std::string& stored);
 
 // Removes / inserts an asset; mappings follow their assets (those of a removed one go).

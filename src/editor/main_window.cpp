@@ -111,19 +111,21 @@ MainWindow::MainWindow(QWidget* parent, PluginHost* plugins)
     std::vector<std::shared_ptr<const Asset>> assets;
     for (int i = 0; i < m_document->assetCount(); ++i)
       assets.push_back(m_document->asset(i));
-    QStringList notes;
-    for (int i = 0; i < m_document->assetCount(); ++i) {
-      QStringList parts;
-      for (const ProjectMapping& mapping : m_document->project().mappings) {
-        if (mapping.motion == i)
-          parts << tr("drives %1 (%2 joint pairs)")
-                       .arg(QString::fromStdString(mapping.mapping.characterName))
-                       .arg(mapping.mapping.pairs.size());
-        if (mapping.character == i)
-          parts << tr("driven by %1").arg(QString::fromStdString(mapping.mapping.motionName));
-      }
-      notes << parts.join(", ");
+    // One pass over the mappings, not one per asset: a project may hold thousands of each.
+    std::vector<QStringList> parts(assets.size());
+    for (const ProjectMapping& mapping : m_document->project().mappings) {
+      if (mapping.motion < 0 || mapping.character < 0 ||
+          std::max(mapping.motion, mapping.character) >= int(parts.size()))
+        continue; // Project::validate() rules it out
+      parts[std::size_t(mapping.motion)] << tr("drives %1 (%2 joint pairs)")
+                                                .arg(QString::fromStdString(mapping.mapping.characterName))
+                                                .arg(mapping.mapping.pairs.size());
+      parts[std::size_t(mapping.character)]
+          << tr("driven by %1").arg(QString::fromStdString(mapping.mapping.motionName));
     }
+    QStringList notes;
+    for (const QStringList& part : parts)
+      notes << part.join(", ");
     m_assets->setAssets(assets, paths, notes);
     int characters = 0, motions = 0;
     for (const auto& asset : assets)
@@ -133,6 +135,12 @@ MainWindow::MainWindow(QWidget* parent, PluginHost* plugins)
                                          .arg(countText(characters, "character", "characters"),
                                               countText(motions, "motion", "motions")));
     m_ui->assetTree->resizeColumnToContents(AssetTreeModel::NameColumn);
+    if (const Asset* asset = m_document->currentAssetPtr())
+      showAsset(*asset);
+  });
+  connect(m_document, &Document::assetsLoaded, this, [this](const QList<int>& indices) {
+    for (int index : indices)
+      m_assets->setAsset(index, m_document->asset(index), m_document->assetFilePath(index));
     if (const Asset* asset = m_document->currentAssetPtr())
       showAsset(*asset);
   });
@@ -1020,10 +1028,27 @@ void MainWindow::showError(const QString& title, const QString& text, const QStr
 
 bool MainWindow::openProject(const QString& path) {
   // A file that would be refused is refused first; only a good one asks about unsaved changes.
-  if (const Result<Project> probe = loadProjectFile(QFileInfo(path).absoluteFilePath().toStdString()); !probe) {
-    showError(tr("Cannot open project"), tr("%1 was not opened; nothing was changed.").arg(QFileInfo(path).fileName()),
-              tr("%1: %2").arg(path, QString::fromStdString(probe.message())));
-    return false;
+  const std::string file = QFileInfo(path).absoluteFilePath().toStdString();
+  ProjectFileOptions options{.allowOutsideAssets = true}; // asked below
+  const Result<Project> probe = loadProjectFile(file, options);
+  const Error outside = probe ? checkAssetPaths(*probe, file) : Error(probe.message());
+  if (!probe || outside) {
+    // Files outside the project's folder are read only when the user says so, seeing which
+    // (the CLI's --allow-outside-assets); a hidden window (a scripted run) never asks.
+    const bool allowed =
+        probe && isVisible() &&
+        QMessageBox::question(this, tr("Assets outside the project's folder"),
+                              tr("%1 reads files outside its folder:\n\n%2\n\nOpen it anyway?")
+                                  .arg(QFileInfo(path).fileName(), QString::fromStdString(outside.message())),
+                              QMessageBox::Open | QMessageBox::Cancel, QMessageBox::Cancel) == QMessageBox::Open;
+    if (!allowed) {
+      showError(tr("Cannot open project"),
+                tr("%1 was not opened; nothing was changed.").arg(QFileInfo(path).fileName()),
+                tr("%1: %2").arg(path, QString::fromStdString(outside.message())));
+      return false;
+    }
+  } else {
+    options.allowOutsideAssets = false;
   }
   if (m_document->isModified() && isVisible() &&
       QMessageBox::question(this, tr("Unsaved changes"),
@@ -1031,7 +1056,7 @@ bool MainWindow::openProject(const QString& path) {
                                 .arg(QFileInfo(path).fileName())) != QMessageBox::Yes)
     return false;
   QString error;
-  if (!m_document->open(path, &error)) {
+  if (!m_document->open(path, options, &error)) {
     showError(tr("Cannot open project"), tr("%1 was not opened; nothing was changed.").arg(QFileInfo(path).fileName()),
               tr("%1: %2").arg(path, error));
     return false;

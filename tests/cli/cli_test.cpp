@@ -3,6 +3,8 @@
 #include "cli_runner.h"
 #include "test_files.h"
 
+#include <filesystem>
+#include <fstream>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -98,6 +100,60 @@ TEST(Cli, BadArguments) {
   EXPECT_NE(unit.err.find("--unit-scale"), std::string::npos) << unit.err;
   EXPECT_EQ(runMotionlod({}).status, 2);
   EXPECT_EQ(runMotionlod({"frobnicate"}).status, 2);
+}
+
+// A project at `folder`/p.mlod (core/project.h's version 3) with one asset at `assetPath`.
+std::string projectWithAsset(const std::filesystem::path& folder, const std::string& assetPath) {
+  const nlohmann::json level = {{"name", "LOD0"},          {"threshold", 0},     {"mesh_ratio", 1},
+                                {"switch_distance_cm", 0}, {"pixel_error", 0},   {"screen_size_pixels", 0},
+                                {"motion_error_cm", 0},    {"mesh_error_cm", 0}, {"triangles", 0},
+                                {"active_joints", 0}};
+  const nlohmann::json project = {{"format", "motionlod-project"},
+                                  {"version", 3},
+                                  {"alpha", 5},
+                                  {"mode", "greedy"},
+                                  {"lods",
+                                   {{"projection", {{"vertical_fov_degrees", 60}, {"viewport_height_pixels", 1080}}},
+                                    {"bounding_radius_cm", 0},
+                                    {"levels", {level}}}},
+                                  {"assets", {{{"path", assetPath}, {"joints", nlohmann::json::object()}}}}};
+  const std::filesystem::path file = folder / "p.mlod";
+  std::ofstream(file) << project.dump();
+  return file.string();
+}
+
+// Guards issue 29's `../../../../../../etc/passwd` in a project: it was followed and read.
+// Commands that read projects refuse a relative asset path that leaves the project's folder
+// (exit 2, the error naming the path) unless --allow-outside-assets; a relative path inside
+// the folder and an absolute path anywhere still load.
+TEST(Cli, ProjectAssetsOutsideTheFolderAreRefused) {
+  namespace fs = std::filesystem;
+  const fs::path dir = test::freshFolder("cli", "outside_assets");
+  fs::create_directories(dir / "clips");
+  fs::copy_file(test::modelPath("BVH/01_01.bvh"), dir / "clips" / "a.bvh");
+  const std::string climbing = "../../../../../../etc/passwd";
+  const std::string project = projectWithAsset(dir, climbing);
+  for (const char* command : {"info", "simplify"}) {
+    SCOPED_TRACE(command);
+    const test::CliRun run = runMotionlod({command, project});
+    EXPECT_EQ(run.status, 2);
+    EXPECT_EQ(
+        run.err.rfind("error: " + project + ": asset 0 ('" + climbing + "') leads outside the project's folder", 0), 0u)
+        << run.err;
+    EXPECT_TRUE(run.out.empty()) << run.out;
+  }
+  // allowed, the path is followed: the import (not the project) refuses /etc/passwd
+  const test::CliRun allowed = runMotionlod({"info", project, "--allow-outside-assets", "--json"});
+  EXPECT_EQ(allowed.status, 2);
+  EXPECT_EQ(allowed.err.find("leads outside"), std::string::npos) << allowed.err;
+  EXPECT_EQ(nlohmann::json::parse(allowed.out)["assets"][0]["resolved"], "/etc/passwd");
+
+  for (const std::string& path : {std::string("clips/a.bvh"), (dir / "clips" / "a.bvh").string()}) {
+    SCOPED_TRACE(path);
+    const test::CliRun run = runMotionlod({"info", projectWithAsset(dir, path), "--json"});
+    EXPECT_EQ(run.status, 0) << run.err;
+    EXPECT_EQ(nlohmann::json::parse(run.out)["assets"][0]["asset"]["joints"].size(), 38u) << run.out;
+  }
 }
 
 } // namespace

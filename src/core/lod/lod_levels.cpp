@@ -135,6 +135,9 @@ Result<LodSetEdit> renameLodLevel(const LodSet& lods, int level, std::string_vie
   const std::string text(trimmed(name));
   if (text.empty())
     return Error("a level needs a name");
+  if (text.size() > kMaxLevelNameBytes)
+    return Error("a level name has at most " + std::to_string(kMaxLevelNameBytes) + " bytes; this one has " +
+                 std::to_string(text.size()));
   for (int i = 0; i < count(lods); ++i)
     if (i != level && lods.levels[std::size_t(i)].name == text)
       return Error("level " + std::to_string(i) + " is already named '" + text + "'");

@@ -9,7 +9,7 @@
 //   never removed, moved or given another threshold, ratio or distance.
 // - A new level goes last, named "LOD<n>" (n = the number of levels, or the first larger n
 //   whose name is free), with the last level's mesh ratio and switch distance.
-// - Names are non-empty (surrounding blanks dropped) and unique.
+// - Names are non-empty (surrounding blanks dropped), unique and at most kMaxLevelNameBytes long.
 // - Thresholds are finite and >= 0 (validateThreshold()), mesh ratios in (0, 1].
 // - Switch distances belong to the positions, so they stay non-decreasing: moving a level
 //   keeps the distance column as it was, and a level's distance is at least the previous

@@ -371,6 +371,9 @@ Error LodSet::validate() const {
   for (std::size_t i = 0; i < levels.size(); ++i) {
     const LodLevel& level = levels[i];
     const std::string what = "LOD set: level " + std::to_string(i);
+    if (level.name.size() > kMaxLevelNameBytes)
+      return Error(what + ": the name is " + std::to_string(level.name.size()) +
+                   " bytes long; a level name has at most " + std::to_string(kMaxLevelNameBytes));
     if (!names.insert(level.name).second)
       return Error(what + ": the name '" + level.name + "' is used twice");
     if (Error error = validateThreshold(level.motionThreshold, what + " threshold"))

@@ -40,8 +40,12 @@
 
 namespace mlod {
 
+// The longest level name, in bytes (UTF-8): names are labels in tables and charts, and a
+// 100,000-character one made the studio lay it out for half a minute (issue 29).
+inline constexpr std::size_t kMaxLevelNameBytes = 256;
+
 struct LodLevel {
-  std::string name;
+  std::string name;              // unique in its set, at most kMaxLevelNameBytes
   double motionThreshold = 0.0;  // E, cm·degrees; 0 at level 0
   double meshRatio = 1.0;        // triangles kept, (0, 1]
   double switchDistanceCm = 0.0; // the level is used from this camera distance on; 0 at level 0
@@ -125,7 +129,8 @@ public:
 
   // Rules: the projection validates; at least one level; level 0 has threshold 0, ratio 1
   // and distance 0; thresholds finite >= 0; ratios in (0, 1]; switch distances finite,
-  // >= 0 and non-decreasing; pixel errors and screen sizes finite >= 0; names unique.
+  // >= 0 and non-decreasing; pixel errors and screen sizes finite >= 0; names unique and at
+  // most kMaxLevelNameBytes long.
   Error validate() const;
 
   friend bool operator==(const LodSet&, const LodSet&) = default;

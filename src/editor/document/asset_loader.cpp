@@ -2,7 +2,36 @@
 
 #include "editor/import_job.h"
 
+#include <QFileInfo>
+#include <map>
+#include <tuple>
+
 namespace mlod {
+
+namespace {
+// The items in order of first appearance, one group per file and options: a file is known by
+// its canonical path (another spelling or a link to it is the same file), a missing one by
+// its path as given. Paths repeat, so each is resolved once.
+std::deque<std::vector<AssetLoader::Item>> groupedByFile(std::vector<AssetLoader::Item> items) {
+  std::map<QString, QString> canonical;
+  std::map<std::tuple<QString, double, double>, std::size_t> groupOf;
+  std::deque<std::vector<AssetLoader::Item>> groups;
+  for (AssetLoader::Item& item : items) {
+    auto [known, isNew] = canonical.try_emplace(item.path);
+    if (isNew) {
+      known->second = QFileInfo(item.path).canonicalFilePath();
+      if (known->second.isEmpty())
+        known->second = item.path;
+    }
+    const auto key = std::make_tuple(known->second, item.options.unitScale, item.options.fps);
+    const auto [group, added] = groupOf.try_emplace(key, groups.size());
+    if (added)
+      groups.emplace_back();
+    groups[group->second].push_back(std::move(item));
+  }
+  return groups;
+}
+} // namespace
 
 AssetLoader::AssetLoader(QObject* parent) : QObject(parent), m_job(new ImportJob(this)) {
   connect(m_job, &ImportJob::finished, this, [this](const QString&, std::shared_ptr<const Asset> asset) {
@@ -25,7 +54,7 @@ bool AssetLoader::isLoading() const {
 
 void AssetLoader::load(std::vector<Item> items) {
   ++m_list;
-  m_queue.assign(items.begin(), items.end());
+  m_queue = groupedByFile(std::move(items));
   m_failures.clear();
   m_active = true;
   if (m_job->isRunning())
@@ -44,10 +73,11 @@ void AssetLoader::next() {
     }
     return;
   }
-  m_current = m_queue.front();
+  m_current = std::move(m_queue.front());
   m_currentList = m_list;
   m_queue.pop_front();
-  m_job->start(m_current.path, m_current.options);
+  ++m_imports;
+  m_job->start(m_current.front().path, m_current.front().options);
 }
 
 } // namespace mlod

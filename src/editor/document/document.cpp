@@ -38,20 +38,28 @@ Document::Document(QObject* parent)
   connect(m_analysis, &AnalysisRunner::editCancelled, this, &Document::takeBackLastEdit);
 
   connect(m_loader, &AssetLoader::loaded, this,
-          [this](const AssetLoader::Item& item, std::shared_ptr<const Asset> asset) {
-            m_assets[std::size_t(item.index)] = std::move(asset);
-            emit message(tr("Loaded %1").arg(item.path));
-            emit assetsChanged();
-            if (item.index == currentAsset() || currentAsset() < 0) {
-              m_project.view.asset = item.index;
+          [this](const std::vector<AssetLoader::Item>& items, std::shared_ptr<const Asset> asset) {
+            QList<int> indices;
+            for (const AssetLoader::Item& item : items) {
+              m_assets[std::size_t(item.index)] = asset;
+              indices << item.index;
+            }
+            emit message(items.size() == 1 ? tr("Loaded %1").arg(items.front().path)
+                                           : tr("Loaded %1 (%2 assets)").arg(items.front().path).arg(items.size()));
+            emit assetsLoaded(indices);
+            const int shown = currentAsset() < 0 ? items.front().index : currentAsset();
+            if (indices.contains(shown)) {
+              m_project.view.asset = shown;
               m_analysis->request();
               emit currentChanged();
             }
           });
-  connect(m_loader, &AssetLoader::failed, this, [this](const AssetLoader::Item& item, const QString& reason) {
-    emit message(tr("warning: %1: %2 (relink it in the Assets dock)").arg(item.path, reason));
-  });
+  connect(m_loader, &AssetLoader::failed, this,
+          [this](const std::vector<AssetLoader::Item>& items, const QString& reason) {
+            emit message(tr("warning: %1: %2 (relink it in the Assets dock)").arg(items.front().path, reason));
+          });
   connect(m_loader, &AssetLoader::finished, this, [this](const QString& failures) {
+    emit assetsChanged(); // once for the list: what depends on every asset (mappings, titles) follows
     if (!m_project.view.joint.empty() && currentAssetPtr()) {
       m_currentJoint = currentAssetPtr()->skeleton.find(m_project.view.joint);
       emit currentChanged();
@@ -60,7 +68,8 @@ Document::Document(QObject* parent)
   });
 
   connect(m_reimporter, &AssetLoader::loaded, this,
-          [this](const AssetLoader::Item& item, std::shared_ptr<const Asset> asset) {
+          [this](const std::vector<AssetLoader::Item>& items, std::shared_ptr<const Asset> asset) {
+            const AssetLoader::Item& item = items.front(); // one asset at a time
             const int index = item.index;
             if (index >= assetCount() || assetFilePath(index) != item.path) {
               emit unitScaleChanged(false, tr("the asset changed while it was imported again"));
@@ -73,10 +82,11 @@ Document::Document(QObject* parent)
                 tr("Set unit of %1 to %2 cm").arg(QFileInfo(item.path).fileName()).arg(asset->unitScale)));
             emit unitScaleChanged(true, tr("%1: %2 cm per file unit").arg(item.path).arg(asset->unitScale));
           });
-  connect(m_reimporter, &AssetLoader::failed, this, [this](const AssetLoader::Item& item, const QString& reason) {
-    emit message(tr("warning: %1: %2").arg(item.path, reason));
-    emit unitScaleChanged(false, reason);
-  });
+  connect(m_reimporter, &AssetLoader::failed, this,
+          [this](const std::vector<AssetLoader::Item>& items, const QString& reason) {
+            emit message(tr("warning: %1: %2").arg(items.front().path, reason));
+            emit unitScaleChanged(false, reason);
+          });
 }
 
 Document::~Document() = default;
@@ -103,6 +113,10 @@ const Clip* Document::currentClipPtr() const {
   if (!a || currentClip() < 0 || currentClip() >= static_cast<int>(a->clips.size()))
     return nullptr;
   return &a->clips[static_cast<std::size_t>(currentClip())];
+}
+
+int Document::importCount() const {
+  return m_loader->importCount() + m_reimporter->importCount();
 }
 
 bool Document::isLoading() const {
@@ -274,8 +288,8 @@ bool Document::saveRecovery(const QString& path, QString* out_error) const {
   return writeAtomically(path, projectToJson(copy), out_error);
 }
 
-bool Document::open(const QString& path, QString* out_error) {
-  Result<Project> loaded = loadProjectFile(QFileInfo(path).absoluteFilePath().toStdString());
+bool Document::open(const QString& path, const ProjectFileOptions& options, QString* out_error) {
+  Result<Project> loaded = loadProjectFile(QFileInfo(path).absoluteFilePath().toStdString(), options);
   if (!loaded)
     return refuse(out_error, QString::fromStdString(loaded.message()));
   m_analysis->stop();
@@ -296,7 +310,8 @@ bool Document::open(const QString& path, QString* out_error) {
 }
 
 bool Document::recover(const QString& path, QString* out_error) {
-  if (!open(path, out_error))
+  // Its asset paths are absolute (saveRecovery()): the files the project had open.
+  if (!open(path, {.allowOutsideAssets = true}, out_error))
     return false;
   m_fileName.clear(); // the recovery file is no home for the project: Save asks where
   m_undo->resetClean();

@@ -13,6 +13,7 @@
 #include "core/project.h"
 #include "editor/document/analysis_runner.h"
 
+#include <QList>
 #include <QObject>
 #include <QString>
 #include <QUndoStack>
@@ -42,6 +43,9 @@ public:
   QString assetFilePath(int index) const;            // absolute
   std::string storedPath(const QString& file) const; // as the project stores a file's path
   std::vector<const Asset*> importedAssets() const;  // asset(i).get() for every i
+  // Files imported for opening, relinking and unit changes so far: assets naming one file share
+  // one import (AssetLoader).
+  int importCount() const;
 
   // What is in view (not an edit: no undo). The current joint is a skeleton index of the
   // current asset, or -1.
@@ -68,8 +72,9 @@ public:
 
   // Files. save() writes atomically (QSaveFile); open() reads the project and imports
   // its assets in the background (projectOpened() follows). Errors leave the document as it was.
+  // `options` say where the project's assets may be (core/project.h).
   bool save(const QString& path, QString* out_error = nullptr);
-  bool open(const QString& path, QString* out_error = nullptr);
+  bool open(const QString& path, const ProjectFileOptions& options, QString* out_error = nullptr);
   bool saveRecovery(const QString& path, QString* out_error = nullptr) const; // the autosave copy
   // Opens a recovery file as an unsaved project (no file name, modified).
   bool recover(const QString& path, QString* out_error = nullptr);
@@ -78,7 +83,12 @@ public:
   void relinkAsset(int index, const QString& path);
 
 signals:
+  // The asset list changed (added, removed, relinked, mappings); once after all of a
+  // project's assets are imported.
   void assetsChanged();
+  // One import of a list landed: the assets at `indices` (one file) are now imported; the
+  // list is as it was. Views update those rows alone, so loading stays linear in the assets.
+  void assetsLoaded(const QList<int>& indices);
   void settingsChanged(); // alpha, joint settings or levels
   void mappingsChanged();
   void currentChanged(); // asset, clip, level or joint in view

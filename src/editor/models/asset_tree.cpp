@@ -1,6 +1,7 @@
 #include "editor/models/asset_tree.h"
 
 #include <QFileInfo>
+#include <cassert>
 
 namespace mlod {
 
@@ -26,33 +27,36 @@ AssetTreeModel::AssetTreeModel(QObject* parent) : QStandardItemModel(0, ColumnCo
   setHorizontalHeaderLabels({tr("Name"), tr("Details")});
 }
 
-QModelIndex AssetTreeModel::addAsset(const std::shared_ptr<const Asset>& asset) {
-  m_assets.push_back(asset);
+void AssetTreeModel::describeAsset(QStandardItem* name, QStandardItem* detail, const Asset* asset) {
   const QString file = QString::fromStdString(asset->sourcePath);
   const QString kind = asset->meshes.empty() ? tr("motion") : tr("character");
   // The height says at a glance whether the unit is right (a 1.8 cm character is not).
   const bool guessed = asset->unitSource == "guessed";
   const double height = standingHeightCm(*asset);
-  QList<QStandardItem*> top =
-      row(QFileInfo(file).fileName(),
-          tr("%1 · %2 m tall · %3 cm/unit%4 · %5")
-              .arg(kind)
-              .arg(height / 100.0, 0, 'f', 2)
-              .arg(asset->unitScale, 0, 'g', 5)
-              .arg(guessed ? tr(" (guessed)") : QString())
-              .arg(QString::fromStdString(asset->format)),
-          tr("%1\nHeight: %2 cm\nUnit: %3 cm per file unit (%4)%5")
-              .arg(file)
-              .arg(height, 0, 'f', 1)
-              .arg(asset->unitScale, 0, 'g', 6)
-              .arg(QString::fromStdString(asset->unitSource))
-              .arg(guessed ? tr("\nThe file states no unit: this one was guessed from the height. Edit → Asset Unit "
-                                "changes it.")
-                           : QString()));
+  const QString tooltip =
+      tr("%1\nHeight: %2 cm\nUnit: %3 cm per file unit (%4)%5")
+          .arg(file)
+          .arg(height, 0, 'f', 1)
+          .arg(asset->unitScale, 0, 'g', 6)
+          .arg(QString::fromStdString(asset->unitSource))
+          .arg(guessed ? tr("\nThe file states no unit: this one was guessed from the height. Edit → Asset Unit "
+                            "changes it.")
+                       : QString());
+  name->setText(QFileInfo(file).fileName());
+  name->setToolTip(tooltip);
+  detail->setText(tr("%1 · %2 m tall · %3 cm/unit%4 · %5")
+                      .arg(kind)
+                      .arg(height / 100.0, 0, 'f', 2)
+                      .arg(asset->unitScale, 0, 'g', 5)
+                      .arg(guessed ? tr(" (guessed)") : QString())
+                      .arg(QString::fromStdString(asset->format)));
+  detail->setToolTip(tooltip);
   if (guessed)
-    top.back()->setData(QColor(176, 112, 0), Qt::ForegroundRole);
+    detail->setData(QColor(176, 112, 0), Qt::ForegroundRole);
+}
 
-  const Skeleton& skeleton = asset->skeleton;
+void AssetTreeModel::addDetails(QStandardItem* top, const Asset& asset) {
+  const Skeleton& skeleton = asset.skeleton;
   QList<QStandardItem*> skeletonRow =
       row(tr("Skeleton"), countText(skeleton.jointCount(), "joint", "joints"), tr("Joints in parent-before-child order"));
   std::vector<QStandardItem*> jointItems;
@@ -66,49 +70,109 @@ QModelIndex AssetTreeModel::addAsset(const std::shared_ptr<const Asset>& asset) 
     jointItems.push_back(jointRow.front());
     parent->appendRow(jointRow);
   }
-  top.front()->appendRow(skeletonRow);
+  top->appendRow(skeletonRow);
 
-  QList<QStandardItem*> clipsRow = row(tr("Clips"), countText(qsizetype(asset->clips.size()), "clip", "clips"));
-  for (const Clip& clip : asset->clips)
+  QList<QStandardItem*> clipsRow = row(tr("Clips"), countText(qsizetype(asset.clips.size()), "clip", "clips"));
+  for (const Clip& clip : asset.clips)
     clipsRow.front()->appendRow(row(QString::fromStdString(clip.name),
                                     tr("%1 frames · %2 fps · %3 s").arg(clip.frameCount).arg(clip.fps).arg(clip.durationSeconds(), 0, 'f', 2)));
-  top.front()->appendRow(clipsRow);
+  top->appendRow(clipsRow);
 
-  QList<QStandardItem*> meshesRow = row(tr("Meshes"), countText(qsizetype(asset->meshes.size()), "mesh", "meshes"));
-  for (const SkinnedMesh& mesh : asset->meshes)
+  QList<QStandardItem*> meshesRow = row(tr("Meshes"), countText(qsizetype(asset.meshes.size()), "mesh", "meshes"));
+  for (const SkinnedMesh& mesh : asset.meshes)
     meshesRow.front()->appendRow(row(QString::fromStdString(mesh.name),
                                      tr("%1 vertices · %2 triangles · %3 bones")
                                          .arg(mesh.vertexCount()).arg(mesh.triangleCount()).arg(mesh.boneCount())));
-  top.front()->appendRow(meshesRow);
-  appendRow(top);
-  return indexFromItem(top.front());
+  top->appendRow(meshesRow);
+}
+
+void AssetTreeModel::describeMissing(QStandardItem* name, QStandardItem* detail, const QString& path) {
+  const QString tooltip =
+      tr("%1 was not found or could not be imported.\nDouble-click to choose where the file is now.").arg(path);
+  name->setText(QFileInfo(path).fileName());
+  detail->setText(tr("missing: double-click to relink"));
+  for (QStandardItem* item : {name, detail}) {
+    item->setToolTip(tooltip);
+    item->setForeground(QColor(200, 40, 40));
+  }
+}
+
+// A row's two items are kept and filled again: replacing them would shift every later row of
+// the model, once per imported asset.
+void AssetTreeModel::showRow(int rowIndex, const std::shared_ptr<const Asset>& asset, const QString& path,
+                             const QString& note) {
+  const std::size_t at = std::size_t(rowIndex);
+  if (rowIndex >= assetCount()) {
+    appendRow(row(QString(), QString()));
+    m_assets.emplace_back();
+    m_paths << QString();
+    m_notes << QString();
+    m_fetched.push_back(false);
+  }
+  QStandardItem* name = item(rowIndex, NameColumn);
+  QStandardItem* detail = item(rowIndex, DetailColumn);
+  if (m_fetched[at])
+    removeRows(0, name->rowCount(), name->index());
+  m_assets[at] = asset;
+  m_paths[rowIndex] = path;
+  m_notes[rowIndex] = note;
+  m_fetched[at] = false;
+  for (QStandardItem* item : {name, detail})
+    item->setData(QVariant(), Qt::ForegroundRole);
+  if (!asset) {
+    describeMissing(name, detail, path);
+    return;
+  }
+  describeAsset(name, detail, asset.get());
+  if (!note.isEmpty()) {
+    detail->setText(note + " · " + detail->text());
+    detail->setToolTip(note + "\n" + detail->toolTip());
+  }
+}
+
+int AssetTreeModel::rowToFetch(const QModelIndex& parent) const {
+  const bool assetRow = parent.isValid() && !parent.parent().isValid() && parent.row() < assetCount();
+  return assetRow && m_assets[std::size_t(parent.row())] && !m_fetched[std::size_t(parent.row())] ? parent.row() : -1;
+}
+
+bool AssetTreeModel::hasChildren(const QModelIndex& parent) const {
+  return rowToFetch(parent) >= 0 || QStandardItemModel::hasChildren(parent);
+}
+
+bool AssetTreeModel::canFetchMore(const QModelIndex& parent) const {
+  return rowToFetch(parent) >= 0;
+}
+
+void AssetTreeModel::fetchMore(const QModelIndex& parent) {
+  const int rowIndex = rowToFetch(parent);
+  if (rowIndex < 0)
+    return;
+  m_fetched[std::size_t(rowIndex)] = true;
+  addDetails(item(rowIndex, NameColumn), *m_assets[std::size_t(rowIndex)]);
 }
 
 void AssetTreeModel::setAssets(const std::vector<std::shared_ptr<const Asset>>& assets, const QStringList& paths,
                                const QStringList& notes) {
-  removeRows(0, rowCount());
-  m_assets.clear();
-  for (std::size_t i = 0; i < assets.size(); ++i) {
-    if (assets[i]) {
-      const QModelIndex row = addAsset(assets[i]);
-      const QString note = i < std::size_t(notes.size()) ? notes[qsizetype(i)] : QString();
-      if (!note.isEmpty()) {
-        QStandardItem* detail = item(row.row(), DetailColumn);
-        detail->setText(note + " · " + detail->text());
-        detail->setToolTip(note + "\n" + detail->toolTip());
-      }
-      continue;
-    }
-    const QString path = i < std::size_t(paths.size()) ? paths[qsizetype(i)] : QString();
-    QList<QStandardItem*> missing = row(QFileInfo(path).fileName(), tr("missing: double-click to relink"),
-                                        tr("%1 was not found or could not be imported.\nDouble-click to choose "
-                                           "where the file is now.")
-                                            .arg(path));
-    missing.front()->setForeground(QColor(200, 40, 40));
-    missing.back()->setForeground(QColor(200, 40, 40));
-    appendRow(missing);
-    m_assets.push_back(nullptr);
+  if (assets.size() != m_assets.size()) { // assets added or removed: rows moved
+    removeRows(0, rowCount());
+    m_assets.clear();
+    m_paths.clear();
+    m_notes.clear();
+    m_fetched.clear();
   }
+  for (std::size_t i = 0; i < assets.size(); ++i) {
+    const int at = static_cast<int>(i);
+    const QString path = at < paths.size() ? paths[at] : QString();
+    const QString note = at < notes.size() ? notes[at] : QString();
+    if (at < assetCount() && m_assets[i] == assets[i] && m_paths[at] == path && m_notes[at] == note)
+      continue;
+    showRow(at, assets[i], path, note);
+  }
+}
+
+void AssetTreeModel::setAsset(int rowIndex, const std::shared_ptr<const Asset>& asset, const QString& path) {
+  assert(rowIndex >= 0 && rowIndex < assetCount());
+  showRow(rowIndex, asset, path, m_notes[rowIndex]);
 }
 
 int AssetTreeModel::assetRow(const QModelIndex& index) const {

@@ -286,10 +286,12 @@ TEST(Project, MappingsFollowTheirAssets) {
   EXPECT_NE(read.message().find("mapping 0"), std::string::npos) << read.message();
 }
 
-// Guards paths: assets are stored relative to the project's folder and resolve back.
+// Guards paths: assets inside the project's folder are stored relative to it and resolve
+// back; one outside is stored absolute, so that the project reopens without asking
+// (checkAssetPaths() refuses relative paths that leave the folder).
 TEST(Project, AssetPathsAreRelativeToTheProject) {
   EXPECT_EQ(storedAssetPath("/data/projects/crowd.mlod", "/data/projects/clips/a.bvh"), "clips/a.bvh");
-  EXPECT_EQ(storedAssetPath("/data/projects/crowd.mlod", "/data/mocap/b.bvh"), "../mocap/b.bvh");
+  EXPECT_EQ(storedAssetPath("/data/projects/crowd.mlod", "/data/mocap/b.bvh"), "/data/mocap/b.bvh");
   EXPECT_EQ(resolveAssetPath("/data/projects/crowd.mlod", "../mocap/b.bvh"), std::filesystem::path("/data/mocap/b.bvh"));
   EXPECT_EQ(resolveAssetPath("/data/projects/crowd.mlod", "/abs/c.bvh"), std::filesystem::path("/abs/c.bvh"));
 }
@@ -355,6 +357,96 @@ TEST(Project, LevelsAreCappedOnLoad) {
   ASSERT_FALSE(over);
   EXPECT_EQ(over.message(), "the project has 33 LOD levels; a project may have at most 32");
   EXPECT_TRUE(project.validate()) << "validate() states the cap too";
+}
+
+// A project folder of its own for one test, holding the sample clip at clips/a.bvh.
+std::filesystem::path projectFolderWithClip(const std::string& name) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::temp_directory_path() / ("mlod_paths_" + std::to_string(::getpid())) / name;
+  fs::remove_all(folder);
+  fs::create_directories(folder / "clips");
+  fs::copy_file(MLOD_SAMPLE_BVH, folder / "clips" / "a.bvh");
+  return folder;
+}
+
+Result<Project> loadWithAsset(const std::filesystem::path& folder, const std::string& assetPath,
+                              const ProjectFileOptions& options = {}) {
+  Project project;
+  project.assets.push_back({assetPath, 0.0, {}});
+  const std::filesystem::path file = folder / "p.mlod";
+  std::ofstream(file) << projectToJson(project);
+  return loadProjectFile(file, options);
+}
+
+// Guards issue 29's `../../../../../../etc/passwd`: a relative asset path that leaves the
+// project's folder is refused, naming the asset and the path, unless allowed; relative paths
+// inside and absolute paths anywhere are followed.
+TEST(Project, RelativeAssetPathsStayInTheProjectsFolder) {
+  const std::filesystem::path folder = projectFolderWithClip("climb");
+  const Result<Project> climbing = loadWithAsset(folder, "../../../../../../etc/passwd");
+  ASSERT_FALSE(climbing);
+  EXPECT_NE(climbing.message().find("asset 0 ('../../../../../../etc/passwd') leads outside the project's folder"),
+            std::string::npos)
+      << climbing.message();
+  EXPECT_NE(climbing.message().find("/etc/passwd)"), std::string::npos) << climbing.message();
+  EXPECT_FALSE(loadWithAsset(folder, "clips/../../x.bvh")) << "inside, then out";
+  EXPECT_TRUE(loadWithAsset(folder, "../../../../../../etc/passwd", {.allowOutsideAssets = true}));
+  EXPECT_TRUE(loadWithAsset(folder, "clips/a.bvh"));
+  EXPECT_TRUE(loadWithAsset(folder, "./clips/../clips/a.bvh")) << "climbs, but stays inside";
+  EXPECT_TRUE(loadWithAsset(folder, "clips/not_yet_there.bvh")) << "missing is the import's to report";
+  EXPECT_TRUE(loadWithAsset(folder, "/etc/passwd")) << "absolute: the author's explicit choice";
+  EXPECT_TRUE(loadWithAsset(folder, (folder / "clips" / "a.bvh").string()));
+}
+
+// Guards links: a symlink inside the folder that leads out of it is outside (a relative path
+// is checked once links are followed); one that stays inside is fine.
+TEST(Project, SymlinksOutOfTheFolderAreOutside) {
+  namespace fs = std::filesystem;
+  const fs::path folder = projectFolderWithClip("links");
+  fs::create_directory_symlink("/etc", folder / "system");
+  fs::create_symlink(folder / "clips" / "a.bvh", folder / "inside.bvh");
+  const Result<Project> viaLink = loadWithAsset(folder, "system/passwd");
+  ASSERT_FALSE(viaLink);
+  EXPECT_NE(viaLink.message().find("'system/passwd'"), std::string::npos) << viaLink.message();
+  EXPECT_TRUE(loadWithAsset(folder, "inside.bvh"));
+  // what the studio saves: inside relative, outside (even through a link) absolute, so it reopens
+  EXPECT_EQ(storedAssetPath(folder / "p.mlod", folder / "clips" / "a.bvh"), "clips/a.bvh");
+  EXPECT_EQ(storedAssetPath(folder / "p.mlod", folder / "system" / "passwd"), (folder / "system" / "passwd").string());
+  EXPECT_EQ(storedAssetPath(folder / "p.mlod", "/etc/passwd"), "/etc/passwd");
+}
+
+// Guards names where they enter: a 100,000-character level name made the studio lay it out
+// for half a minute. Level names, joint names and asset paths past their caps are refused
+// with the field named (never clipped: a clipped joint name would tune another joint).
+TEST(Project, OverlongNamesAreRefused) {
+  Project project;
+  project.assets.push_back({"a.bvh", 0.0, {}});
+  project.lods.levels[1].name = std::string(kMaxLevelNameBytes, 'n');
+  ASSERT_TRUE(projectFromJson(projectToJson(project))) << "exactly the cap is fine";
+  project.lods.levels[1].name = std::string(100000, 'n');
+  const Result<Project> level = projectFromJson(projectToJson(project));
+  ASSERT_FALSE(level);
+  EXPECT_EQ(level.message(), "LOD set: level 1: the name is 100000 bytes long; a level name has at most 256");
+
+  Project joints;
+  joints.assets.push_back({"a.bvh", 0.0, {}});
+  joints.assets[0].joints[std::string(kMaxJointNameBytes + 1, 'j')].locked = true;
+  const Result<Project> joint = projectFromJson(projectToJson(joints));
+  ASSERT_FALSE(joint);
+  EXPECT_EQ(joint.message(), "asset 0: a joint name is 1025 bytes long; a joint name has at most 1024");
+
+  Project paths;
+  paths.assets.push_back({std::string(kMaxAssetPathBytes + 1, 'p'), 0.0, {}});
+  const Result<Project> path = projectFromJson(projectToJson(paths));
+  ASSERT_FALSE(path);
+  EXPECT_EQ(path.message(), "asset 0: the path is 4097 bytes long; a path has at most 4096");
+
+  // the view's joint names no figure: one that long names no joint, and the view forgets it
+  Project view;
+  view.view.joint = std::string(kMaxJointNameBytes + 1, 'v');
+  const Result<Project> read = projectFromJson(projectToJson(view));
+  ASSERT_TRUE(read) << read.message();
+  EXPECT_TRUE(read->view.joint.empty());
 }
 
 } // namespace

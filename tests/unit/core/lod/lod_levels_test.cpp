@@ -103,6 +103,16 @@ TEST(LodLevels, TheOriginalIsFixedButCanBeRenamed) {
   EXPECT_EQ(renamed->lods.levels[0].name, "Full");
 }
 
+// Guards the name cap (issue 29): a rename past kMaxLevelNameBytes is refused, so no edit
+// makes a project its reader would refuse.
+TEST(LodLevels, OverlongNamesAreRefused) {
+  const LodSet lods = sampleSet();
+  EXPECT_TRUE(renameLodLevel(lods, 1, std::string(kMaxLevelNameBytes, 'n')));
+  const Result<LodSetEdit> renamed = renameLodLevel(lods, 1, std::string(kMaxLevelNameBytes + 1, 'n'));
+  ASSERT_FALSE(renamed);
+  EXPECT_EQ(renamed.message(), "a level name has at most 256 bytes; this one has 257");
+}
+
 // Guards ranges: an index past the end is refused, not an out-of-bounds write.
 TEST(LodLevels, LevelsOutOfRangeAreRefused) {
   const LodSet lods = sampleSet();
