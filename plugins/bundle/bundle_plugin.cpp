@@ -88,6 +88,9 @@ public:
     return out;
   }
 
+  QString planProblem(const mlod::LodPackagePlan& plan) const override {
+    return QString::fromStdString(mlod::bundlePlanProblem(plan.clipFrames, plan.joints, plan.levels, plan.withOriginal));
+  }
   mlod::ExportResult exportPackage(const mlod::LodPackage& package, const QString& path, const QVariantMap& options,
                                    const mlod::ExportProgress& progress) override {
     using namespace mlod;

@@ -4,7 +4,6 @@
 
 #include "core/project_package.h"
 #include "core/project.h"
-#include "runtime/bundle.h"
 #include "io/import_options.h"
 #include "io/isolated_import.h"
 
@@ -33,28 +32,6 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// What a runtime bundle cannot hold, checked before the package is built: no skeleton, and
-// past its joint-frame cap (runtime/bundle.h kMaxBundleJointFrames: a 1,000,000-frame clip
-// grew past 12 GB and died with std::bad_alloc before the bundle refused it). Level 0 is the
-// original (every joint); any other level keeps at least its root, so this is a lower bound
-// of what the bundle needs.
-std::string bundleProblem(std::span<const Clip* const> clips, int joints, int levels, bool withOriginal) {
-  // (a mesh alone exited 1 with the plugin's "no joint": bad input, said before the build)
-  if (joints < 1)
-    return "has no skeleton: a runtime bundle holds a skeleton and its clips (a mesh alone exports to glTF)";
-  std::uint64_t frames = 0;
-  for (const Clip* clip : clips)
-    frames += std::uint64_t(std::max(clip->frameCount, 0));
-  const std::uint64_t least =
-      frames * ((withOriginal ? std::uint64_t(std::max(joints, 0)) : 0) + std::uint64_t(std::max(levels - (withOriginal ? 1 : 0), 0)));
-  if (least <= kMaxBundleJointFrames)
-    return {};
-  return "a runtime bundle holds at most " + std::to_string(kMaxBundleJointFrames) +
-         " joint-frames; these " + std::to_string(levels) + " levels of " + std::to_string(frames) + " frames (" +
-         std::to_string(joints) + " joints at the original level) need at least " + std::to_string(least) +
-         ": export fewer levels (--levels, without 0) or a shorter clip";
 }
 
 ExportOutcome failure(int code, std::string file, std::string message) {
@@ -309,21 +286,10 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
         if (std::optional<ExportOutcome> failed = importAt(mapping.motion))
           return *failed;
     out.importSeconds = secondsSince(start);
-    if (job.plugin == "bundle") {
-      std::vector<const Clip*> clips;
-      for (const Clip& clip : imported[std::size_t(character)]->clips)
-        clips.push_back(&clip);
-      for (const ProjectMapping& mapping : project->mappings)
-        if (mapping.character == character && imported[std::size_t(mapping.motion)])
-          for (const Clip& clip : imported[std::size_t(mapping.motion)]->clips)
-            clips.push_back(&clip);
-      const int levels = job.levels.empty() ? project->levelCount() : int(job.levels.size());
-      const bool original = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
-      if (std::string problem =
-              bundleProblem(clips, imported[std::size_t(character)]->skeleton.jointCount(), levels, original);
-          !problem.empty())
-        return failure(kExitBadInput, job.input, problem);
-    }
+    // what the format cannot hold, refused before the build (Exporter::planProblem())
+    if (const QString problem = exporter->planProblem(packagePlan(*project, imported, character, job.levels));
+        !problem.isEmpty())
+      return failure(kExitBadInput, job.input, problem.toStdString());
     start = Clock::now();
     package = buildLodPackage(*project, imported, character, job.levels, progress);
   } else {
@@ -331,19 +297,16 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
     if (!asset)
       return failure(cancelled() ? kExitFailure : kExitBadInput, job.input, cancelled() ? "cancelled" : asset.message());
     out.importSeconds = secondsSince(start);
-    if (job.plugin == "bundle") {
-      std::vector<const Clip*> clips;
-      for (const Clip& clip : asset->clips)
-        clips.push_back(&clip);
-      // a file gets the default set of 4 levels (docs/architecture.md section 6), or LOD0
-      // and one level per --mesh-ratio
-      const int all = job.meshRatios.empty() ? 4 : int(job.meshRatios.size()) + 1;
-      const int levels = job.levels.empty() ? all : int(job.levels.size());
-      const bool original = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
-      if (std::string problem = bundleProblem(clips, asset->skeleton.jointCount(), levels, original);
-          !problem.empty())
-        return failure(kExitBadInput, job.input, problem);
-    }
+    // a file gets the default set of 4 levels (docs/architecture.md section 6), or LOD0 and
+    // one level per --mesh-ratio
+    LodPackagePlan plan;
+    plan.joints = asset->skeleton.jointCount();
+    for (const Clip& clip : asset->clips)
+      plan.clipFrames += std::uint64_t(std::max(clip.frameCount, 0));
+    plan.levels = !job.levels.empty() ? int(job.levels.size()) : job.meshRatios.empty() ? 4 : int(job.meshRatios.size()) + 1;
+    plan.withOriginal = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
+    if (const QString problem = exporter->planProblem(plan); !problem.isEmpty())
+      return failure(kExitBadInput, job.input, problem.toStdString());
     start = Clock::now();
     try {
       if (job.meshRatios.empty()) {

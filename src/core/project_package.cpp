@@ -61,6 +61,28 @@ Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset
                          *extra);
 }
 
+LodPackagePlan packagePlan(const Project& project, std::span<const Asset* const> imported, int asset,
+                           std::span<const int> levels) {
+  LodPackagePlan plan;
+  const auto importedAt = [&](int i) {
+    return i >= 0 && std::size_t(i) < imported.size() ? imported[std::size_t(i)] : nullptr;
+  };
+  const auto addClips = [&](const Asset* a) {
+    if (a)
+      for (const Clip& clip : a->clips)
+        plan.clipFrames += std::uint64_t(std::max(clip.frameCount, 0));
+  };
+  const Asset* character = importedAt(asset);
+  plan.joints = character ? character->skeleton.jointCount() : 0;
+  addClips(character);
+  for (const ProjectMapping& mapping : project.mappings)
+    if (mapping.character == asset)
+      addClips(importedAt(mapping.motion));
+  plan.levels = levels.empty() ? project.levelCount() : static_cast<int>(levels.size());
+  plan.withOriginal = levels.empty() || std::find(levels.begin(), levels.end(), 0) != levels.end();
+  return plan;
+}
+
 int defaultPackageAsset(const Project& project, std::span<const Asset* const> imported) {
   if (project.assets.empty())
     return -1;

@@ -30,6 +30,11 @@ Result<std::vector<Clip>> assignedClips(const Project& project, std::span<const 
 Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset* const> imported, int asset,
                                    std::span<const int> levels = {}, const LodPackageProgress& progress = {});
 
+// The plan of buildLodPackage(project, imported, asset, levels): the asset's joints, the
+// frames of its clips and of every motion assigned to it (those imported), the levels.
+LodPackagePlan packagePlan(const Project& project, std::span<const Asset* const> imported, int asset,
+                           std::span<const int> levels = {});
+
 // The asset of a project a package is made of when none is named: the first asset that
 // plays a clip or carries a skinned mesh and is the character of a mapping, else the first
 // asset with a skinned mesh, else the first asset. -1 for a project without assets.

@@ -2,14 +2,30 @@
 
 #include "runtime/input_file.h"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <string>
 
 namespace mlod {
+
+std::string bundlePlanProblem(std::uint64_t frames, int joints, int levels, bool withOriginal) {
+  if (joints < 1)
+    return "has no skeleton: a runtime bundle holds a skeleton and its clips (a mesh alone exports to glTF)";
+  const std::uint64_t perFrame = (withOriginal ? std::uint64_t(joints) : 0) +
+                                 std::uint64_t(std::max(levels - (withOriginal ? 1 : 0), 0));
+  const std::uint64_t least = frames * perFrame;
+  if (least <= kMaxBundleJointFrames)
+    return {};
+  return "a runtime bundle holds at most " + std::to_string(kMaxBundleJointFrames) + " joint-frames; these " +
+         std::to_string(levels) + " levels of " + std::to_string(frames) + " frames (" + std::to_string(joints) +
+         " joints at the original level) need at least " + std::to_string(least) +
+         ": export fewer levels (without level 0) or a shorter clip";
+}
 
 namespace {
 

@@ -37,6 +37,12 @@ inline constexpr std::uint32_t kBundleVersion = 1;
 // count, so a small file could otherwise ask for gigabytes. 2^25 = 33.5 M: e.g. 8 levels of
 // a 60-joint, 10-minute clip at 120 fps (about 1.3 GB of tracks).
 inline constexpr std::uint64_t kMaxBundleJointFrames = std::uint64_t(1) << 25;
+// Why a bundle of `levels` levels of clips of `frames` frames in all (`joints` joints at
+// the original level, 0 without a skeleton) cannot be written, or empty: checked before a
+// package is built. Level 0 is the original (every joint); any other level keeps at least
+// its root, so the joint-frames counted are a lower bound of what the bundle needs (a
+// 1,000,000-frame clip grew past 12 GB before the writer refused it).
+std::string bundlePlanProblem(std::uint64_t frames, int joints, int levels, bool withOriginal);
 // The largest bundle file readBundleFile() reads (regular files only; runtime/input_file.h).
 inline constexpr std::uint64_t kMaxBundleFileBytes = std::uint64_t(2) << 30;
 

@@ -28,6 +28,10 @@ void ExportProgress::report(double fraction, const QString& message) const {
     m_report(std::isfinite(fraction) ? std::clamp(fraction, 0.0, 1.0) : 0.0, message);
 }
 
+QString Exporter::planProblem(const LodPackagePlan&) const {
+  return {};
+}
+
 ExportResult cancelledResult() {
   return ExportResult::failure(QStringLiteral("cancelled: nothing was written"));
 }

@@ -96,6 +96,11 @@ public:
   // On failure or cancel, leaves nothing at `path` (nor beside it) and says why.
   virtual ExportResult exportPackage(const LodPackage& package, const QString& path, const QVariantMap& options,
                                      const ExportProgress& progress) = 0;
+  // Why a package of `plan` cannot be written by this exporter, or empty: asked before the
+  // package is built (the command line and the studio alike), so that what the format
+  // cannot hold is refused at once rather than after minutes of work. Refuses nothing
+  // unless overridden (declared last: earlier slots keep their places).
+  virtual QString planProblem(const LodPackagePlan& plan) const;
 };
 
 // Every option at its default.

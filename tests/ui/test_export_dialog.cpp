@@ -174,6 +174,29 @@ private slots:
     QVERIFY(dialog.resultLabel()->text().contains("Tick at least one level"));
   }
 
+  // What the format cannot hold is refused before the build, as the CLI refuses it
+  // (Exporter::planProblem()): a mesh without a skeleton to the bundle plugin. The studio's
+  // export used to start building and fail only in the plugin.
+  void whatTheFormatCannotHoldIsRefusedAtOnce() {
+    auto document = std::make_unique<Document>();
+    const QString mesh = QStringLiteral(MLOD_ASSIMP_MODELS "/OBJ/spider.obj");
+    Result<Asset> asset = importAsset(mesh.toStdString(), {});
+    QVERIFY2(asset, asset ? "" : asset.message().c_str());
+    QVERIFY(asset->skeleton.empty());
+    edit::addAsset(*document, std::make_shared<const Asset>(std::move(asset).value()), mesh, 1.0);
+    document->setCurrentAsset(0);
+    ExportDialog dialog(document.get(), &m_host);
+    chooseBundle(dialog);
+    QTemporaryDir dir;
+    dialog.outputEdit()->setText(dir.filePath("spider.mlodb"));
+    QSignalSpy finished(&dialog, &ExportDialog::exportFinished);
+    dialog.startExport();
+    QVERIFY(!dialog.isRunning()); // refused before any worker started
+    QVERIFY(dialog.resultLabel()->text().contains("Nothing was written"));
+    QVERIFY2(dialog.resultLabel()->text().contains("has no skeleton"), qPrintable(dialog.resultLabel()->text()));
+    QVERIFY(filesIn(dir.path()).isEmpty());
+  }
+
   // The output's suffix must be the plugin's: another format's is refused (nothing written),
   // none gets the plugin's; a new plugin or option clears the last result.
   void suffixMustMatchThePlugin() {

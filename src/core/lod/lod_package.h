@@ -27,6 +27,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <span>
@@ -62,6 +63,15 @@ struct LodPackageLevel {
   const Skeleton& skeleton() const { return build.motion.bones.skeleton; }
   // The level's mesh (simplified, bound to skeleton()), or null without a mesh.
   const SkinnedMesh* mesh() const { return build.mesh ? &build.mesh->mesh : nullptr; }
+};
+
+// What a package will hold, known before it is built (which can take minutes): enough for
+// an exporter to refuse at once what it cannot write (Exporter::planProblem()).
+struct LodPackagePlan {
+  int joints = 0;               // of the character's skeleton (0: a mesh alone)
+  std::uint64_t clipFrames = 0; // frames of every clip the package plays, summed
+  int levels = 0;               // levels exported
+  bool withOriginal = true;     // level 0 among them
 };
 
 struct LodPackage {

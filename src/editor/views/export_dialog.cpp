@@ -340,6 +340,14 @@ void ExportDialog::startExport() {
   std::vector<std::shared_ptr<const Asset>> assets;
   for (int i = 0; i < m_document->assetCount(); ++i)
     assets.push_back(m_document->asset(i));
+  // what the format cannot hold is refused before minutes of building (as the CLI does)
+  std::vector<const Asset*> importedNow;
+  for (const std::shared_ptr<const Asset>& a : assets)
+    importedNow.push_back(a.get());
+  if (const QString problem = exporter->planProblem(packagePlan(m_document->project(), importedNow, m_asset, levels));
+      !problem.isEmpty())
+    return showResult(false, tr("Nothing was written: the %1 exporter cannot hold this character: %2")
+                                 .arg(m_plugin->currentText().toHtmlEscaped(), problem.toHtmlEscaped()));
   m_cancel = std::make_shared<std::atomic<bool>>(false);
   m_running = true;
   m_runningPath = path;

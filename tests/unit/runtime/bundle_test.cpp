@@ -108,6 +108,22 @@ void reseal(std::vector<std::uint8_t>& bytes) {
   putLe(bytes, tableEnd, crc32(std::span<const std::uint8_t>(bytes).first(tableEnd)), 4);
 }
 
+// Guards the check exporters make before a package is built (bundle plugin's
+// planProblem(), the CLI and the studio): no skeleton is refused, and the joint-frame cap
+// counts every joint at level 0 and at least the root at the others, to the joint-frame.
+TEST(Bundle, PlanProblemCountsTheLeastJointFrames) {
+  EXPECT_NE(bundlePlanProblem(100, 0, 4, true).find("has no skeleton"), std::string::npos);
+  // 31 joints at level 0 and 3 more levels: 34 joint-frames per frame
+  const std::uint64_t fits = kMaxBundleJointFrames / 34;
+  EXPECT_EQ(bundlePlanProblem(fits, 31, 4, true), "");
+  const std::string over = bundlePlanProblem(fits + 1, 31, 4, true);
+  EXPECT_NE(over.find("need at least " + std::to_string((fits + 1) * 34)), std::string::npos) << over;
+  EXPECT_NE(over.find("at most " + std::to_string(kMaxBundleJointFrames) + " joint-frames"), std::string::npos) << over;
+  // without level 0: one joint-frame per frame and level
+  EXPECT_EQ(bundlePlanProblem(kMaxBundleJointFrames / 3, 31, 3, false), "");
+  EXPECT_NE(bundlePlanProblem(kMaxBundleJointFrames / 3 + 1, 31, 3, false), "");
+}
+
 TEST(Bundle, Crc32IsZlibs) {
   const std::string text = "123456789";
   EXPECT_EQ(crc32(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size())),
