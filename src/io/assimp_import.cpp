@@ -297,14 +297,46 @@ Error checkGltfBuffers(std::string_view json, const std::filesystem::path& folde
   return {};
 }
 
+// A COLLADA <accessor> names more <param>s than its stride: Assimp 5.2 then reads each
+// element's extra params past the source's array, so the same file gave other vertex
+// positions on every run (issue 29: heights from 100 m to 7e27 cm). Refused with the
+// accessor named. (A plain scan of the text: the accessors of a valid file hold params only.)
+Error checkColladaAccessors(std::string_view text) {
+  int index = 0;
+  for (std::size_t at = text.find("<accessor"); at != std::string_view::npos; at = text.find("<accessor", at + 1)) {
+    ++index;
+    const std::size_t tagEnd = text.find('>', at);
+    if (tagEnd == std::string_view::npos)
+      return {}; // Assimp's to refuse
+    const std::string_view tag = text.substr(at, tagEnd - at);
+    const std::size_t close = text.find("</accessor>", tagEnd);
+    const std::string_view body = close == std::string_view::npos ? std::string_view() : text.substr(tagEnd, close - tagEnd);
+    int params = 0;
+    for (std::size_t p = body.find("<param"); p != std::string_view::npos; p = body.find("<param", p + 1))
+      ++params;
+    long stride = 1; // COLLADA's default
+    if (const std::size_t s = tag.find("stride=\""); s != std::string_view::npos)
+      stride = std::strtol(std::string(tag.substr(s + 8, 12)).c_str(), nullptr, 10);
+    if (params > stride)
+      return Error("COLLADA accessor " + std::to_string(index) + " names " + std::to_string(params) +
+                   " params but has a stride of " + std::to_string(stride) +
+                   " (its elements would be read past its array)");
+  }
+  return {};
+}
+
 // What Assimp reads beside the file itself, checked first: a BVH's frame time, a glTF's
-// buffers (the JSON of a .gltf, the JSON chunk of a .glb).
+// buffers (the JSON of a .gltf, the JSON chunk of a .glb), COLLADA's accessors.
 Error checkBeforeImport(const std::filesystem::path& file, const std::string& extension) {
-  if (extension != "bvh" && extension != "gltf" && extension != "glb")
+  if (extension != "bvh" && extension != "gltf" && extension != "glb" && extension != "dae")
     return {};
   std::ifstream stream(file, std::ios::binary);
   if (extension == "bvh")
     return checkBvhHeader(bvhHeader(stream));
+  if (extension == "dae") {
+    std::optional<std::string> text = readInputFile(file, kMaxImportFileBytes);
+    return text ? checkColladaAccessors(*text) : Error(); // (importAsset() said why already, or Assimp will)
+  }
   std::string json;
   if (extension == "gltf") {
     std::optional<std::string> text = readInputFile(file, kMaxImportFileBytes);
@@ -1053,6 +1085,9 @@ Result<Asset> importAssetFromMemory(const void* data, std::size_t size, const st
   const std::string ext = lower(extension);
   if (ext == "bvh")
     if (Error error = checkBvhHeader(std::string_view(static_cast<const char*>(data), size)))
+      return error;
+  if (ext == "dae")
+    if (Error error = checkColladaAccessors(std::string_view(static_cast<const char*>(data), size)))
       return error;
   auto importer = std::make_unique<Assimp::Importer>();
   configure(*importer);

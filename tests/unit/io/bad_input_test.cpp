@@ -140,6 +140,23 @@ TEST(BadInput, BvhOffsetsThatOverflowAreRefused) {
   expectRefused(test::writeTemp("huge_offsets.bvh", bvh), "lies at a non-finite position in the rest pose");
 }
 
+// Guards a COLLADA accessor with more params than its stride (a position accessor's "Y"
+// param eight times over, tests/data/bad/collada_param_past_stride.dae): Assimp read past the
+// array, so each run gave other positions (heights from 100 m to 7e27 cm; issue 29). Refused
+// with the accessor named, from a file and from memory; a valid accessor still imports.
+TEST(BadInput, ColladaParamsPastTheStrideAreRefused) {
+  const std::string file = MLOD_TEST_DATA_DIR "/bad/collada_param_past_stride.dae";
+  const char* reason = "COLLADA accessor 1 names 10 params but has a stride of 3";
+  expectRefused(file, reason);
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  const Result<Asset> fromMemory = importAssetFromMemory(text.str().data(), text.str().size(), "dae");
+  ASSERT_FALSE(fromMemory.ok());
+  EXPECT_NE(fromMemory.message().find(reason), std::string::npos) << fromMemory.message();
+  EXPECT_TRUE(importAsset(test::modelPath("Collada/cube_tristrips.dae")).ok());
+}
+
 // Guards a BVH that says "Frames: 0": Assimp's duration (frames - 1) wrapped, and the clip
 // was refused as "too long (4294967295 frames)" (issue 29, item 8); the header is named.
 TEST(BadInput, BvhWithoutFramesSaysSo) {
