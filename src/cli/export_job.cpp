@@ -165,34 +165,63 @@ std::string outputSuffixProblem(const PluginHost& host, const std::string& plugi
   return {};
 }
 
-ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const std::atomic<bool>* cancel,
-                           const ExportJobProgress& report) {
-  const auto cancelled = [cancel] { return cancel && cancel->load(); };
-  // What needs no import first: a typo costs nothing.
-  Exporter* exporter = host.exporter(QString::fromStdString(job.plugin));
-  if (!exporter) {
+namespace {
+
+// One export job as its steps share it: check, import and build, write.
+struct JobRun {
+  const PluginHost& host;
+  const ExportJob& job;
+  const std::atomic<bool>* cancel;
+  const ExportJobProgress& report;
+  Exporter* exporter = nullptr;
+  QVariantMap options; // every option of the exporter, checked
+  double unitScale = 0.0; // --unit-scale; 0 = each file's own
+  ExportOutcome out;      // the timings so far
+
+  bool cancelled() const { return cancel && cancel->load(); }
+  void tell(std::string_view stage, double fraction, std::string_view detail) const {
+    if (report)
+      report(stage, fraction, detail);
+  }
+  LodPackageProgress packageProgress() const {
+    return [this](double fraction, std::string_view detail) {
+      tell("LOD package", fraction, detail);
+      return !cancelled();
+    };
+  }
+  // A failed import: bad input, unless the user stopped it.
+  ExportOutcome importFailure(const std::string& file, const std::string& message) const {
+    return cancelled() ? failure(kExitFailure, file, "cancelled") : failure(kExitBadInput, file, message);
+  }
+};
+
+// 1. What needs no import (a typo costs nothing): the plugin and its options, the outputs
+// (nothing lost), their folder, the unit, the mesh ratios.
+std::optional<ExportOutcome> checkJob(JobRun& run) {
+  const ExportJob& job = run.job;
+  run.exporter = run.host.exporter(QString::fromStdString(job.plugin));
+  if (!run.exporter) {
     QStringList ids;
-    for (const PluginInfo& info : host.plugins())
+    for (const PluginInfo& info : run.host.plugins())
       ids << info.id;
     return failure(kExitBadInput, job.input,
                    "no exporter plugin '" + job.plugin + "' (available: " +
                        (ids.isEmpty() ? std::string("none; see motionlod plugins") : ids.join(", ").toStdString()) + ")");
   }
-  QVariantMap options;
   QString optionError;
-  if (!checkExporterOptions(exporter->options(), job.options, &options, &optionError))
+  if (!checkExporterOptions(run.exporter->options(), job.options, &run.options, &optionError))
     return failure(kExitBadInput, job.input, "plugin " + job.plugin + ": " + optionError.toStdString());
   if (job.output.empty())
     return failure(kExitBadInput, job.input, "no output file (-o)");
   // Nothing lost: no output may be an input, and what exists at an output must be a
   // regular file (file_checks.h). Checked before any work.
   const std::vector<std::string> inputs = exportInputFiles(job.input);
-  for (const std::string& file : exportOutputFiles(job.plugin, job.output, options))
+  for (const std::string& file : exportOutputFiles(job.plugin, job.output, run.options))
     if (std::string problem = outputProblem(file, inputs); !problem.empty())
       return failure(kExitBadInput, file, problem);
   // the output's suffix says its format (as the Export dialog asks); after the data-loss
   // checks, which say more about `-o walk.bvh`
-  if (std::string problem = outputSuffixProblem(host, job.plugin, job.output); !problem.empty())
+  if (std::string problem = outputSuffixProblem(run.host, job.plugin, job.output); !problem.empty())
     return failure(kExitBadInput, job.output, problem);
   // the folder: a missing or read-only one is no bad input (exit 1: a farm retries it)
   std::error_code folderError;
@@ -204,14 +233,13 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
     return failure(kExitFailure, job.output, "cannot write: the folder " + folder + " is not writable");
   if (std::filesystem::is_directory(job.output, folderError))
     return failure(kExitFailure, job.output, "cannot write: it is a folder");
-  double unitScale = 0.0;
   if (!job.unitScale.empty()) {
     const std::optional<double> scale = parseUnitScale(job.unitScale);
     if (!scale)
       return failure(kExitBadInput, job.input,
                      "--unit-scale '" + job.unitScale +
                          "' is neither a positive number of cm per unit nor a preset (cm, m, mm, inch, cmu)");
-    unitScale = *scale;
+    run.unitScale = *scale;
   }
 
   for (double ratio : job.meshRatios)
@@ -219,125 +247,123 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
       return failure(kExitBadInput, job.input, "--mesh-ratio " + std::to_string(ratio) + ": a triangle ratio must be in (0, 1]");
   if (!job.meshRatios.empty() && isProjectFile(job.input))
     return failure(kExitBadInput, job.input, "--mesh-ratio applies to a file; a project exports its own levels");
+  return std::nullopt;
+}
 
-  ExportOutcome out;
-  const auto tell = [&](std::string_view stage, double fraction, std::string_view detail) {
-    if (report)
-      report(stage, fraction, detail);
-  };
-  const LodPackageProgress progress = [&](double fraction, std::string_view detail) {
-    tell("LOD package", fraction, detail);
-    return !cancelled();
-  };
-  tell("import", -1.0, job.input);
-  Result<LodPackage> package = Error("no package");
+// 2-3. A project's character and the motions assigned to it imported, what the exporter
+// cannot hold refused, the package built.
+std::optional<ExportOutcome> buildFromProject(JobRun& run, Result<LodPackage>& package) {
+  const ExportJob& job = run.job;
   Clock::time_point start = Clock::now();
-  if (isProjectFile(job.input)) {
-    Result<Project> project = loadProjectFile(job.input, job.project);
-    if (!project)
-      return failure(kExitBadInput, job.input, project.message());
-    const int assets = static_cast<int>(project->assets.size());
-    if (assets == 0)
-      return failure(kExitBadInput, job.input, "the project has no asset to export");
-    if (job.asset >= assets)
-      return failure(kExitBadInput, job.input, "the project has no asset " + std::to_string(job.asset));
-    // which assets to import: the character and every motion assigned to it
-    std::vector<std::unique_ptr<Asset>> owned(static_cast<std::size_t>(assets));
-    std::vector<const Asset*> imported(std::size_t(assets), nullptr);
-    const auto importAt = [&](int a) -> std::optional<ExportOutcome> {
-      if (imported[std::size_t(a)])
-        return std::nullopt;
-      const ProjectAsset& entry = project->assets[std::size_t(a)];
-      const std::string path = resolveAssetPath(job.input, entry.path).string();
-      std::error_code error;
-      if (!std::filesystem::exists(path, error))
-        return failure(kExitBadInput, job.input, "asset " + std::to_string(a) + " (" + path + ") is missing; relink it in the editor");
-      Result<Asset> asset = importFile(path, unitScale > 0.0 ? unitScale : entry.unitScale, job, cancel);
-      if (!asset)
-        return failure(cancelled() ? kExitFailure : kExitBadInput, path, cancelled() ? "cancelled" : asset.message());
-      owned[std::size_t(a)] = std::make_unique<Asset>(std::move(asset).value());
-      imported[std::size_t(a)] = owned[std::size_t(a)].get();
+  Result<Project> project = loadProjectFile(job.input, job.project);
+  if (!project)
+    return failure(kExitBadInput, job.input, project.message());
+  const int assets = static_cast<int>(project->assets.size());
+  if (assets == 0)
+    return failure(kExitBadInput, job.input, "the project has no asset to export");
+  if (job.asset >= assets)
+    return failure(kExitBadInput, job.input, "the project has no asset " + std::to_string(job.asset));
+  // which assets to import: the character and every motion assigned to it
+  std::vector<std::unique_ptr<Asset>> owned(static_cast<std::size_t>(assets));
+  std::vector<const Asset*> imported(std::size_t(assets), nullptr);
+  const auto importAt = [&](int a) -> std::optional<ExportOutcome> {
+    if (imported[std::size_t(a)])
       return std::nullopt;
-    };
-    int character = job.asset;
-    if (character < 0) {
-      const int view = project->view.asset;
-      bool viewIsMotion = false;
-      for (const ProjectMapping& mapping : project->mappings)
-        viewIsMotion = viewIsMotion || mapping.motion == view;
-      character = view >= 0 && view < assets && !viewIsMotion ? view : -1;
-    }
-    if (character < 0) {
-      // the character of a mapping, else the first asset with a skinned mesh, else the first
-      // (defaultPackageAsset() on what is imported: import the candidates first)
-      for (const ProjectMapping& mapping : project->mappings)
-        if (std::optional<ExportOutcome> failed = importAt(mapping.character))
-          return *failed;
-      if (project->mappings.empty())
-        for (int a = 0; a < assets; ++a)
-          if (std::optional<ExportOutcome> failed = importAt(a))
-            return *failed;
-      character = defaultPackageAsset(*project, imported);
-    }
-    if (std::optional<ExportOutcome> failed = importAt(character))
-      return *failed;
-    for (const ProjectMapping& mapping : project->mappings)
-      if (mapping.character == character)
-        if (std::optional<ExportOutcome> failed = importAt(mapping.motion))
-          return *failed;
-    out.importSeconds = secondsSince(start);
-    // what the format cannot hold, refused before the build (Exporter::planProblem())
-    if (const QString problem = exporter->planProblem(packagePlan(*project, imported, character, job.levels));
-        !problem.isEmpty())
-      return failure(kExitBadInput, job.input, problem.toStdString());
-    start = Clock::now();
-    package = buildLodPackage(*project, imported, character, job.levels, progress);
-  } else {
-    Result<Asset> asset = importFile(job.input, unitScale, job, cancel);
+    const ProjectAsset& entry = project->assets[std::size_t(a)];
+    const std::string path = resolveAssetPath(job.input, entry.path).string();
+    std::error_code error;
+    if (!std::filesystem::exists(path, error))
+      return failure(kExitBadInput, job.input, "asset " + std::to_string(a) + " (" + path + ") is missing; relink it in the editor");
+    Result<Asset> asset = importFile(path, run.unitScale > 0.0 ? run.unitScale : entry.unitScale, job, run.cancel);
     if (!asset)
-      return failure(cancelled() ? kExitFailure : kExitBadInput, job.input, cancelled() ? "cancelled" : asset.message());
-    out.importSeconds = secondsSince(start);
-    // a file gets the default set of 4 levels (docs/architecture.md section 6), or LOD0 and
-    // one level per --mesh-ratio
-    LodPackagePlan plan;
-    plan.joints = asset->skeleton.jointCount();
-    for (const Clip& clip : asset->clips)
-      plan.clipFrames += std::uint64_t(std::max(clip.frameCount, 0));
-    plan.levels = !job.levels.empty() ? int(job.levels.size()) : job.meshRatios.empty() ? 4 : int(job.meshRatios.size()) + 1;
-    plan.withOriginal = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
-    if (const QString problem = exporter->planProblem(plan); !problem.isEmpty())
-      return failure(kExitBadInput, job.input, problem.toStdString());
-    start = Clock::now();
-    try {
-      if (job.meshRatios.empty()) {
-        package = buildLodPackage(*asset, job.levels, progress);
-      } else {
-        // LOD0 and one level per ratio, all with the original motion
-        LodSet lods;
-        lods.levels.resize(job.meshRatios.size() + 1);
-        for (std::size_t i = 0; i < lods.levels.size(); ++i) {
-          lods.levels[i].name = "LOD" + std::to_string(i);
-          lods.levels[i].meshRatio = i == 0 ? 1.0 : job.meshRatios[i - 1];
-        }
-        JpcSettings jpc;
-        jpc.zeroLength = 1e-6 * asset->unitScale; // docs/architecture.md section 4: 1e-6 file units
-        package = buildLodPackage(*asset, lods, jpc, job.levels, progress);
-      }
-    } catch (const std::bad_alloc&) {
-      return failure(kExitFailure, job.input, "not enough memory to build its LOD package");
-    }
+      return run.importFailure(path, asset.message());
+    owned[std::size_t(a)] = std::make_unique<Asset>(std::move(asset).value());
+    imported[std::size_t(a)] = owned[std::size_t(a)].get();
+    return std::nullopt;
+  };
+  int character = job.asset;
+  if (character < 0) {
+    const int view = project->view.asset;
+    bool viewIsMotion = false;
+    for (const ProjectMapping& mapping : project->mappings)
+      viewIsMotion = viewIsMotion || mapping.motion == view;
+    character = view >= 0 && view < assets && !viewIsMotion ? view : -1;
   }
-  if (!package) {
-    if (package.message() == kLodPackageCancelled)
-      return failure(kExitFailure, job.input, "cancelled: nothing was written");
-    return failure(kExitBadInput, job.input, package.message());
+  if (character < 0) {
+    // the character of a mapping, else the first asset with a skinned mesh, else the first
+    // (defaultPackageAsset() on what is imported: import the candidates first)
+    for (const ProjectMapping& mapping : project->mappings)
+      if (std::optional<ExportOutcome> failed = importAt(mapping.character))
+        return *failed;
+    if (project->mappings.empty())
+      for (int a = 0; a < assets; ++a)
+        if (std::optional<ExportOutcome> failed = importAt(a))
+          return *failed;
+    character = defaultPackageAsset(*project, imported);
   }
-  out.packageSeconds = secondsSince(start);
-  out.levels = static_cast<int>(package->levels.size());
-  if (cancelled())
-    return failure(kExitFailure, job.input, "cancelled: nothing was written");
-
+  if (std::optional<ExportOutcome> failed = importAt(character))
+    return *failed;
+  for (const ProjectMapping& mapping : project->mappings)
+    if (mapping.character == character)
+      if (std::optional<ExportOutcome> failed = importAt(mapping.motion))
+        return *failed;
+  run.out.importSeconds = secondsSince(start);
+  // what the format cannot hold, refused before the build (Exporter::planProblem())
+  if (const QString problem = run.exporter->planProblem(packagePlan(*project, imported, character, job.levels));
+      !problem.isEmpty())
+    return failure(kExitBadInput, job.input, problem.toStdString());
   start = Clock::now();
+  package = buildLodPackage(*project, imported, character, job.levels, run.packageProgress());
+  run.out.packageSeconds = secondsSince(start);
+  return std::nullopt;
+}
+
+// 2-3. A file imported, what the exporter cannot hold refused, its default LOD set (or one
+// level per --mesh-ratio) built.
+std::optional<ExportOutcome> buildFromFile(JobRun& run, Result<LodPackage>& package) {
+  const ExportJob& job = run.job;
+  Clock::time_point start = Clock::now();
+  Result<Asset> asset = importFile(job.input, run.unitScale, job, run.cancel);
+  if (!asset)
+    return run.importFailure(job.input, asset.message());
+  run.out.importSeconds = secondsSince(start);
+  // a file gets the default set of 4 levels (docs/architecture.md section 6), or LOD0 and
+  // one level per --mesh-ratio
+  LodPackagePlan plan;
+  plan.joints = asset->skeleton.jointCount();
+  for (const Clip& clip : asset->clips)
+    plan.clipFrames += std::uint64_t(std::max(clip.frameCount, 0));
+  plan.levels = !job.levels.empty() ? int(job.levels.size()) : job.meshRatios.empty() ? 4 : int(job.meshRatios.size()) + 1;
+  plan.withOriginal = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
+  if (const QString problem = run.exporter->planProblem(plan); !problem.isEmpty())
+    return failure(kExitBadInput, job.input, problem.toStdString());
+  start = Clock::now();
+  try {
+    if (job.meshRatios.empty()) {
+      package = buildLodPackage(*asset, job.levels, run.packageProgress());
+    } else {
+      // LOD0 and one level per ratio, all with the original motion
+      LodSet lods;
+      lods.levels.resize(job.meshRatios.size() + 1);
+      for (std::size_t i = 0; i < lods.levels.size(); ++i) {
+        lods.levels[i].name = "LOD" + std::to_string(i);
+        lods.levels[i].meshRatio = i == 0 ? 1.0 : job.meshRatios[i - 1];
+      }
+      JpcSettings jpc;
+      jpc.zeroLength = 1e-6 * asset->unitScale; // docs/architecture.md section 4: 1e-6 file units
+      package = buildLodPackage(*asset, lods, jpc, job.levels, run.packageProgress());
+    }
+  } catch (const std::bad_alloc&) {
+    return failure(kExitFailure, job.input, "not enough memory to build its LOD package");
+  }
+  run.out.packageSeconds = secondsSince(start);
+  return std::nullopt;
+}
+
+// 4. The package written by the exporter (byte-exact where the name is not UTF-8).
+ExportOutcome writePackage(JobRun& run, const LodPackage& package) {
+  const ExportJob& job = run.job;
+  const Clock::time_point start = Clock::now();
   std::optional<ByteExactOutput> exact;
   QString path = QString::fromStdString(job.output);
   if (QFile::encodeName(path).toStdString() != job.output) {
@@ -346,20 +372,19 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
     if (!exact->open(job.output, &path, &reason))
       return failure(kExitFailure, job.output, "cannot write: " + reason);
   }
-  tell("export", 0.0, job.plugin);
-  const ExportResult result = exporter->exportPackage(
-      *package, path, options,
-      ExportProgress([&](double fraction, const QString& detail) { tell("export", fraction, detail.toStdString()); },
-                     [&] { return cancelled(); }));
+  run.tell("export", 0.0, job.plugin);
+  const ExportResult result = run.exporter->exportPackage(
+      package, path, run.options,
+      ExportProgress([&](double fraction, const QString& detail) { run.tell("export", fraction, detail.toStdString()); },
+                     [&] { return run.cancelled(); }));
   std::string message = result.message.toStdString();
   const std::string written = path.toStdString();
   for (std::size_t at = message.find(written); exact && at != std::string::npos; at = message.find(written, at))
     message.replace(at, written.size(), job.output); // the temporary name is no one's business
   std::string reason;
-  if (exact && result.ok && !exact->commit(&reason)) {
-    out.exportSeconds = secondsSince(start);
+  if (exact && result.ok && !exact->commit(&reason))
     return failure(kExitFailure, job.output, "cannot write: " + reason);
-  }
+  ExportOutcome out = run.out;
   out.exportSeconds = secondsSince(start);
   if (!result.ok) {
     if (message.rfind(job.output + ": ", 0) == 0) // the exporter named the output already
@@ -376,6 +401,29 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
   std::error_code sizeError;
   out.bytes = static_cast<std::int64_t>(std::filesystem::file_size(job.output, sizeError));
   return out;
+}
+
+} // namespace
+
+ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const std::atomic<bool>* cancel,
+                           const ExportJobProgress& report) {
+  JobRun run{host, job, cancel, report, nullptr, {}, 0.0, {}};
+  if (std::optional<ExportOutcome> failed = checkJob(run))
+    return *failed;
+  run.tell("import", -1.0, job.input);
+  Result<LodPackage> package = Error("no package");
+  if (std::optional<ExportOutcome> failed =
+          isProjectFile(job.input) ? buildFromProject(run, package) : buildFromFile(run, package))
+    return *failed;
+  if (!package) {
+    if (package.message() == kLodPackageCancelled)
+      return failure(kExitFailure, job.input, "cancelled: nothing was written");
+    return failure(kExitBadInput, job.input, package.message());
+  }
+  run.out.levels = static_cast<int>(package->levels.size());
+  if (run.cancelled())
+    return failure(kExitFailure, job.input, "cancelled: nothing was written");
+  return writePackage(run, *package);
 }
 
 } // namespace mlod::cli
