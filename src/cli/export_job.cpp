@@ -325,7 +325,7 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
         return failure(kExitBadInput, job.input, problem);
     }
     start = Clock::now();
-    package = buildLodPackage(*project, imported, character, job.levels, progress);
+    package = buildLodPackage(*project, imported, character, job.levels, progress, cancel);
   } else {
     Result<Asset> asset = importFile(job.input, unitScale, job, cancel);
     if (!asset)
@@ -347,7 +347,7 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
     start = Clock::now();
     try {
       if (job.meshRatios.empty()) {
-        package = buildLodPackage(*asset, job.levels, progress);
+        package = buildLodPackage(*asset, job.levels, progress, cancel);
       } else {
         // LOD0 and one level per ratio, all with the original motion
         LodSet lods;
@@ -358,7 +358,7 @@ ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const s
         }
         JpcSettings jpc;
         jpc.zeroLength = 1e-6 * asset->unitScale; // docs/architecture.md section 4: 1e-6 file units
-        package = buildLodPackage(*asset, lods, jpc, job.levels, progress);
+        package = buildLodPackage(*asset, lods, jpc, job.levels, progress, {}, cancel);
       }
     } catch (const std::bad_alloc&) {
       return failure(kExitFailure, job.input, "not enough memory to build its LOD package");
