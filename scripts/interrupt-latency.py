@@ -31,7 +31,11 @@ def run(binary, args, out, delay):
     """Seconds from SIGINT (sent `delay` s after the start) to exit; None when it ended first."""
     master, slave = pty.openpty()
     start = time.monotonic()
-    proc = subprocess.Popen([binary, *args, "-o", out], stdin=slave, stdout=slave, stderr=slave)
+    # note: a shell starts a background job with SIGINT ignored, and an ignored signal stays
+    # ignored across exec: motionlod would then miss a SIGINT that comes before it installs its
+    # handler, and run to the end. The child gets the default disposition, as from a terminal.
+    proc = subprocess.Popen([binary, *args, "-o", out], stdin=slave, stdout=slave, stderr=slave,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     os.close(slave)
     sent = None
     while True:
