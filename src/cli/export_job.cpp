@@ -313,7 +313,7 @@ std::optional<ExportOutcome> buildFromProject(JobRun& run, Result<LodPackage>& p
       !problem.isEmpty())
     return failure(kExitBadInput, job.input, problem.toStdString());
   start = Clock::now();
-  package = buildLodPackage(*project, imported, character, job.levels, run.packageProgress());
+  package = buildLodPackage(*project, imported, character, job.levels, run.packageProgress(), run.cancel);
   run.out.packageSeconds = secondsSince(start);
   return std::nullopt;
 }
@@ -340,7 +340,7 @@ std::optional<ExportOutcome> buildFromFile(JobRun& run, Result<LodPackage>& pack
   start = Clock::now();
   try {
     if (job.meshRatios.empty()) {
-      package = buildLodPackage(*asset, job.levels, run.packageProgress());
+      package = buildLodPackage(*asset, job.levels, run.packageProgress(), run.cancel);
     } else {
       // LOD0 and one level per ratio, all with the original motion
       LodSet lods;
@@ -351,7 +351,7 @@ std::optional<ExportOutcome> buildFromFile(JobRun& run, Result<LodPackage>& pack
       }
       JpcSettings jpc;
       jpc.zeroLength = 1e-6 * asset->unitScale; // docs/architecture.md section 4: 1e-6 file units
-      package = buildLodPackage(*asset, lods, jpc, job.levels, run.packageProgress());
+      package = buildLodPackage(*asset, lods, jpc, job.levels, run.packageProgress(), {}, run.cancel);
     }
   } catch (const std::bad_alloc&) {
     return failure(kExitFailure, job.input, "not enough memory to build its LOD package");

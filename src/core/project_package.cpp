@@ -44,7 +44,8 @@ Result<std::vector<Clip>> assignedClips(const Project& project, std::span<const 
 }
 
 Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset* const> imported, int asset,
-                                   std::span<const int> levels, const LodPackageProgress& progress) {
+                                   std::span<const int> levels, const LodPackageProgress& progress,
+                                   const std::atomic<bool>* cancel) {
   if (Error error = project.validate())
     return error;
   if (asset < 0 || asset >= static_cast<int>(project.assets.size()))
@@ -58,7 +59,7 @@ Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset
   if (!extra)
     return extra.error();
   return buildLodPackage(*character, project.lods, project.jpcSettings(asset, character->unitScale), levels, progress,
-                         *extra);
+                         *extra, cancel);
 }
 
 LodPackagePlan packagePlan(const Project& project, std::span<const Asset* const> imported, int asset,

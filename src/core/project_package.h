@@ -14,6 +14,7 @@
 #include "core/lod/lod_package.h"
 #include "core/project.h"
 
+#include <atomic>
 #include <span>
 #include <vector>
 
@@ -26,9 +27,11 @@ Result<std::vector<Clip>> assignedClips(const Project& project, std::span<const 
 
 // A project's package of its asset `asset`: the project's LodSet, its JPC settings for the
 // asset, and assignedClips(). Errors: a project that does not validate, a bad asset index,
-// assets not imported, and those of buildLodPackage() and assignedClips().
+// assets not imported, and those of buildLodPackage() and assignedClips(). `cancel` as for
+// buildLodPackage() (core/cancel.h, may be null).
 Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset* const> imported, int asset,
-                                   std::span<const int> levels = {}, const LodPackageProgress& progress = {});
+                                   std::span<const int> levels = {}, const LodPackageProgress& progress = {},
+                                   const std::atomic<bool>* cancel = nullptr);
 
 // The plan of buildLodPackage(project, imported, asset, levels): the asset's joints, the
 // frames of its clips and of every motion assigned to it (those imported), the levels.

@@ -1,5 +1,6 @@
 // Joint posture clustering, Ahn & Wohn section 4; docs/architecture.md section 4.
 #include "core/jpc/jpc.h"
+#include "core/cancel.h"
 
 #include "core/jpc/clustering_table.h"
 #include "core/jpc/greedy_clustering.h"
@@ -136,10 +137,13 @@ std::vector<JointClustering> JpcClip::clusterJointLevels(int joint, std::span<co
   return out;
 }
 
-std::vector<JointClustering> JpcClip::cluster(int level, double levelThreshold, int threads) const {
+std::vector<JointClustering> JpcClip::cluster(int level, double levelThreshold, int threads,
+                                              const std::atomic<bool>* cancel) const {
   std::vector<JointClustering> out(m_joints.size());
-  parallelFor(jointCount(), threads,
-              [&](int j) { out[static_cast<std::size_t>(j)] = clusterJoint(j, level, levelThreshold); });
+  parallelFor(jointCount(), threads, [&](int j) {
+    if (!cancelled(cancel)) // looked at per joint
+      out[static_cast<std::size_t>(j)] = clusterJoint(j, level, levelThreshold);
+  });
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include "core/jpc/posture_error.h"
 #include "core/skeleton.h"
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -96,8 +97,11 @@ public:
   // what clusterJoint(joint, i, levelThresholds[i]) gives, level by level.
   std::vector<JointClustering> clusterJointLevels(int joint, std::span<const double> levelThresholds) const;
   // Clusters every joint at one level, on up to `threads` threads (0 = all hardware
-  // threads). One entry per joint.
-  std::vector<JointClustering> cluster(int level, double levelThreshold, int threads = 0) const;
+  // threads). One entry per joint. Once `cancel` (core/cancel.h, may be null) is set, the
+  // joints not yet started are left without clusters: the caller checks the flag and drops
+  // the result.
+  std::vector<JointClustering> cluster(int level, double levelThreshold, int threads = 0,
+                                       const std::atomic<bool>* cancel = nullptr) const;
 
 private:
   struct JointEntry {

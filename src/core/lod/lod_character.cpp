@@ -26,7 +26,8 @@ void render(const Skeleton& skeleton, const Clip& clip, int frame, const Skinned
 } // namespace
 
 Result<LodCharacter> LodCharacter::prepare(const Skeleton& skeleton, const SkinnedMesh* mesh, std::span<const Clip> clips,
-                                           const JpcSettings& jpc, const MeshLodSettings& meshSettings) {
+                                           const JpcSettings& jpc, const MeshLodSettings& meshSettings,
+                                           const std::atomic<bool>* cancel) {
   if (Error error = skeleton.validate())
     return Error("skeleton: " + error.message());
   if (clips.empty())
@@ -43,7 +44,12 @@ Result<LodCharacter> LodCharacter::prepare(const Skeleton& skeleton, const Skinn
   out.m_clips.assign(clips.begin(), clips.end());
   out.m_jpc = jpc;
   out.m_meshSettings = meshSettings;
+  if (cancel)
+    out.m_meshSettings.cancel = cancel;
+  cancel = out.m_meshSettings.cancel;
   for (const Clip& clip : clips) {
+    if (cancelled(cancel))
+      return Error(kCancelled);
     Result<JpcClip> prepared = JpcClip::prepare(skeleton, clip, jpc);
     if (!prepared)
       return Error("clip '" + clip.name + "': " + prepared.message());
@@ -53,6 +59,8 @@ Result<LodCharacter> LodCharacter::prepare(const Skeleton& skeleton, const Skinn
   std::vector<glm::vec3> points;
   for (const Clip& clip : clips)
     for (int t = 0; t < clip.frameCount; ++t) {
+      if (cancelled(cancel))
+        return Error(kCancelled);
       render(skeleton, clip, t, mesh, models, points);
       const glm::vec3 root(models[0][3]);
       for (const glm::vec3& p : points)
@@ -64,6 +72,9 @@ Result<LodCharacter> LodCharacter::prepare(const Skeleton& skeleton, const Skinn
 Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
   if (Error error = validateThreshold(threshold))
     return error;
+  const std::atomic<bool>* cancel = m_meshSettings.cancel;
+  if (cancelled(cancel))
+    return Error(kCancelled);
   LevelMotion out;
   out.threshold = threshold;
   Result<BoneReduction> bones = reduceBones(m_skeleton, m_clips, threshold, m_jpc, level);
@@ -82,7 +93,10 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
     const Clip& clip = m_clips[c];
     ClusterSet clusters;
     clusters.frameCount = clip.frameCount;
-    for (JointClustering& joint : m_prepared[c].cluster(level, threshold)) {
+    std::vector<JointClustering> joints = m_prepared[c].cluster(level, threshold, 0, cancel);
+    if (cancelled(cancel))
+      return Error(kCancelled);
+    for (JointClustering& joint : joints) {
       clusteredJointFrames += joint.clusteredFrames;
       clusters.joints.push_back(std::move(joint.clusters));
     }
@@ -92,6 +106,8 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
     out.clusters.push_back(std::move(clusters));
     const Clip& reduced = out.clips.back();
     for (int t = 0; t < clip.frameCount; ++t) {
+      if (cancelled(cancel))
+        return Error(kCancelled);
       render(m_skeleton, clip, t, originalMesh, models, original);
       render(out.bones.skeleton, reduced, t, levelMesh, models, simplified);
       if (!levelMesh) { // joints: compare the active ones with their own originals
@@ -138,6 +154,8 @@ Result<LevelBuild> LodCharacter::build(double threshold, double meshRatio, int l
     if (!lod)
       return lod.error();
     out.mesh = lod->levelForRatio(meshRatio);
+    if (cancelled(m_meshSettings.cancel)) // its errors may be unmeasured
+      return Error(kCancelled);
   }
   return out;
 }

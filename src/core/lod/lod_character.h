@@ -28,6 +28,7 @@
 #include "core/skeleton.h"
 #include "core/skinned_mesh.h"
 
+#include <atomic>
 #include <optional>
 #include <span>
 #include <vector>
@@ -58,9 +59,13 @@ class LodCharacter {
 public:
   // `mesh` may be null (a skeleton alone); `clips` (at least one, of `skeleton`) are every
   // clip the character plays (its own and mapped ones, motion_mapping.h). Errors: invalid
-  // skeleton, mesh, clips or settings.
+  // skeleton, mesh, clips or settings; `cancel` set (kCancelled).
+  // `cancel` (core/cancel.h, may be null; else it replaces meshSettings.cancel) is kept: once
+  // it is set, prepare(), motionAt(), meshLodFor() and build() stop between clips, joints,
+  // frames and poses and return kCancelled. It must outlive the LodCharacter.
   static Result<LodCharacter> prepare(const Skeleton& skeleton, const SkinnedMesh* mesh, std::span<const Clip> clips,
-                                      const JpcSettings& jpc = {}, const MeshLodSettings& meshSettings = {});
+                                      const JpcSettings& jpc = {}, const MeshLodSettings& meshSettings = {},
+                                      const std::atomic<bool>* cancel = nullptr);
 
   const Skeleton& skeleton() const { return m_skeleton; }
   const std::vector<Clip>& clips() const { return m_clips; }
@@ -82,7 +87,7 @@ private:
   std::vector<Clip> m_clips;
   std::vector<JpcClip> m_prepared;
   JpcSettings m_jpc;
-  MeshLodSettings m_meshSettings;
+  MeshLodSettings m_meshSettings; // its cancel is the character's
   double m_radius = 0.0;
 };
 

@@ -1,5 +1,6 @@
 #include "core/lod/lod_package.h"
 
+#include "core/cancel.h"
 #include "core/lod_clip_builder.h"
 #include "core/mesh/mesh_lod.h"
 #include "core/utf8.h"
@@ -19,9 +20,10 @@ const SkinnedMesh* skinnedMesh(const Asset& asset) {
   return nullptr;
 }
 
-// Reports progress; false when the caller cancelled.
-bool step(const LodPackageProgress& progress, double fraction, std::string_view message) {
-  return !progress || progress(std::clamp(fraction, 0.0, 1.0), message);
+// Reports progress; false when the caller cancelled (the flag or the callback).
+bool step(const LodPackageProgress& progress, const std::atomic<bool>* cancel, double fraction,
+          std::string_view message) {
+  return !cancelled(cancel) && (!progress || progress(std::clamp(fraction, 0.0, 1.0), message));
 }
 
 // No joint removed: the level's skeleton is the full one.
@@ -99,9 +101,10 @@ Result<std::vector<int>> selectLodLevels(const LodSet& lods, std::span<const int
   return out;
 }
 
-Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const JpcSettings& jpc,
-                                   std::span<const int> levels, const LodPackageProgress& progress,
-                                   std::span<const Clip> extraClips) {
+// buildLodPackage() below, without the mapping of a cancel below it to kLodPackageCancelled.
+static Result<LodPackage> assemblePackage(const Asset& asset, const LodSet& lods, const JpcSettings& jpc,
+                                          std::span<const int> levels, const LodPackageProgress& progress,
+                                          std::span<const Clip> extraClips, const std::atomic<bool>* cancel) {
   if (Error error = asset.validate())
     return Error("asset: " + error.message());
   if (Error error = lods.validate())
@@ -132,7 +135,7 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
     out.mesh = asset.meshes.front();
   if (out.clips.empty() && !out.mesh)
     return Error("LOD: the asset has neither a clip to simplify nor a mesh");
-  if (!step(progress, 0.0, "preparing " + out.name))
+  if (!step(progress, cancel, 0.0, "preparing " + out.name))
     return Error(kLodPackageCancelled);
 
   const double total = static_cast<double>(selected->size()) + 1.0;
@@ -141,18 +144,22 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
   std::vector<JpcClip> prepared;
   std::optional<MeshLod> meshOnly; // an asset without a clip: its mesh's levels alone
   if (motion) {
-    Result<LodCharacter> built = LodCharacter::prepare(out.skeleton, skinned, out.clips, jpc);
+    Result<LodCharacter> built = LodCharacter::prepare(out.skeleton, skinned, out.clips, jpc, {}, cancel);
     if (!built)
       return built.error();
     character = std::move(built).value();
     for (const Clip& clip : out.clips) {
+      if (cancelled(cancel))
+        return Error(kLodPackageCancelled);
       Result<JpcClip> clipPrepared = JpcClip::prepare(out.skeleton, clip, jpc);
       if (!clipPrepared)
         return Error("clip '" + clip.name + "': " + clipPrepared.message());
       prepared.push_back(std::move(clipPrepared).value());
     }
   } else {
-    Result<MeshLod> built = MeshLod::build(*out.mesh, out.skeleton.empty() ? nullptr : &out.skeleton);
+    MeshLodSettings settings;
+    settings.cancel = cancel;
+    Result<MeshLod> built = MeshLod::build(*out.mesh, out.skeleton.empty() ? nullptr : &out.skeleton, {}, settings);
     if (!built)
       return built.error();
     meshOnly = std::move(built).value();
@@ -161,7 +168,7 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
   for (std::size_t i = 0; i < selected->size(); ++i) {
     const int index = (*selected)[i];
     const LodLevel& settings = lods.levels[std::size_t(index)];
-    if (!step(progress, (static_cast<double>(i) + 1.0) / total, "building level " + settings.name))
+    if (!step(progress, cancel, (static_cast<double>(i) + 1.0) / total, "building level " + settings.name))
       return Error(kLodPackageCancelled);
     LodPackageLevel level;
     level.index = index;
@@ -171,6 +178,8 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
       // clustered (docs/architecture.md section 4: the "Original" column is 0 by definition)
       level.build = originalLevel(out);
       for (std::size_t c = 0; c < out.clips.size(); ++c) {
+        if (cancelled(cancel))
+          return Error(kLodPackageCancelled);
         Result<LodClip> runtime = buildLodClip(out.clips[c]);
         if (!runtime)
           return Error("level " + settings.name + ": " + runtime.message());
@@ -186,6 +195,8 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
       level.build = std::move(build).value();
       const LevelMotion& levelMotion = level.build.motion;
       for (std::size_t c = 0; c < out.clips.size(); ++c) {
+        if (cancelled(cancel))
+          return Error(kLodPackageCancelled);
         ClusterSet clusters = reducedClusters(levelMotion.bones, levelMotion.clusters[c]);
         Result<LodClip> runtime = buildLodClip(levelMotion.clips[c], &clusters);
         if (!runtime)
@@ -193,7 +204,7 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
         level.runtimeClips.push_back(std::move(runtime).value());
         level.runtimeClusters.push_back(std::move(clusters));
         level.metrics.push_back(measureLevel(prepared[c], out.skeleton, out.clips[c], index, settings.motionThreshold,
-                                             prepared[c].cluster(index, settings.motionThreshold)));
+                                             prepared[c].cluster(index, settings.motionThreshold, 0, cancel)));
       }
     } else {
       level.build = originalLevel(out);
@@ -203,25 +214,41 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
     level.inverseBinds = paletteInverseBinds(level.skeleton());
     out.levels.push_back(std::move(level));
   }
-  if (!step(progress, 1.0, "done"))
+  if (!step(progress, cancel, 1.0, "done"))
     return Error(kLodPackageCancelled);
   return out;
 }
 
-Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> levels, const LodPackageProgress& progress) {
-  if (!step(progress, 0.0, "generating the default LOD set"))
+Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const JpcSettings& jpc,
+                                   std::span<const int> levels, const LodPackageProgress& progress,
+                                   std::span<const Clip> extraClips, const std::atomic<bool>* cancel) {
+  Result<LodPackage> out = assemblePackage(asset, lods, jpc, levels, progress, extraClips, cancel);
+  // note: a step below that saw the flag returns kCancelled, or levels measured after it
+  // (their errors unmeasured): either way the package is cancelled
+  if (cancelled(cancel))
+    return Error(kLodPackageCancelled);
+  return out;
+}
+
+Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> levels, const LodPackageProgress& progress,
+                                   const std::atomic<bool>* cancel) {
+  if (!step(progress, cancel, 0.0, "generating the default LOD set"))
     return Error(kLodPackageCancelled);
   // the budget's search is the first half of the work, the levels the second; a cancel
   // during either stops it at once
   LodBudgetOptions options;
   options.jpc.zeroLength = 1e-6 * asset.unitScale; // docs/architecture.md section 4: 1e-6 file units
-  options.progress = [&](double fraction) { return step(progress, 0.5 * fraction, "generating the default LOD set"); };
+  options.progress = [&](double fraction) {
+    return step(progress, cancel, 0.5 * fraction, "generating the default LOD set");
+  };
+  options.cancel = cancel;
   Result<LodSet> lods = LodSet::fromPixelBudget(asset, 1.0, 4, options);
   if (!lods)
     return lods.message() == kLodBudgetCancelled ? Error(kLodPackageCancelled) : lods.error();
-  return buildLodPackage(asset, *lods, options.jpc, levels, [&](double fraction, std::string_view message) {
-    return step(progress, 0.5 + 0.5 * fraction, message);
-  });
+  return buildLodPackage(
+      asset, *lods, options.jpc, levels,
+      [&](double fraction, std::string_view message) { return step(progress, cancel, 0.5 + 0.5 * fraction, message); },
+      {}, cancel);
 }
 
 Result<Bundle> packageBundle(const LodPackage& package) {

@@ -27,6 +27,7 @@
 
 #include <glm/glm.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -101,15 +102,18 @@ Result<std::vector<int>> selectLodLevels(const LodSet& lods, std::span<const int
 // A package of `asset` with the LOD set `lods` clustered with `jpc`; `extraClips` (of the
 // asset's skeleton) play on the character besides its own clips. Errors: an asset without
 // a skeleton or a mesh, a LOD set that does not validate, bad levels, settings or clips,
-// cancellation.
+// cancellation (kLodPackageCancelled). `cancel` (core/cancel.h, may be null; run-time only)
+// is looked at by every step (JPC per joint, the progressive mesh's collapses, the poses
+// measured, each level): once it is set the build stops within a fraction of a second.
 Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const JpcSettings& jpc,
                                    std::span<const int> levels = {}, const LodPackageProgress& progress = {},
-                                   std::span<const Clip> extraClips = {});
+                                   std::span<const Clip> extraClips = {}, const std::atomic<bool>* cancel = nullptr);
 
 // A plain file's package: the default LOD set LodSet::fromPixelBudget(asset, 1 pixel, 4
-// levels) with default JPC settings (zero length 1e-6 file units).
+// levels) with default JPC settings (zero length 1e-6 file units). `cancel` as above, for the
+// budget's search too.
 Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> levels = {},
-                                   const LodPackageProgress& progress = {});
+                                   const LodPackageProgress& progress = {}, const std::atomic<bool>* cancel = nullptr);
 
 // A level's mesh bound to the original skeleton (joint indices of the full skeleton, each
 // removed joint's influence already moved to its active ancestor by bone reduction): what a

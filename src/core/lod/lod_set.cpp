@@ -1,5 +1,6 @@
 #include "core/lod/lod_set.h"
 
+#include "core/cancel.h"
 #include "core/lod/lod_character.h"
 
 #include <algorithm>
@@ -55,15 +56,17 @@ std::vector<double> levelRatios(std::span<const double> candidates, int levels) 
 // Reports the fraction done (LodBudgetOptions::progress); false once the caller cancelled.
 class Progress {
 public:
-  explicit Progress(const std::function<bool(double)>& callback) : m_callback(callback) {}
+  Progress(const std::function<bool(double)>& callback, const std::atomic<bool>* cancel)
+      : m_callback(callback), m_cancel(cancel) {}
   bool operator()(double fraction) {
-    if (!m_cancelled && m_callback && !m_callback(std::clamp(fraction, 0.0, 1.0)))
+    if (!m_cancelled && (cancelled(m_cancel) || (m_callback && !m_callback(std::clamp(fraction, 0.0, 1.0)))))
       m_cancelled = true;
     return !m_cancelled;
   }
 
 private:
   const std::function<bool(double)>& m_callback;
+  const std::atomic<bool>* m_cancel;
   bool m_cancelled = false;
 };
 
@@ -161,11 +164,10 @@ double motionShareByCost(int joints, std::size_t vertices) {
   return std::clamp(pose / (pose + skin), kMinMotionShare, kMaxMotionShare);
 }
 
-Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options,
-                                       LodBudgetReport* report) {
-  if (report)
-    *report = {};
-  Progress progress(options.progress);
+// fromPixelBudget() with options.mesh.cancel the one flag of the run.
+static Result<LodSet> generateLevels(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options,
+                                     LodBudgetReport* report) {
+  Progress progress(options.progress, options.mesh.cancel);
   if (!std::isfinite(pixels) || !(pixels > 0.0))
     return Error("LOD: the pixel budget must be > 0");
   if (levels < 1)
@@ -348,6 +350,24 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
     }
   }
   progress(1.0);
+  return out;
+}
+
+Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options,
+                                       LodBudgetReport* report) {
+  if (report)
+    *report = {};
+  LodBudgetOptions run = options;
+  if (run.cancel)
+    run.mesh.cancel = run.cancel;
+  Result<LodSet> out = generateLevels(asset, pixels, levels, run, report);
+  // note: a cancel anywhere below ends in an error of its own (kCancelled) or in levels
+  // measured after it (their errors unmeasured): either way the run is the budget's cancel
+  if (cancelled(run.mesh.cancel)) {
+    if (report)
+      *report = {};
+    return Error(kLodBudgetCancelled);
+  }
   return out;
 }
 

@@ -32,6 +32,7 @@
 #include "core/lod/error_budget.h"
 #include "core/mesh/mesh_lod.h"
 
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <span>
@@ -79,6 +80,11 @@ struct LodBudgetOptions {
   // Called on the generating thread with the fraction of the work done, in [0, 1], rising;
   // returning false cancels: fromPixelBudget() then returns kLodBudgetCancelled at once.
   std::function<bool(double fraction)> progress;
+  // Run-time only, never saved or compared (core/cancel.h; may be null; else it replaces
+  // mesh.cancel): once set, every step of the search (JPC per joint, the progressive mesh,
+  // the poses measured) stops and fromPixelBudget() returns kLodBudgetCancelled within a
+  // fraction of a second. What the CLI's Ctrl+C and the studio's Cancel set.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // The deviation a level may spend goes where it buys frame time (docs/architecture.md

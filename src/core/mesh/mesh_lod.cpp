@@ -71,6 +71,8 @@ Result<MeshLod> MeshLod::build(const SkinnedMesh& mesh, const Skeleton* skeleton
       (!skeleton || int(settings.jointImportance.size()) != skeleton->jointCount()))
     return Error("mesh LOD: one mesh importance per joint of the skeleton");
 
+  if (cancelled(settings.cancel))
+    return Error(kCancelled);
   MeshLod out;
   out.m_original = mesh;
   out.m_settings = settings;
@@ -98,21 +100,31 @@ Result<MeshLod> MeshLod::build(const SkinnedMesh& mesh, const Skeleton* skeleton
     const std::vector<std::pair<int, int>> fitted = spreadFrames(frameCounts, simplify);
     const std::vector<std::pair<int, int>> measured = spreadFrames(frameCounts, settings.measurePoses, fitted);
     for (const auto& [c, frame] : fitted) {
+      if (cancelled(settings.cancel))
+        return Error(kCancelled);
       out.m_simplifyPoses.push_back(posedPositions(mesh, *skeleton, clips[std::size_t(c)], frame));
       out.m_simplifyFrames.emplace_back(c, frame);
     }
     for (const auto& [c, frame] : measured) {
+      if (cancelled(settings.cancel))
+        return Error(kCancelled);
       out.m_measurePoses.push_back(posedPositions(mesh, *skeleton, clips[std::size_t(c)], frame));
       out.m_measureFrames.emplace_back(c, frame);
     }
   }
   auto trees = std::make_shared<std::vector<TriangleTree>>();
   trees->emplace_back(mesh.positions, mesh.indices);
-  for (const std::vector<glm::vec3>& pose : out.m_measurePoses)
+  for (const std::vector<glm::vec3>& pose : out.m_measurePoses) {
+    if (cancelled(settings.cancel))
+      return Error(kCancelled);
     trees->emplace_back(pose, mesh.indices);
+  }
   out.m_originalTrees = std::move(trees);
   const std::vector<float> importance = vertexImportance(mesh, settings.jointImportance);
-  out.m_progressive = ProgressiveMesh::build(mesh, out.m_simplifyPoses, importance, settings.simplification);
+  out.m_progressive =
+      ProgressiveMesh::build(mesh, out.m_simplifyPoses, importance, settings.simplification, settings.cancel);
+  if (cancelled(settings.cancel)) // the collapse order may have stopped short
+    return Error(kCancelled);
   return out;
 }
 
@@ -120,6 +132,8 @@ MeshLod::Errors MeshLod::errorsOf(const MeshLevelIndices& level) const {
   // one pose: the symmetric max distance, the original's tree built once (build())
   const std::vector<std::uint32_t>& original = m_original.indices;
   const auto poseError = [&](std::size_t pose) {
+    if (cancelled(m_settings.cancel)) // the caller drops what is measured after a cancel
+      return 0.0;
     const std::vector<glm::vec3>& positions = pose == 0 ? m_original.positions : m_measurePoses[pose - 1];
     const TriangleTree levelTree(positions, level.indices);
     const double toLevel = oneSidedMaxDistance(positions, original, level.indices, levelTree, m_spacing);
@@ -157,6 +171,8 @@ bool MeshLod::exceeds(const MeshLevelIndices& level, double maxErrorCm) const {
   // measuring it, and one that does not stops at the first pose that shows it
   const std::vector<std::uint32_t>& original = m_original.indices;
   for (std::size_t pose = 0; pose <= m_measurePoses.size(); ++pose) {
+    if (cancelled(m_settings.cancel)) // the caller drops what is measured after a cancel
+      return false;
     const std::vector<glm::vec3>& positions = pose == 0 ? m_original.positions : m_measurePoses[pose - 1];
     const TriangleTree levelTree(positions, level.indices);
     if (oneSidedMaxDistance(positions, original, level.indices, levelTree, m_spacing, maxErrorCm) > maxErrorCm ||

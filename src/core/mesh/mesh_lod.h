@@ -20,6 +20,7 @@
 // own weights, so both surfaces skin alike in every pose. Reported: in the bind pose, the
 // largest and the mean over the measured poses.
 
+#include "core/cancel.h"
 #include "core/clip.h"
 #include "core/error.h"
 #include "core/mesh/progressive_mesh.h"
@@ -27,6 +28,7 @@
 #include "core/skeleton.h"
 #include "core/skinned_mesh.h"
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -47,6 +49,11 @@ struct MeshLodSettings {
   // Mesh importance per joint of the skeleton the mesh is bound to (> 0, finite; 1 = as
   // any other, 4 = removing its vertices costs four times as much); empty = 1 for all.
   std::vector<float> jointImportance;
+  // Run-time only, never saved or compared (core/cancel.h; may be null): build() stops
+  // between poses and every few hundred collapses once it is set, and returns kCancelled; the
+  // MeshLod keeps it, and a level measured after it is set is not to be used (errorsOf()
+  // skips the poses left). It must outlive the MeshLod.
+  const std::atomic<bool>* cancel = nullptr;
 
   // Rules: the simplification weights finite and >= 0; samplingSpacingCm finite and >= 0;
   // pose counts >= 0; importances finite and > 0 (their count is checked against the skeleton
@@ -76,7 +83,8 @@ class MeshLod {
 public:
   // Simplifies `mesh`; `skeleton` and `clips` (may be empty) give the animated poses. Errors:
   // a mesh that does not validate (against the skeleton's joint count where there is one),
-  // clips that do not match the skeleton, bad settings, importances not one per joint.
+  // clips that do not match the skeleton, bad settings, importances not one per joint,
+  // settings.cancel set (kCancelled).
   static Result<MeshLod> build(const SkinnedMesh& mesh, const Skeleton* skeleton = nullptr,
                                std::span<const Clip> clips = {}, const MeshLodSettings& settings = {});
 

@@ -1,5 +1,7 @@
 #include "core/mesh/progressive_mesh.h"
 
+#include "core/cancel.h"
+
 #include <algorithm>
 #include <array>
 #include <cassert>
@@ -142,7 +144,7 @@ public:
     findComponents();
   }
 
-  void run();
+  void run(const std::atomic<bool>* cancel);
 
 private:
   std::uint32_t welded(std::uint32_t v) const { return m_out.m_weld[v]; }
@@ -712,7 +714,7 @@ void ProgressiveMeshBuilder::collapse(std::uint32_t u, std::uint32_t v, double c
     push(w);
 }
 
-void ProgressiveMeshBuilder::run() {
+void ProgressiveMeshBuilder::run(const std::atomic<bool>* cancel) {
   m_out.m_trianglesAfter.assign(1, m_triangles);
   m_out.m_cleanCollapses = 0;
   for (std::uint32_t v = 0; v < m_mesh.vertexCount(); ++v)
@@ -721,7 +723,12 @@ void ProgressiveMeshBuilder::run() {
   for (std::uint32_t c = 0; c < m_components.size(); ++c)
     if (m_components[c].prunable && m_components.size() > 1)
       m_heap.push(HeapEntry{m_components[c].pruneCost, c, kPrune, 0, true});
-  while (!m_heap.empty()) {
+  // note: a few hundred collapses take well under a millisecond, so the flag is looked at
+  // that often at no measurable cost
+  constexpr std::size_t kCancelCheckEvery = 256;
+  for (std::size_t popped = 0; !m_heap.empty(); ++popped) {
+    if (popped % kCancelCheckEvery == 0 && cancelled(cancel))
+      return;
     const HeapEntry top = m_heap.top();
     m_heap.pop();
     if (top.target == kPrune) {
@@ -749,12 +756,12 @@ void ProgressiveMeshBuilder::run() {
 
 ProgressiveMesh ProgressiveMesh::build(const SkinnedMesh& mesh, std::span<const std::vector<glm::vec3>> poses,
                                        std::span<const float> vertexImportance,
-                                       const ProgressiveMeshSettings& settings) {
+                                       const ProgressiveMeshSettings& settings, const std::atomic<bool>* cancel) {
   assert(!poses.empty());
   assert(vertexImportance.empty() || vertexImportance.size() == mesh.vertexCount());
   ProgressiveMesh out;
   ProgressiveMeshBuilder builder(mesh, poses, vertexImportance, settings, out);
-  builder.run();
+  builder.run(cancel);
   return out;
 }
 

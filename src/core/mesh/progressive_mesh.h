@@ -63,6 +63,7 @@
 
 #include "core/skinned_mesh.h"
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -101,10 +102,13 @@ class ProgressiveMesh {
 public:
   // Simplifies `mesh` (which must validate) to the end. `poses`: skinned positions of every
   // vertex of `mesh` per pose (cm; at least one, [0] the bind pose, each of mesh.vertexCount()
-  // entries). `vertexImportance`: per vertex, > 0, or empty for 1 everywhere.
+  // entries). `vertexImportance`: per vertex, > 0, or empty for 1 everywhere. `cancel`
+  // (core/cancel.h, may be null) is looked at every few hundred collapses: once it is set the
+  // order stops where it is, so a cancelled build is incomplete and the caller drops it.
   static ProgressiveMesh build(const SkinnedMesh& mesh, std::span<const std::vector<glm::vec3>> poses,
                                std::span<const float> vertexImportance = {},
-                               const ProgressiveMeshSettings& settings = {});
+                               const ProgressiveMeshSettings& settings = {},
+                               const std::atomic<bool>* cancel = nullptr);
 
   std::size_t triangleCount() const { return m_triangleCount; } // before any collapse
   std::size_t collapseCount() const { return m_collapses.size(); }

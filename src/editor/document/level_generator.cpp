@@ -92,6 +92,7 @@ bool LevelGenerator::launch(double pixels, int levels, const LodProjection& proj
         }
         options.clips = *clips;
         options.progress = report;
+        options.cancel = cancel.get(); // the search's own loops stop within a fraction of a second
         out->lods = LodSet::fromPixelBudget(*assets[std::size_t(index)], pixels, levels, options, &out->report);
         return out;
       }));

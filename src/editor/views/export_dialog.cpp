@@ -392,7 +392,8 @@ void ExportDialog::startExport() {
         project, imported, asset, levels, [&](double fraction, std::string_view message) {
           report(0.8 * fraction, QString::fromUtf8(message.data(), qsizetype(message.size())));
           return !cancel->load();
-        });
+        },
+        cancel.get());
     if (!package)
       return std::make_shared<ExportResult>(package.message() == kLodPackageCancelled
                                                 ? cancelledResult()
