@@ -9,6 +9,15 @@
 
 namespace mlod::test {
 
+void execMotionlod(const std::vector<std::string>& arguments) {
+  std::vector<char*> argv{const_cast<char*>(MLOD_MOTIONLOD)};
+  for (const std::string& argument : arguments)
+    argv.push_back(const_cast<char*>(argument.c_str()));
+  argv.push_back(nullptr);
+  ::execv(MLOD_MOTIONLOD, argv.data());
+  ::_exit(127);
+}
+
 namespace {
 std::string quote(const std::string& text) {
   std::string out = "'";

@@ -20,6 +20,10 @@ CliRun runMotionlod(const std::vector<std::string>& arguments);
 // could hang (a FIFO, a kill) must not hang the test. A stopped run has status 124 or 137.
 CliRun runMotionlod(const std::vector<std::string>& arguments, int timeoutSeconds);
 
+// In a child process after fork() (its descriptors set up by the caller): becomes
+// `motionlod ARGS`; exits 127 if that fails.
+[[noreturn]] void execMotionlod(const std::vector<std::string>& arguments);
+
 // An empty folder of its own for one test: <temp>/mlod_cli_<suite>_<pid>/<name>.
 std::filesystem::path freshFolder(const std::string& suite, const std::string& name);
 // The names of the files in `dir`, sorted.

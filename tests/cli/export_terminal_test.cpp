@@ -57,12 +57,7 @@ TerminalRun runOnTerminal(const std::vector<std::string>& arguments,
     ::dup2(slave, STDERR_FILENO);
     const int null = ::open("/dev/null", O_RDONLY);
     ::dup2(null, STDIN_FILENO);
-    std::vector<char*> argv{const_cast<char*>(MLOD_MOTIONLOD)};
-    for (const std::string& argument : arguments)
-      argv.push_back(const_cast<char*>(argument.c_str()));
-    argv.push_back(nullptr);
-    ::execv(MLOD_MOTIONLOD, argv.data());
-    ::_exit(127);
+    test::execMotionlod(arguments);
   }
   ::close(slave);
   ::close(pipeFds[1]);

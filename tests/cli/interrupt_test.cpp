@@ -79,12 +79,7 @@ Interrupted interruptAt(const std::vector<std::string>& arguments, const Point& 
     const int null = ::open("/dev/null", O_RDWR);
     ::dup2(null, STDIN_FILENO);
     ::dup2(null, STDOUT_FILENO);
-    std::vector<char*> argv{const_cast<char*>(MLOD_MOTIONLOD)};
-    for (const std::string& argument : arguments)
-      argv.push_back(const_cast<char*>(argument.c_str()));
-    argv.push_back(nullptr);
-    ::execv(MLOD_MOTIONLOD, argv.data());
-    ::_exit(127);
+    test::execMotionlod(arguments);
   }
   ::close(slave);
   // the whole export takes seconds; a minute means it hangs

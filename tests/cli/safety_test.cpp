@@ -251,12 +251,7 @@ pid_t startMotionlod(const std::vector<std::string>& arguments, const fs::path& 
   if (pid == 0) {
     std::FILE* out = std::freopen(err.c_str(), "w", stderr);
     (void)out;
-    std::vector<char*> argv{const_cast<char*>(MLOD_MOTIONLOD)};
-    for (const std::string& argument : arguments)
-      argv.push_back(const_cast<char*>(argument.c_str()));
-    argv.push_back(nullptr);
-    ::execv(MLOD_MOTIONLOD, argv.data());
-    ::_exit(127);
+    test::execMotionlod(arguments);
   }
   return pid;
 }
