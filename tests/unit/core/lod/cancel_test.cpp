@@ -23,6 +23,16 @@ struct BentTube {
   std::vector<Clip> clips{test::tubeBendClip(tube.skeleton, 12)};
 };
 
+// The bent tube as an imported asset: its skeleton, skinned mesh and clips.
+Asset bentAsset() {
+  const BentTube bent;
+  Asset asset;
+  asset.skeleton = bent.tube.skeleton;
+  asset.meshes = {bent.tube.mesh};
+  asset.clips = bent.clips;
+  return asset;
+}
+
 // Guards the collapse loop: a set flag leaves the order empty where the same build without it
 // collapses the tube (so the flag, not the mesh, stopped it).
 TEST(Cancel, PresetFlagStopsTheProgressiveMeshBeforeAnyCollapse) {
@@ -96,11 +106,7 @@ TEST(Cancel, PresetFlagStopsLodCharacter) {
 // The budget's search with the flag set: kLodBudgetCancelled before any progress, so before
 // any work.
 TEST(Cancel, PresetFlagMakesThePixelBudgetReturnCancelledWithoutWork) {
-  Asset asset;
-  const BentTube bent;
-  asset.skeleton = bent.tube.skeleton;
-  asset.meshes = {bent.tube.mesh};
-  asset.clips = bent.clips;
+  const Asset asset = bentAsset();
   const std::atomic<bool> cancel{true};
   LodBudgetOptions options;
   options.cancel = &cancel;
@@ -115,11 +121,7 @@ TEST(Cancel, PresetFlagMakesThePixelBudgetReturnCancelledWithoutWork) {
 // The flag set while the search runs (here from its own progress, which keeps answering
 // true): the search stops at its next look and reports no further progress.
 TEST(Cancel, FlagSetDuringThePixelBudgetStopsIt) {
-  Asset asset;
-  const BentTube bent;
-  asset.skeleton = bent.tube.skeleton;
-  asset.meshes = {bent.tube.mesh};
-  asset.clips = bent.clips;
+  const Asset asset = bentAsset();
   std::atomic<bool> cancel{false};
   LodBudgetOptions options;
   options.cancel = &cancel;
@@ -143,11 +145,7 @@ TEST(Cancel, FlagSetDuringThePixelBudgetStopsIt) {
 // The package: a preset flag gives kLodPackageCancelled, for a file's default set and for
 // a given set alike, before any progress.
 TEST(Cancel, PresetFlagMakesThePackageReturnCancelled) {
-  Asset asset;
-  const BentTube bent;
-  asset.skeleton = bent.tube.skeleton;
-  asset.meshes = {bent.tube.mesh};
-  asset.clips = bent.clips;
+  const Asset asset = bentAsset();
   const std::atomic<bool> cancel{true};
   int calls = 0;
   const LodPackageProgress progress = [&](double, std::string_view) { return ++calls, true; };
