@@ -329,13 +329,9 @@ std::optional<ExportOutcome> buildFromFile(JobRun& run, Result<LodPackage>& pack
   run.out.importSeconds = secondsSince(start);
   // a file gets the default set of 4 levels (docs/architecture.md section 6), or LOD0 and
   // one level per --mesh-ratio
-  LodPackagePlan plan;
-  plan.joints = asset->skeleton.jointCount();
-  for (const Clip& clip : asset->clips)
-    plan.clipFrames += std::uint64_t(std::max(clip.frameCount, 0));
-  plan.levels = !job.levels.empty() ? int(job.levels.size()) : job.meshRatios.empty() ? 4 : int(job.meshRatios.size()) + 1;
-  plan.withOriginal = job.levels.empty() || std::find(job.levels.begin(), job.levels.end(), 0) != job.levels.end();
-  if (const QString problem = run.exporter->planProblem(plan); !problem.isEmpty())
+  const int levelCount = job.meshRatios.empty() ? 4 : int(job.meshRatios.size()) + 1;
+  if (const QString problem = run.exporter->planProblem(packagePlan(*asset, levelCount, job.levels));
+      !problem.isEmpty())
     return failure(kExitBadInput, job.input, problem.toStdString());
   start = Clock::now();
   try {

@@ -62,25 +62,36 @@ Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset
                          *extra, cancel);
 }
 
+namespace {
+std::uint64_t framesOf(const Asset& asset) {
+  std::uint64_t frames = 0;
+  for (const Clip& clip : asset.clips)
+    frames += std::uint64_t(std::max(clip.frameCount, 0));
+  return frames;
+}
+} // namespace
+
+LodPackagePlan packagePlan(const Asset& asset, int levelCount, std::span<const int> levels) {
+  LodPackagePlan plan;
+  plan.joints = asset.skeleton.jointCount();
+  plan.clipFrames = framesOf(asset);
+  plan.levels = levels.empty() ? levelCount : static_cast<int>(levels.size());
+  plan.withOriginal = levels.empty() || std::find(levels.begin(), levels.end(), 0) != levels.end();
+  return plan;
+}
+
 LodPackagePlan packagePlan(const Project& project, std::span<const Asset* const> imported, int asset,
                            std::span<const int> levels) {
-  LodPackagePlan plan;
   const auto importedAt = [&](int i) {
     return i >= 0 && std::size_t(i) < imported.size() ? imported[std::size_t(i)] : nullptr;
   };
-  const auto addClips = [&](const Asset* a) {
-    if (a)
-      for (const Clip& clip : a->clips)
-        plan.clipFrames += std::uint64_t(std::max(clip.frameCount, 0));
-  };
   const Asset* character = importedAt(asset);
-  plan.joints = character ? character->skeleton.jointCount() : 0;
-  addClips(character);
+  if (!character)
+    return packagePlan(Asset{}, project.levelCount(), levels); // no joints: what exporters refuse
+  LodPackagePlan plan = packagePlan(*character, project.levelCount(), levels);
   for (const ProjectMapping& mapping : project.mappings)
-    if (mapping.character == asset)
-      addClips(importedAt(mapping.motion));
-  plan.levels = levels.empty() ? project.levelCount() : static_cast<int>(levels.size());
-  plan.withOriginal = levels.empty() || std::find(levels.begin(), levels.end(), 0) != levels.end();
+    if (const Asset* motion = mapping.character == asset ? importedAt(mapping.motion) : nullptr)
+      plan.clipFrames += framesOf(*motion);
   return plan;
 }
 

@@ -33,6 +33,10 @@ Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset
                                    std::span<const int> levels = {}, const LodPackageProgress& progress = {},
                                    const std::atomic<bool>* cancel = nullptr);
 
+// The plan of a package of `asset` alone with `levelCount` levels (`levels`: the ones
+// exported, empty = all): its joints, the frames of its clips.
+LodPackagePlan packagePlan(const Asset& asset, int levelCount, std::span<const int> levels = {});
+
 // The plan of buildLodPackage(project, imported, asset, levels): the asset's joints, the
 // frames of its clips and of every motion assigned to it (those imported), the levels.
 LodPackagePlan packagePlan(const Project& project, std::span<const Asset* const> imported, int asset,
