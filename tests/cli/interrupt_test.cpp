@@ -129,15 +129,17 @@ void expectEveryPointStops(const std::string& input, const std::string& plugin, 
   int signalled = 0;
   for (const Point& point : kPoints) {
     SCOPED_TRACE(point.stage + " " + std::to_string(point.percent) + "%");
+    // (20 s: a bound for a run that ignores the signal, not a speed; on a loaded 2-core machine
+    // 5 s failed once. The latency is scripts/interrupt-latency.py's to measure.)
     const Interrupted run =
-        interruptAt({"export", input, "--plugin", plugin, "-o", output.string()}, point, std::chrono::seconds(5));
+        interruptAt({"export", input, "--plugin", plugin, "-o", output.string()}, point, std::chrono::seconds(20));
     if (!run.signalled) { // the line jumped past the point (see reached()): the export just ran
       ASSERT_TRUE(run.ended && WIFEXITED(run.status) && WEXITSTATUS(run.status) == 0) << run.terminal;
       fs::remove(output);
       continue;
     }
     ++signalled;
-    ASSERT_TRUE(run.ended) << "still running 5 s after SIGINT:\n" << run.terminal;
+    ASSERT_TRUE(run.ended) << "still running 20 s after SIGINT:\n" << run.terminal;
     const bool bySignal = WIFSIGNALED(run.status) && WTERMSIG(run.status) == SIGINT;
     // "error: FILE: cancelled" during the import, "... cancelled: nothing was written" after it
     const bool cancelledError = WIFEXITED(run.status) && WEXITSTATUS(run.status) == 1 &&

@@ -339,8 +339,29 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
       level.meshErrorCm = mesh.maxErrorCm;
       level.triangles = static_cast<int>(mesh.triangles());
     }
-    const double distance =
-        std::max(previousDistance, distanceForPixels(level.deviationCm(), pixels, radius, options.projection));
+    const double own = distanceForPixels(level.deviationCm(), pixels, radius, options.projection);
+    // A level that may switch in no farther than the one before it (coarser, yet within its
+    // budget as near) leaves that one no distance of its own: the finer level goes, so that
+    // switch distances rise strictly and every level is used. (Not with per-level joint
+    // overrides: this level's motion was made for its own index; it is left out instead.)
+    while (!perLevel && out.levels.size() > 1 && own <= out.levels.back().switchDistanceCm &&
+           whyLeftOut(level, out.levels[out.levels.size() - 2], true).empty()) {
+      if (report) {
+        report->dropped.push_back(out.levels.back().name + " is left out: the coarser level after it switches in at " +
+                                  figure(own / 100.0) + " m, no farther than its " +
+                                  figure(out.levels.back().switchDistanceCm / 100.0) + " m.");
+        report->simplifiedPercent.pop_back();
+      }
+      out.levels.pop_back();
+      previousDistance = out.levels.back().switchDistanceCm;
+    }
+    if (own <= previousDistance && out.levels.size() > 1) {
+      if (report)
+        report->dropped.push_back("Aimed level " + std::to_string(i) + " is left out: it would switch in at " +
+                                  figure(own / 100.0) + " m, no farther than " + out.levels.back().name + ".");
+      continue;
+    }
+    const double distance = std::max(previousDistance, own);
     level.switchDistanceCm = distance;
     level.pixelError = deviationPixels(level.deviationCm(), distance, radius, options.projection);
     level.screenSizePixels = screenSizePixels(radius, distance, options.projection);

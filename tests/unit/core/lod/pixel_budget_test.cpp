@@ -282,6 +282,8 @@ void expectTheLevelRules(const LodSet& set, const LodBudgetReport& report, int a
     }
     EXPECT_FALSE(level.motionThreshold == previous.motionThreshold && level.meshRatio == previous.meshRatio)
         << level.name << " repeats " << previous.name;
+    // every level is used: it switches in strictly farther than the one before it
+    EXPECT_GT(level.switchDistanceCm, previous.switchDistanceCm) << level.name << " leaves " << previous.name << " no distance";
     EXPECT_GE(report.simplifiedPercent[i], 0.0);
     EXPECT_LE(report.simplifiedPercent[i], 100.0);
   }
