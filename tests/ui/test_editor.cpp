@@ -861,6 +861,45 @@ private slots:
     QVERIFY(!next.autosave()->hasRecovery());
   }
 
+  // A saved project edited and lost in a crash comes back as that project: its file name,
+  // unsaved, and Save writes there with the asset path the project file stored (issue 26:
+  // it came back as "Untitled*" and Ctrl+S asked for a new name).
+  void recoverKeepsTheProjectFile() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("recovered.mlod");
+    std::string storedAsset;
+    {
+      auto window = openSample();
+      QVERIFY(window);
+      QVERIFY(window->saveProject(path));
+      storedAsset = window->document()->project().assets[0].path;
+      QVERIFY(editThreshold(*window, jointIndex(*window, "RightArm"), "250"));
+      QVERIFY(waitForFigures(window->document()));
+      QVERIFY(window->autosave()->saveNow());
+      // No close(): the window goes away as in a crash and leaves the recovery file.
+      window->hide();
+    }
+    MainWindow next;
+    next.show();
+    QSignalSpy opened(next.document(), &Document::projectOpened);
+    QVERIFY(next.offerRecovery(false));
+    QVERIFY(opened.wait(60000));
+    QVERIFY(waitForFigures(next.document()));
+    QCOMPARE(next.document()->fileName(), QFileInfo(path).absoluteFilePath());
+    QVERIFY(next.document()->isModified());
+    QVERIFY(next.windowTitle().contains("recovered"));
+    QCOMPARE(next.document()->project().assets[0].path, storedAsset);
+    QVERIFY(next.saveProject(next.document()->fileName()));
+    QVERIFY(!next.document()->isModified());
+    QVERIFY(!next.autosave()->hasRecovery());
+    QVERIFY(!QFile::exists(Document::recoveryOriginPath(next.autosave()->path())));
+    const Result<Project> reread = loadProjectFile(path.toStdString());
+    QVERIFY(reread);
+    QCOMPARE(reread->assets[0].path, storedAsset);
+    QCOMPARE(*reread->assets[0].joints.at("RightArm").thresholds[1], 250.0);
+    QVERIFY(next.close()); // saved: nothing to ask
+  }
+
   // Autosave through its own timers (not saveNow()): an edit starts the after-change timer,
   // which writes the recovery file; the periodic timer writes again only when there are
   // unsaved changes; a new window recovers the edit from what the timers wrote.

@@ -39,6 +39,9 @@ bool Autosave::saveNow() {
   return true;
 }
 
-void Autosave::discard() { QFile::remove(m_path); }
+void Autosave::discard() {
+  QFile::remove(m_path);
+  QFile::remove(Document::recoveryOriginPath(m_path));
+}
 
 } // namespace mlod

@@ -4,6 +4,7 @@
 #include "editor/document/commands.h"
 #include "editor/document/level_generator.h"
 
+#include <QFile>
 #include <QFileInfo>
 #include <QSaveFile>
 #include <algorithm>
@@ -281,10 +282,18 @@ bool Document::save(const QString& path, QString* out_error) {
   return true;
 }
 
+QString Document::recoveryOriginPath(const QString& recoveryPath) { return recoveryPath + ".origin"; }
+
 bool Document::saveRecovery(const QString& path, QString* out_error) const {
   Project copy = m_project;
   for (int i = 0; i < assetCount(); ++i) // absolute: the recovery file lives elsewhere
     copy.assets[static_cast<std::size_t>(i)].path = QFileInfo(assetFilePath(i)).absoluteFilePath().toStdString();
+  // beside it, the project file it is unsaved work of (none: an untitled project)
+  const QString origin = recoveryOriginPath(path);
+  if (m_fileName.isEmpty())
+    QFile::remove(origin);
+  else if (!writeAtomically(origin, m_fileName.toStdString(), out_error))
+    return false;
   return writeAtomically(path, projectToJson(copy), out_error);
 }
 
@@ -313,7 +322,22 @@ bool Document::recover(const QString& path, QString* out_error) {
   // Its asset paths are absolute (saveRecovery()): the files the project had open.
   if (!open(path, {.allowOutsideAssets = true}, out_error))
     return false;
-  m_fileName.clear(); // the recovery file is no home for the project: Save asks where
+  // The recovery file is no home for the project: it is the project file it was saved for
+  // (Save writes there, asset paths stored as that file stores them), or untitled (Save asks
+  // where). Either way the recovered work is unsaved.
+  m_fileName.clear();
+  QFile origin(recoveryOriginPath(path));
+  if (origin.open(QIODevice::ReadOnly)) {
+    const QString project = QString::fromUtf8(origin.readAll()).trimmed();
+    if (!project.isEmpty()) {
+      std::vector<QString> files;
+      for (int i = 0; i < assetCount(); ++i)
+        files.push_back(assetFilePath(i));
+      m_fileName = QFileInfo(project).absoluteFilePath();
+      for (int i = 0; i < assetCount(); ++i)
+        m_project.assets[static_cast<std::size_t>(i)].path = storedPath(files[static_cast<std::size_t>(i)]);
+    }
+  }
   m_undo->resetClean();
   return true;
 }

@@ -75,9 +75,13 @@ public:
   // `options` say where the project's assets may be (core/project.h).
   bool save(const QString& path, QString* out_error = nullptr);
   bool open(const QString& path, const ProjectFileOptions& options, QString* out_error = nullptr);
-  bool saveRecovery(const QString& path, QString* out_error = nullptr) const; // the autosave copy
-  // Opens a recovery file as an unsaved project (no file name, modified).
+  // The autosave copy at `path`, and beside it (recoveryOriginPath()) the project file it is
+  // unsaved work of, if any.
+  bool saveRecovery(const QString& path, QString* out_error = nullptr) const;
+  // Opens a recovery file as unsaved work (modified) of the project file it was saved for, or
+  // of an untitled project when it was saved for none.
   bool recover(const QString& path, QString* out_error = nullptr);
+  static QString recoveryOriginPath(const QString& recoveryPath);
   // Relinks a missing asset to `path` (imported in the background; assetsChanged() follows).
   // Not an edit of the figures: no undo step.
   void relinkAsset(int index, const QString& path);
