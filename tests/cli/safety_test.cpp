@@ -358,6 +358,39 @@ TEST(CliSafety, FailedExportKeepsThePreviousPair) {
   EXPECT_EQ(filesIn(dir), (std::vector<std::string>{"walk.bvh", "x.mlodb", "x.mlodb.json"}));
 }
 
+// With glTF's split_levels an export writes a file per level. When the last cannot take
+// its place (here an immutable file: even root's rename is refused), every level already
+// placed gets its previous version back byte for byte, and no temporary stays (issue 29:
+// the old LOD0 and LOD1 were gone when LOD2's rename failed).
+TEST(CliSafety, SplitLevelsWhoseLastFileCannotLandKeepEveryOldLevel) {
+  const fs::path dir = freshFolder("split_last_fails");
+  const std::string input = sampleIn(dir).string();
+  const auto exportAt = [&](const char* unit) {
+    return runMotionlod({"export", input, "--unit-scale", unit, "--plugin", "gltf", "--option", "split_levels=true",
+                         "-o", (dir / "split.glb").string()},
+                        kTimeout);
+  };
+  const test::CliRun first = exportAt("cmu");
+  ASSERT_EQ(first.status, 0) << first.err;
+  const std::vector<std::string> names = filesIn(dir);
+  ASSERT_GE(names.size(), 3u) << "two levels at least, and the input";
+  std::vector<std::string> before;
+  for (const std::string& name : names)
+    before.push_back(bytesOf(dir / name));
+  const fs::path last = dir / names[names.size() - 2]; // the highest level ("walk.bvh" sorts last)
+  if (shell("chattr +i " + last.string()).first != 0)
+    GTEST_SKIP() << "no immutable files here (chattr +i): AtomicWrite.SetWhoseLastFileCannotLandKeepsEveryOldFile "
+                    "covers the rollback with a folder in the way";
+  const test::CliRun second = exportAt("m"); // other sizes: every level's bytes differ
+  shell("chattr -i " + last.string());
+  EXPECT_EQ(second.status, 1) << second.err;
+  EXPECT_TRUE(startsWith(second.err, "error: ")) << second.err;
+  EXPECT_NE(second.err.find(last.string() + ": cannot write: Operation not permitted"), std::string::npos) << second.err;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    EXPECT_EQ(bytesOf(dir / names[i]), before[i]) << names[i];
+  EXPECT_EQ(filesIn(dir), names) << "no temporary left";
+}
+
 // A kill between the bundle's rename and its manifest's leaves a new bundle beside the old
 // manifest: the manifest carries the bundle's size and CRC-32, and `info` says it does not
 // belong. The killed writer's temporaries go on the next export.
