@@ -223,16 +223,23 @@ TEST(AtomicWrite, AnotherUsersUnreadableFileIsKeptAndReplaced) {
   EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size(), 2) << "no temporary left";
 }
 
+// A PID that runs no more: a child that has exited and been waited for.
+pid_t deadPid() {
+  const pid_t dead = ::fork();
+  if (dead == 0)
+    ::_exit(0);
+  if (dead > 0)
+    ::waitpid(dead, nullptr, 0);
+  return dead;
+}
+
 // Guards a writer killed between renaming the previous version aside and renaming the new
 // file in (the fallback where the file system cannot exchange): the next write of the file
 // puts the version back before anything else, so even a write that then fails leaves it.
 TEST(AtomicWrite, VersionAKilledWriterPutAsideGoesBack) {
   QTemporaryDir dir;
-  const pid_t dead = ::fork(); // a PID that runs no more
-  if (dead == 0)
-    ::_exit(0);
+  const pid_t dead = deadPid();
   ASSERT_GT(dead, 0);
-  ::waitpid(dead, nullptr, 0);
   const QString aside = dir.filePath(QStringLiteral(".x.mlodb.mlod-old-%1-AbC123").arg(dead));
   {
     QFile file(aside);
@@ -276,15 +283,12 @@ TEST(AtomicWrite, RacingWritersLandWholeSets) {
   EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size(), 2) << "no temporary left";
 }
 
-// Guards the leftovers of a killed writer: its temporaries and kept links (named with its
+// Guards the leftovers of a killed writer: its temporaries and kept versions (named with its
 // PID) are removed the next time the file is written; a running writer's are not.
 TEST(AtomicWrite, LeftoversOfAKilledWriterAreRemoved) {
   QTemporaryDir dir;
-  const pid_t dead = ::fork(); // a PID that runs no more
-  if (dead == 0)
-    ::_exit(0);
+  const pid_t dead = deadPid();
   ASSERT_GT(dead, 0);
-  ::waitpid(dead, nullptr, 0);
   const QString deadTemporary = QStringLiteral(".x.mlodb.mlod-tmp-%1-AbC123").arg(dead);
   const QString deadKept = QStringLiteral(".x.mlodb.mlod-old-%1-AbC123").arg(dead);
   const QString live = QStringLiteral(".x.mlodb.mlod-tmp-1-AbC123"); // PID 1 always runs
