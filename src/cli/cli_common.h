@@ -34,11 +34,17 @@ std::string exactNumber(double value);
 // Warns on stderr when `file` is not valid UTF-8: JSON written from it holds U+FFFD instead.
 void warnIfNotUtf8(const std::string& file);
 
+// How long a command waits for the import worker by default (--import-timeout): a file
+// that makes an Assimp parser loop for ever (a truncated SMD) is an error within the
+// minute any command is given (issue 29); the largest inputs the limits allow import in
+// a fraction of it (a 100 MB BVH: 11 s on a loaded machine).
+inline constexpr double kDefaultImportTimeoutSeconds = 45.0;
+
 // Import options as the commands take them.
 struct ImportArguments {
   std::string unitScale;        // "" = the file's own; a number or a preset name
   double fps = 30.0;
-  double timeoutSeconds = 120.0;
+  double timeoutSeconds = kDefaultImportTimeoutSeconds;
 };
 
 // Adds --unit-scale, --fps and --import-timeout to a command.

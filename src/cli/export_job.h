@@ -27,7 +27,7 @@ struct ExportJob {
   QVariantMap options;       // checked against the plugin's options (checkExporterOptions())
   std::string unitScale;     // "" = the file's own (a project: each asset's own)
   int asset = -1;            // a project's asset to export; -1 = the character it has in view (or the first character)
-  double importTimeoutSeconds = 120.0;
+  double importTimeoutSeconds = kDefaultImportTimeoutSeconds;
   ProjectFileOptions project; // where a project's assets may be
   // A file's levels by mesh ratio alone (each in (0, 1]): LOD0 plus one level per ratio with
   // the original motion (threshold 0), so a mesh can be judged alone; empty = the default

@@ -2,19 +2,25 @@
 // goes through here, so the rules of docs/architecture.md section 9 (nothing lost, no
 // partial file) hold for all of them:
 // - each file is written to a temporary beside it (".NAME.mlod-tmp-PID-XXXXXX"), in full,
-//   and fsync'ed before it is renamed into place, so a crash never leaves a torn file;
-// - a set of files (a bundle and its manifest) is renamed in order; before that, each file
-//   it replaces is kept as a hard link (".NAME.mlod-old-PID-XXXXXX"), or a copy where no
-//   link can be made (another user's file under fs.protected_hardlinks). When a rename fails,
-//   the files already renamed get their previous version back (or go, where there was
-//   none): after any failure the previous set is intact. A kill between two renames can
-//   leave a new bundle beside an old manifest: the manifest carries the bundle's size and
-//   CRC-32, so a reader tells (motionlod info does);
+//   and fsync'ed before it takes the file's place, so a crash never leaves a torn file;
+// - a set of files (a bundle and its manifest) takes its places in order, each by
+//   renameat2(RENAME_EXCHANGE): the new file and the one it replaces swap names in one step,
+//   so the temporary's name then holds the previous version. Where the file system cannot
+//   exchange (EINVAL, ENOSYS), the previous version is renamed aside
+//   (".NAME.mlod-old-PID-XXXXXX") and the new file renamed in; only where that cannot be
+//   done either is a copy kept. No hard link is needed, so another user's file (which
+//   fs.protected_hardlinks, Debian's default, forbids linking) is kept as surely as one's
+//   own. When a file cannot take its place, the files already placed get their previous
+//   version back by rename (or go, where there was none): after any failure the previous
+//   set is intact. A kill between two renames can leave a new bundle beside an old
+//   manifest: the manifest carries the bundle's size and CRC-32, so a reader tells
+//   (motionlod info does);
 // - the renames of a set hold an exclusive flock() on each of its folders, so that two
 //   writers of the same set (four exports of different clips to one .mlodb at once) land
 //   one whole set after the other, never one's bundle beside the other's manifest;
-// - temporaries and kept links that a killed writer left behind (its PID no longer runs)
-//   are removed the next time the same file is written;
+// - what a killed writer left behind (its PID no longer runs) is cleared the next time the
+//   same file is written: its temporaries go, and a version it had renamed aside goes back
+//   into place where nothing took it, or goes too;
 // - a failure names the file and the system's reason ("No space left on device").
 // POSIX calls, not QSaveFile: Qt's buffered writes report a full disk as "Unknown error".
 
@@ -24,6 +30,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
@@ -55,8 +62,10 @@ std::string folderOf(const std::string& path) {
   return parent.empty() ? std::string(".") : parent.string();
 }
 
-// Removes what a killed writer of `path` left beside it: ".NAME.mlod-tmp-PID-…" and
-// ".NAME.mlod-old-PID-…" whose PID runs no more.
+// Clears what a killed writer of `path` left beside it, named with a PID that runs no more:
+// temporaries ".NAME.mlod-tmp-PID-…" go; a previous version renamed aside,
+// ".NAME.mlod-old-PID-…", goes back to `path` where nothing took its place (the writer died
+// between its two renames), and goes otherwise.
 void removeLeftovers(const std::string& path) {
   const std::string name = fs::path(path).filename().string();
   std::error_code error;
@@ -67,7 +76,13 @@ void removeLeftovers(const std::string& path) {
       if (left.rfind(prefix, 0) != 0)
         continue;
       const long pid = std::strtol(left.c_str() + prefix.size(), nullptr, 10);
-      if (pid > 0 && pid != long(::getpid()) && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH)
+      if (pid <= 0 || pid == long(::getpid()) || ::kill(pid_t(pid), 0) == 0 || errno != ESRCH)
+        continue;
+      struct stat info {};
+      const bool vacant = ::lstat(path.c_str(), &info) != 0 && errno == ENOENT;
+      if (tag == kKeptTag && vacant)
+        ::rename(entry.path().c_str(), path.c_str());
+      else
         ::unlink(entry.path().c_str());
     }
   }
@@ -108,8 +123,8 @@ std::string writeTemporary(const std::string& path, const QByteArray& data) {
   return temporary;
 }
 
-// A copy of the file at `from` as `to` (created, fsync'ed): where no hard link can be made
-// (fs.protected_hardlinks: another user's file; file systems without links). False and errno.
+// A copy of the file at `from` as `to` (created, fsync'ed): the last resort to keep a
+// previous version, where it can neither be exchanged nor renamed aside. False and errno.
 bool copyFile(const std::string& from, const std::string& to) {
   const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC);
   if (in < 0)
@@ -183,6 +198,64 @@ void syncFolder(const std::string& path) {
   }
 }
 
+// One file of a set on its way into place.
+struct PlacedFile {
+  QString name;          // as the caller gave it
+  std::string path;      // its bytes
+  std::string temporary; // the new content, until it is in place
+  std::string kept;      // once in place: the version it replaced (empty: there was none)
+};
+
+// `file.temporary` into place at `file.path`, keeping what was there in `file.kept` (under
+// the temporary's name after an exchange, the kept name otherwise). False and errno, with
+// `file.path` as it was.
+bool putInPlace(PlacedFile& file) {
+  struct stat info {};
+  // a folder is never replaced: the rename refuses it (EISDIR), and the failure says so
+  if (::lstat(file.path.c_str(), &info) != 0 || S_ISDIR(info.st_mode)) {
+    if (::rename(file.temporary.c_str(), file.path.c_str()) != 0)
+      return false;
+    file.temporary.clear();
+    return true;
+  }
+  if (::renameat2(AT_FDCWD, file.temporary.c_str(), AT_FDCWD, file.path.c_str(), RENAME_EXCHANGE) == 0) {
+    file.kept = std::move(file.temporary);
+    file.temporary.clear();
+    return true;
+  }
+  if (errno != EINVAL && errno != ENOSYS)
+    return false; // the file system could exchange; this file may not be replaced
+  std::string aside = file.temporary;
+  aside.replace(aside.rfind(kTemporaryTag), std::strlen(kTemporaryTag), kKeptTag);
+  // note: between these two renames `path` is vacant; a writer killed there leaves the
+  // previous version aside, and removeLeftovers() puts it back
+  const bool movedAside = ::rename(file.path.c_str(), aside.c_str()) == 0;
+  if (!movedAside && !copyFile(file.path, aside))
+    return false;
+  if (::rename(file.temporary.c_str(), file.path.c_str()) != 0) {
+    const int reason = errno;
+    if (movedAside)
+      ::rename(aside.c_str(), file.path.c_str());
+    else
+      ::unlink(aside.c_str());
+    errno = reason;
+    return false;
+  }
+  file.temporary.clear();
+  file.kept = std::move(aside);
+  return true;
+}
+
+// A file already in place gets its previous version back, or goes where there was none.
+// Should the rename fail, the previous version stays beside it under its kept name.
+void putBack(PlacedFile& file) {
+  if (file.kept.empty())
+    ::unlink(file.path.c_str());
+  else
+    ::rename(file.kept.c_str(), file.path.c_str());
+  file.kept.clear();
+}
+
 } // namespace
 
 ExportResult writeFileAtomically(const QString& path, const QByteArray& data) {
@@ -193,15 +266,9 @@ ExportResult writeFileAtomically(const QString& path, const QByteArray& data) {
 }
 
 ExportResult writeFilesAtomically(const QList<QPair<QString, QByteArray>>& files) {
-  struct Entry {
-    QString name;          // as the caller gave it
-    std::string path;      // its bytes
-    std::string temporary; // the new content, until renamed
-    std::string kept;      // a hard link to what it replaces, until the set is in place
-  };
-  std::vector<Entry> entries;
+  std::vector<PlacedFile> entries;
   const auto discard = [&entries] {
-    for (const Entry& entry : entries) {
+    for (const PlacedFile& entry : entries) {
       if (!entry.temporary.empty())
         ::unlink(entry.temporary.c_str());
       if (!entry.kept.empty())
@@ -209,7 +276,7 @@ ExportResult writeFilesAtomically(const QList<QPair<QString, QByteArray>>& files
     }
   };
   for (const auto& [name, data] : files) {
-    Entry entry{name, bytesOf(name), {}, {}};
+    PlacedFile entry{name, bytesOf(name), {}, {}};
     removeLeftovers(entry.path);
     entry.temporary = writeTemporary(entry.path, data);
     if (entry.temporary.empty()) {
@@ -221,46 +288,21 @@ ExportResult writeFilesAtomically(const QList<QPair<QString, QByteArray>>& files
   }
   // from here to the last rename, one writer of these folders at a time
   std::vector<std::string> folders;
-  for (const Entry& entry : entries)
+  for (const PlacedFile& entry : entries)
     folders.push_back(folderOf(entry.path));
   const FolderLocks locks(std::move(folders));
-  // keep what is replaced until every file is in place: a hard link, or where none can be
-  // made (another user's file under fs.protected_hardlinks, Debian's default) a copy. If
-  // neither can be kept, nothing is renamed: the previous set stays whole.
-  for (Entry& entry : entries) {
-    struct stat info {};
-    if (::lstat(entry.path.c_str(), &info) != 0 || !S_ISREG(info.st_mode))
-      continue;
-    std::string kept = entry.temporary;
-    kept.replace(kept.rfind(kTemporaryTag), std::strlen(kTemporaryTag), kKeptTag);
-    if (::link(entry.path.c_str(), kept.c_str()) == 0 || copyFile(entry.path, kept)) {
-      entry.kept = std::move(kept);
-      continue;
-    }
-    const std::string reason = std::strerror(errno);
-    discard();
-    return failure(entry.name, "cannot keep the version it replaces: " + reason);
-  }
   for (std::size_t i = 0; i < entries.size(); ++i) {
-    if (::rename(entries[i].temporary.c_str(), entries[i].path.c_str()) == 0) {
-      entries[i].temporary.clear(); // it is the file now
+    if (putInPlace(entries[i]))
       continue;
-    }
     const std::string reason = std::strerror(errno);
-    for (std::size_t k = 0; k < i; ++k) { // the previous set back
-      Entry& done = entries[k];
-      if (done.kept.empty())
-        ::unlink(done.path.c_str());
-      else
-        ::rename(done.kept.c_str(), done.path.c_str()); // should this fail, the link stays
-      done.kept.clear();
-    }
+    for (std::size_t k = 0; k < i; ++k)
+      putBack(entries[k]);
     discard();
     return failure(entries[i].name, reason);
   }
-  for (const Entry& entry : entries)
+  for (const PlacedFile& entry : entries)
     syncFolder(entry.path);
-  discard(); // the kept links
+  discard(); // the previous versions
   qint64 bytes = 0;
   QStringList names;
   for (const auto& [name, data] : files) {

@@ -127,9 +127,12 @@ ExportResult writeFileAtomically(const QString& path, const QByteArray& data);
 // Several files that belong together (a bundle and its manifest): every file is written to
 // a temporary file and fsync'ed first; only when all are written are they renamed into
 // place, in order, under an exclusive lock on their folders (two writers of one set land
-// one whole set after the other). If a rename fails, the files already renamed get their
-// previous version back (kept as a hard link, or a copy where no link can be made), or go
-// where there was none: the previous set stays intact. A kill between two renames can leave
+// one whole set after the other). Each takes its place by exchanging names with the file it
+// replaces (renameat2 RENAME_EXCHANGE; where the file system cannot, that file is renamed
+// aside first, and copied only where neither works), so the previous version is kept
+// without a hard link, whoever owns it. If a file cannot take its place, the files already
+// placed get their previous version back, or go where there was none: the previous set
+// stays intact. A kill between two renames can leave
 // the first file new and the second old: give the second a checksum of the first (the
 // bundle's manifest carries its CRC-32).
 ExportResult writeFilesAtomically(const QList<QPair<QString, QByteArray>>& files);

@@ -8,11 +8,12 @@
 #include <QTemporaryDir>
 
 #include <gtest/gtest.h>
-#include <fstream>
+#include <cstdlib>
 #include <vector>
 #include <thread>
 #include <atomic>
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -133,38 +134,123 @@ TEST(AtomicWrite, FailedSetKeepsThePreviousVersion) {
   EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{"x.mlodb"}) << "no temporary left";
 }
 
-// Guards the previous version when no hard link to it can be made (issue 29: the exporting
-// user did not own the old out.mlodb, so under fs.protected_hardlinks = 1, Debian's default,
-// the kept link failed; when the manifest's rename then failed, the new bundle was removed
-// and the old one was gone). A copy is kept instead. Run as root: the writer is a child that
-// becomes `nobody`, replacing root's files in a folder anyone may write.
-TEST(AtomicWrite, AnotherUsersFileIsKeptWhereNoLinkCanBeMade) {
+// The bytes of the file at `path` ("<none>" when it cannot be read).
+QByteArray contentOf(const QString& path) {
+  QFile file(path);
+  return file.open(QIODevice::ReadOnly) ? file.readAll() : QByteArray("<none>");
+}
+
+// Sets or clears the immutable attribute (chattr +i): no rename may replace such a file,
+// not even root's. False where the file system or the user cannot.
+bool setImmutable(const QString& path, bool immutable) {
+  const QByteArray command = QByteArray("chattr ") + (immutable ? "+i '" : "-i '") + QFile::encodeName(path) +
+                             "' 2>/dev/null";
+  return std::system(command.constData()) == 0;
+}
+
+// Guards every file of a set when its last file cannot take its place (issue 29: with
+// glTF's split_levels, the old LOD0 and LOD1 went when LOD2's rename failed): the files
+// already placed get their previous versions back byte for byte, and no temporary or kept
+// version stays. The last place is taken by a folder, and (where chattr works) by an
+// immutable file, which refuses the exchange itself.
+TEST(AtomicWrite, SetWhoseLastFileCannotLandKeepsEveryOldFile) {
+  for (const bool immutable : {false, true}) {
+    QTemporaryDir dir;
+    const QStringList names{"x_LOD0.glb", "x_LOD1.glb", "x_LOD2.glb"};
+    QList<QPair<QString, QByteArray>> oldSet, newSet;
+    for (const QString& name : names) {
+      oldSet.append({dir.filePath(name), "old " + name.toUtf8()});
+      newSet.append({dir.filePath(name), "new " + name.toUtf8()});
+    }
+    ASSERT_TRUE(writeFilesAtomically(oldSet).ok);
+    const QString last = dir.filePath(names.back());
+    if (!immutable) {
+      ASSERT_TRUE(QFile::remove(last));
+      ASSERT_TRUE(QDir(dir.path()).mkpath(names.back() + "/taken"));
+    } else if (!setImmutable(last, true)) {
+      continue; // no immutable files here (not root, or the file system): the folder covers it
+    }
+    const ExportResult result = writeFilesAtomically(newSet);
+    if (immutable)
+      setImmutable(last, false);
+    EXPECT_FALSE(result.ok);
+    EXPECT_TRUE(result.message.startsWith(last + ": cannot write: ")) << result.message.toStdString();
+    for (qsizetype i = 0; i + 1 < names.size(); ++i)
+      EXPECT_EQ(contentOf(oldSet[i].first), oldSet[i].second) << names[i].toStdString();
+    if (immutable) {
+      EXPECT_EQ(contentOf(last), oldSet.back().second);
+    }
+    QStringList left = QDir(dir.path()).entryList(QDir::Files | QDir::Hidden);
+    left.sort();
+    EXPECT_EQ(left, immutable ? names : names.mid(0, 2)) << "no temporary left";
+  }
+}
+
+// Guards the previous version when no hard link to it can be made, nor a copy (issue 29:
+// the exporting user did not own the old out.mlodb, so under fs.protected_hardlinks = 1,
+// Debian's default, the kept link failed; when the manifest's rename then failed, the new
+// bundle was removed and the old one was gone). The old bundle here is root's and only
+// root may read it, so neither a link nor a copy can keep it: the exchange of names needs
+// neither. Run as root: the writer is a child that becomes `nobody`, replacing root's files
+// in a folder anyone may write.
+TEST(AtomicWrite, AnotherUsersUnreadableFileIsKeptAndReplaced) {
   if (::geteuid() != 0)
     GTEST_SKIP() << "needs root (to write as another user)";
-  std::ifstream setting("/proc/sys/fs/protected_hardlinks");
-  int protectedLinks = 0;
-  if (!(setting >> protectedLinks) || protectedLinks != 1)
-    GTEST_SKIP() << "fs.protected_hardlinks is not 1 here: links to another user's file can be made";
   QTemporaryDir dir;
   ASSERT_TRUE(QFile::setPermissions(dir.path(), QFileDevice::Permissions(0x7777)));
   const QString bundle = dir.filePath("x.mlodb"), manifest = dir.filePath("x.mlodb.json");
-  ASSERT_TRUE(writeFileAtomically(bundle, "old bundle").ok); // root's, 0644
+  ASSERT_TRUE(writeFileAtomically(bundle, "old bundle").ok);
+  ASSERT_EQ(::chmod(QFile::encodeName(bundle).constData(), 0600), 0); // root's, unreadable to others
   ASSERT_TRUE(QDir(dir.path()).mkpath("x.mlodb.json/taken")); // no file can replace this folder
-  const pid_t writer = ::fork();
-  if (writer == 0) {
-    if (::setgid(65534) != 0 || ::setuid(65534) != 0)
-      ::_exit(3);
-    const ExportResult result = writeFilesAtomically({{bundle, "new bundle"}, {manifest, "{}"}});
-    ::_exit(result.ok ? 0 : 1);
-  }
-  int status = 0;
-  ASSERT_EQ(::waitpid(writer, &status, 0), writer);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 1) << "the set cannot land (the manifest's place is a folder)";
-  QFile file(bundle);
-  ASSERT_TRUE(file.open(QIODevice::ReadOnly));
-  EXPECT_EQ(file.readAll(), QByteArray("old bundle"));
+  const auto writeAsNobody = [&] {
+    const pid_t writer = ::fork();
+    if (writer == 0) {
+      if (::setgid(65534) != 0 || ::setuid(65534) != 0)
+        ::_exit(3);
+      const ExportResult result = writeFilesAtomically({{bundle, "new bundle"}, {manifest, "{}"}});
+      ::_exit(result.ok ? 0 : 1);
+    }
+    int status = 0;
+    return ::waitpid(writer, &status, 0) == writer && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(writeAsNobody(), 1) << "the set cannot land (the manifest's place is a folder)";
+  EXPECT_EQ(contentOf(bundle), QByteArray("old bundle"));
   EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{"x.mlodb"}) << "no temporary left";
+  ASSERT_TRUE(QDir(manifest).removeRecursively());
+  EXPECT_EQ(writeAsNobody(), 0) << "before, the writer refused: it could neither link nor copy the old bundle";
+  EXPECT_EQ(contentOf(bundle), QByteArray("new bundle"));
+  EXPECT_EQ(contentOf(manifest), QByteArray("{}"));
+  EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size(), 2) << "no temporary left";
+}
+
+// A PID that runs no more: a child that has exited and been waited for.
+pid_t deadPid() {
+  const pid_t dead = ::fork();
+  if (dead == 0)
+    ::_exit(0);
+  if (dead > 0)
+    ::waitpid(dead, nullptr, 0);
+  return dead;
+}
+
+// Guards a writer killed between renaming the previous version aside and renaming the new
+// file in (the fallback where the file system cannot exchange): the next write of the file
+// puts the version back before anything else, so even a write that then fails leaves it.
+TEST(AtomicWrite, VersionAKilledWriterPutAsideGoesBack) {
+  QTemporaryDir dir;
+  const pid_t dead = deadPid();
+  ASSERT_GT(dead, 0);
+  const QString aside = dir.filePath(QStringLiteral(".x.mlodb.mlod-old-%1-AbC123").arg(dead));
+  {
+    QFile file(aside);
+    ASSERT_TRUE(file.open(QIODevice::WriteOnly));
+    file.write("old bundle");
+  }
+  const QString bundle = dir.filePath("x.mlodb");
+  ASSERT_TRUE(QDir(dir.path()).mkpath("x.mlodb.json/taken")); // this set cannot land
+  EXPECT_FALSE(writeFilesAtomically({{bundle, "new bundle"}, {dir.filePath("x.mlodb.json"), "{}"}}).ok);
+  EXPECT_EQ(contentOf(bundle), QByteArray("old bundle"));
+  EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{"x.mlodb"});
 }
 
 // Guards two writers of one set (issue 29: four exports of different clips to one .mlodb
@@ -197,15 +283,12 @@ TEST(AtomicWrite, RacingWritersLandWholeSets) {
   EXPECT_EQ(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size(), 2) << "no temporary left";
 }
 
-// Guards the leftovers of a killed writer: its temporaries and kept links (named with its
+// Guards the leftovers of a killed writer: its temporaries and kept versions (named with its
 // PID) are removed the next time the file is written; a running writer's are not.
 TEST(AtomicWrite, LeftoversOfAKilledWriterAreRemoved) {
   QTemporaryDir dir;
-  const pid_t dead = ::fork(); // a PID that runs no more
-  if (dead == 0)
-    ::_exit(0);
+  const pid_t dead = deadPid();
   ASSERT_GT(dead, 0);
-  ::waitpid(dead, nullptr, 0);
   const QString deadTemporary = QStringLiteral(".x.mlodb.mlod-tmp-%1-AbC123").arg(dead);
   const QString deadKept = QStringLiteral(".x.mlodb.mlod-old-%1-AbC123").arg(dead);
   const QString live = QStringLiteral(".x.mlodb.mlod-tmp-1-AbC123"); // PID 1 always runs

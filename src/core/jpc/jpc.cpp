@@ -17,7 +17,7 @@
 
 namespace mlod {
 
-JointClustering clusterJoint(const JointTrack& track, double threshold, JpcMode mode) {
+JointClustering clusterJoint(const JointTrack& track, double threshold, JpcMode mode, JpcWorkBudget* budget) {
   assert(threshold >= 0.0 && std::isfinite(threshold));
   JointClustering out;
   if (track.frameCount() < kMinClusterFrames)
@@ -28,10 +28,16 @@ JointClustering clusterJoint(const JointTrack& track, double threshold, JpcMode 
       optimal ? optimalRanges(table.rowStarts(), table.rowEnds())
               : greedyRanges(track.frameCount(), [&](int ref) { return table.rowEnd(ref); });
   out.evaluations = table.evaluations();
+  out.work = table.evaluations() * kExactEvaluationUnits;
+  if (budget && !budget->spend(out.work))
+    return out;
   out.clusters.reserve(ranges.size());
   for (const FrameRange& range : ranges) {
-    const KeyPosture key = keyPosture(track, range, threshold, &table);
+    const KeyPosture key = keyPosture(track, range, threshold, &table, budget);
     out.evaluations += key.evaluations;
+    out.work += key.work;
+    if (key.stopped)
+      return out;
     // Every range has a row that holds it: greedy's own first row, optimal's window key.
     assert(key.key >= 0);
     if (key.key < 0)
@@ -123,7 +129,8 @@ JointClustering JpcClip::clusterJoint(int joint, int level, double levelThreshol
   return mlod::clusterJoint(buildTrack(joint), jointThreshold, m_settings.mode);
 }
 
-std::vector<JointClustering> JpcClip::clusterJointLevels(int joint, std::span<const double> levelThresholds) const {
+std::vector<JointClustering> JpcClip::clusterJointLevels(int joint, std::span<const double> levelThresholds,
+                                                         JpcWorkBudget* budget) const {
   std::vector<JointClustering> out(levelThresholds.size());
   if (!clusterable(joint) || locked(joint))
     return out;
@@ -131,9 +138,9 @@ std::vector<JointClustering> JpcClip::clusterJointLevels(int joint, std::span<co
   if (!tracksKept())
     built = buildTrack(joint);
   const JointTrack& jointTrack = tracksKept() ? track(joint) : built;
-  for (std::size_t level = 0; level < levelThresholds.size(); ++level)
+  for (std::size_t level = 0; level < levelThresholds.size() && !exhausted(budget); ++level)
     out[level] = mlod::clusterJoint(jointTrack, threshold(joint, static_cast<int>(level), levelThresholds[level]),
-                                    m_settings.mode);
+                                    m_settings.mode, budget);
   return out;
 }
 
@@ -207,7 +214,7 @@ int clusteringThreads(const JpcClip& jpc, const Clip& clip, int threads) {
 
 Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const Clip& clip,
                                                  const JpcSettings& settings, std::span<const double> levelThresholds,
-                                                 int threads) {
+                                                 int threads, std::int64_t workLimit) {
   for (std::size_t level = 0; level < levelThresholds.size(); ++level)
     if (Error error = validateThreshold(levelThresholds[level], levelThresholds.size() == 1
                                                                     ? std::string("threshold")
@@ -222,11 +229,19 @@ Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const
   // Every joint is a task that builds its track once and clusters every level with it.
   std::vector<std::vector<JointClustering>> clustered(static_cast<std::size_t>(levels),
                                                       std::vector<JointClustering>(static_cast<std::size_t>(joints)));
+  JpcWorkBudget budget(workLimit);
   parallelFor(joints, clusteringThreads(jpc, clip, threads), [&](int joint) {
-    std::vector<JointClustering> byLevel = jpc.clusterJointLevels(joint, levelThresholds);
+    if (budget.exhausted())
+      return;
+    std::vector<JointClustering> byLevel = jpc.clusterJointLevels(joint, levelThresholds, &budget);
     for (std::size_t level = 0; level < byLevel.size(); ++level)
       clustered[level][static_cast<std::size_t>(joint)] = std::move(byLevel[level]);
   });
+  if (budget.exhausted())
+    return Error("clip '" + clip.name + "' needs more work than joint posture clustering takes (at most " +
+                 std::to_string(budget.limit()) +
+                 " units of error evaluation per clip, every joint and threshold together): trim the clip, lock "
+                 "joints or lower the threshold");
   const std::vector<glm::vec3> original = jointPositions(skeleton, clip);
   std::vector<JpcLevelResult> out(static_cast<std::size_t>(levels));
   parallelFor(levels, threads, [&](int level) {

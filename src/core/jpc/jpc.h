@@ -17,6 +17,7 @@
 #include "core/jpc/cluster_set.h"
 #include "core/jpc/jpc_settings.h"
 #include "core/jpc/posture_error.h"
+#include "core/jpc/work_budget.h"
 #include "core/skeleton.h"
 
 #include <atomic>
@@ -35,12 +36,16 @@ struct JointClustering {
   int clusteredFrames = 0;
   double maxError = 0.0;        // max E(t, key) over the clustered frames; 0 without clusters
   std::int64_t evaluations = 0; // exact error evaluations spent (statistic)
+  std::int64_t work = 0;        // JpcWorkBudget units spent (work_budget.h)
 };
 
 // Clusters one joint at threshold T (cm·degrees, >= 0): the clustering table, the ranges
 // chosen by `mode`, the keys by eq. (7). Deterministic. On the 2,752-frame CMU clip it
-// takes 0.2 to 7 ms per joint (bench_jpc, BM_ClusterJointSlowest).
-JointClustering clusterJoint(const JointTrack& track, double threshold, JpcMode mode);
+// takes 0.2 to 7 ms per joint (bench_jpc, BM_ClusterJointSlowest). `budget` (may be null)
+// is charged with the work; once it is past its limit the joint stops where it is, with
+// the clusters found so far (the caller checks the budget and drops the result).
+JointClustering clusterJoint(const JointTrack& track, double threshold, JpcMode mode,
+                             JpcWorkBudget* budget = nullptr);
 
 // Where a JpcClip keeps the error tracks of its joints (JointTrack: (56 + 36 x directions)
 // bytes per frame each, about 2.3 times the decoded clip for all joints of a CMU skeleton).
@@ -94,8 +99,10 @@ public:
   // Clusters one joint at `level` (no clusters for locked and unclusterable joints).
   JointClustering clusterJoint(int joint, int level, double levelThreshold) const;
   // Clusters one joint at every level (level i at levelThresholds[i]) from one track:
-  // what clusterJoint(joint, i, levelThresholds[i]) gives, level by level.
-  std::vector<JointClustering> clusterJointLevels(int joint, std::span<const double> levelThresholds) const;
+  // what clusterJoint(joint, i, levelThresholds[i]) gives, level by level. `budget` as in
+  // mlod::clusterJoint().
+  std::vector<JointClustering> clusterJointLevels(int joint, std::span<const double> levelThresholds,
+                                                  JpcWorkBudget* budget = nullptr) const;
   // Clusters every joint at one level, on up to `threads` threads (0 = all hardware
   // threads). One entry per joint. Once `cancel` (core/cancel.h, may be null) is set, the
   // joints not yet started are left without clusters: the caller checks the flag and drops
@@ -144,7 +151,10 @@ struct JpcLevelResult {
 // Clusters `clip` at each threshold of `levelThresholds` (level i gets threshold i and
 // the per-joint overrides of level i) and measures the result. Work is spread over up to
 // `threads` threads (0 = all hardware threads); the result does not depend on it.
-// Errors: invalid settings, thresholds or clip.
+// Errors: invalid settings, thresholds or clip; a clip whose clustering needs more than
+// `workLimit` units of work (work_budget.h: error evaluations, every joint and threshold
+// together), naming the limit and the clip: whether a clip is refused does not depend on
+// threads or timing.
 // Memory, beyond the clip and the results: the joint positions of the clip (12 bytes per
 // joint and frame) and the working buffers of the joints being clustered (JpcTracks::
 // OnDemand), with as many joints at once as fit in kSimplifyWorkingBytes or half the
@@ -153,7 +163,7 @@ inline constexpr std::size_t kSimplifyWorkingBytes = std::size_t{16} << 20; // 1
 
 Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const Clip& clip,
                                                  const JpcSettings& settings, std::span<const double> levelThresholds,
-                                                 int threads = 0);
+                                                 int threads = 0, std::int64_t workLimit = kMaxJpcWork);
 
 // Gathers one level's clusters (one JointClustering per joint, from JpcClip::cluster())
 // into a ClusterSet with its metrics; the joint-position error is forward kinematics of

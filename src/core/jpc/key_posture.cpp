@@ -59,9 +59,21 @@ RowResult evaluateRow(const JointTrack& track, const std::vector<Run>& runs, int
 }
 } // namespace
 
-KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshold, const ClusteringTable* table) {
+KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshold, const ClusteringTable* table,
+                      JpcWorkBudget* budget) {
   assert(range.first >= 0 && range.first <= range.last && range.last < track.frameCount());
   KeyPosture out;
+  // The work so far: exact evaluations (out.evaluations) and frames the float kernels went
+  // through. The budget is charged what is new once per row tried (a row is O(m)).
+  std::int64_t floatFrames = 0, charged = 0;
+  const auto overBudget = [&] {
+    const std::int64_t work = out.evaluations * kExactEvaluationUnits + floatFrames;
+    const std::int64_t units = work - charged;
+    charged = work;
+    out.work = work;
+    out.stopped = out.stopped || (budget != nullptr && !budget->spend(units));
+    return out.stopped;
+  };
   const std::vector<Run> runs = runsOf(track, range);
   const std::size_t count = runs.size();
   const double m = range.length();
@@ -105,6 +117,8 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
   }
   offer(runs[pivot].frame, pivotRow);
   const auto finish = [&] {
+    if (overBudget())
+      bestKey = -1;
     out.key = bestKey;
     out.errorSum = bestKey >= 0 ? bestSum : 0.0;
     out.maxError = bestKey >= 0 ? bestMax : 0.0;
@@ -151,6 +165,7 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
       landmarkFrames[static_cast<std::size_t>(p)] = frame;
       float* row = &landmarkRows[static_cast<std::size_t>(p) * static_cast<std::size_t>(length)];
       track.approximateErrors(frame, range.first, length, row);
+      floatFrames += length;
       std::size_t farthest = 0;
       for (std::size_t t = 0; t < nearest.size(); ++t) {
         nearest[t] = std::min(nearest[t], row[t]);
@@ -172,6 +187,7 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
     for (int first = 0; first < length; first += kChunk) {
       const int chunk = std::min(kChunk, length - first);
       lower += landmarkDistanceSum(landmarkRows.data(), landmarks, static_cast<std::size_t>(length), at, first, chunk);
+      floatFrames += chunk;
       if (lower - (first + chunk) * landmarkSlack - 1e-4 * lower > upper)
         return true;
     }
@@ -235,6 +251,8 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
   std::vector<float> approximate(static_cast<std::size_t>(std::min(range.length(), kChunk)));
   double upperBest = bestSum; // the winner's exact sum is at most this
   for (const std::size_t i : order) {
+    if (overBudget())
+      return finish();
     if (i == pivot)
       continue;
     const int k = runs[i].frame;
@@ -253,6 +271,7 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
     for (int first = range.first; first <= range.last && !dropped; first += kChunk) {
       const int chunk = std::min(kChunk, range.last - first + 1);
       track.approximateErrors(k, first, chunk, approximate.data());
+      floatFrames += chunk;
       for (int c = 0; c < chunk; ++c) {
         sum += approximate[static_cast<std::size_t>(c)];
         largest = std::max(largest, static_cast<double>(approximate[static_cast<std::size_t>(c)]));
@@ -274,7 +293,7 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
     return a.lower != b.lower ? a.lower < b.lower : a.run < b.run;
   });
   for (const Survivor& survivor : survivors) {
-    if (survivor.lower > upperBest)
+    if (survivor.lower > upperBest || overBudget())
       break;
     const int k = runs[survivor.run].frame;
     offer(k, evaluateRow(track, runs, k, threshold, bestSum, bestKey, out.evaluations));

@@ -8,6 +8,7 @@
 #include "core/jpc/cluster_set.h"
 #include "core/jpc/clustering_table.h"
 #include "core/jpc/posture_error.h"
+#include "core/jpc/work_budget.h"
 
 #include <cstdint>
 
@@ -17,11 +18,14 @@ struct KeyPosture {
   int key = -1;                 // frame; -1 when no row of the range is within the threshold
   double errorSum = 0.0;        // sum_t E(t, key) over the range, cm·degrees
   double maxError = 0.0;        // max_t E(t, key) over the range, cm·degrees
-  std::int64_t evaluations = 0; // error evaluations spent (statistic)
+  std::int64_t evaluations = 0; // exact error evaluations spent (statistic)
+  std::int64_t work = 0;        // JpcWorkBudget units spent: exact and float evaluations
+  bool stopped = false;         // the budget ran out: key is -1
 };
 
 // `table` (optional, built for the same threshold) rules out rows whose run cannot hold
-// the range without evaluating them.
+// the range without evaluating them. `budget` (optional) is charged as the search goes;
+// once it is past its limit the search stops with `stopped` set and no key.
 //
 // note: eq. (7) is m^2 evaluations for a cluster of m frames. Exactly the same key comes
 // out of far fewer: rows of identical postures have identical sums (only the first can
@@ -35,6 +39,6 @@ struct KeyPosture {
 // reaches the best one are summed exactly (ascending t, as eq. (7) says). Every margin
 // covers rounding, so the key is the one the full table would give.
 KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshold,
-                      const ClusteringTable* table = nullptr);
+                      const ClusteringTable* table = nullptr, JpcWorkBudget* budget = nullptr);
 
 } // namespace mlod

@@ -1,5 +1,6 @@
 #include "core/lod/bone_reduction.h"
 
+#include "core/cancel.h"
 #include "core/jpc/posture_error.h"
 #include "runtime/transform.h"
 
@@ -18,8 +19,9 @@ struct FrozenPose {
   double maxError = 0.0; // cm·degrees
 };
 
-// The frame k with the smallest max_t E(t, k), if that is within `threshold`.
-std::optional<FrozenPose> frozenPose(const JointTrack& track, double threshold) {
+// The frame k with the smallest max_t E(t, k), if that is within `threshold`; none once
+// `cancel` is set (the caller tells the two apart). Each candidate k can be O(n).
+std::optional<FrozenPose> frozenPose(const JointTrack& track, double threshold, const std::atomic<bool>* cancel) {
   const int n = track.frameCount();
   std::vector<int> frames; // one frame per run of identical frames: the others give the same errors
   for (int t = 0; t < n; ++t)
@@ -47,6 +49,8 @@ std::optional<FrozenPose> frozenPose(const JointTrack& track, double threshold) 
   double best = std::numeric_limits<double>::infinity();
   int key = -1;
   for (int k : frames) {
+    if (cancelled(cancel))
+      return std::nullopt;
     const double bound = std::min(threshold, best);
     double worst = std::max(row0[static_cast<std::size_t>(k)], rowFar[static_cast<std::size_t>(k)]);
     if (worst > bound || (worst == best && key >= 0))
@@ -99,7 +103,7 @@ int BoneReduction::removedCount() const {
 }
 
 Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip> clips, double threshold,
-                                  const JpcSettings& settings, int level) {
+                                  const JpcSettings& settings, int level, const std::atomic<bool>* cancel) {
   if (Error error = skeleton.validate())
     return Error("skeleton: " + error.message());
   if (clips.empty())
@@ -121,6 +125,8 @@ Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip
   const std::vector<JointGeometry> geometry = jointGeometry(skeleton, settings.zeroLength);
   std::vector<glm::quat> rotations;
   for (std::size_t j = 1; j < n; ++j) {
+    if (cancelled(cancel))
+      return Error(kCancelled);
     const Joint& joint = skeleton.joints[j];
     if (settings.lockedFor(joint.name))
       continue;
@@ -136,7 +142,9 @@ Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip
       continue; // an animated translation or scale is never frozen (docs/architecture.md section 4)
     const JointTrack track(geometry[j], settings.alphaFor(joint.name), rotations);
     const std::optional<FrozenPose> frozen =
-        frozenPose(track, settings.thresholdFor(joint.name, level, threshold));
+        frozenPose(track, settings.thresholdFor(joint.name, level, threshold), cancel);
+    if (cancelled(cancel))
+      return Error(kCancelled);
     if (!frozen)
       continue;
     out.removed[j] = 1;

@@ -30,6 +30,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -51,9 +52,11 @@ struct BoneReduction {
 
 // The joints of `skeleton` that `clips` (all of them validating against it; at least one)
 // hold frozen within `threshold` (cm·degrees, >= 0) at LOD level `level` of `settings`.
-// Errors: invalid skeleton, clips, settings or threshold.
+// Errors: invalid skeleton, clips, settings or threshold; kCancelled once `cancel`
+// (core/cancel.h, may be null) is set, looked at per joint and per candidate key.
 Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip> clips, double threshold,
-                                  const JpcSettings& settings = {}, int level = 0);
+                                  const JpcSettings& settings = {}, int level = 0,
+                                  const std::atomic<bool>* cancel = nullptr);
 
 // `clip` (of the full skeleton) with every removed joint at its frozen rotation.
 Clip frozenClip(const BoneReduction& reduction, const Clip& clip);

@@ -77,7 +77,7 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
     return Error(kCancelled);
   LevelMotion out;
   out.threshold = threshold;
-  Result<BoneReduction> bones = reduceBones(m_skeleton, m_clips, threshold, m_jpc, level);
+  Result<BoneReduction> bones = reduceBones(m_skeleton, m_clips, threshold, m_jpc, level, cancel);
   if (!bones)
     return bones.error();
   out.bones = std::move(bones).value();

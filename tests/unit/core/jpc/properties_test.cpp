@@ -216,6 +216,39 @@ TEST(JpcProperties, ThreadCountDoesNotChangeResults) {
   }
 }
 
+// Guards the work bound of one simplify (issue 29: the key search costs about m^1.8 on a slow
+// 3D wobble that stays within the threshold, so 40 such joints at the joint-frame limit would
+// run for minutes): a clip whose clustering needs more work than the limit is refused, with
+// the limit and the clip named; one that needs exactly the limit is not; and neither depends
+// on the thread count. The work a clip needs is what clusterJoint() reports, joint by joint
+// and level by level.
+TEST(JpcProperties, WorkPastTheLimitIsRefused) {
+  const Skeleton chain = test::makeChain(3, 10.0f);
+  const Clip clip = test::chainClip(chain, 1500, [](int t) {
+    const float a = static_cast<float>(t);
+    return test::axisAngle(0.3f * std::sin(a * 0.011f), {0, 0, 1}) *
+           test::axisAngle(0.3f * std::sin(a * 0.0071f + 1.0f), {1, 0, 0});
+  });
+  const JpcSettings settings;
+  const std::vector<double> thresholds{5.0, 50.0};
+  const JpcClip prepared = *JpcClip::prepare(chain, clip, settings);
+  std::int64_t needed = 0;
+  for (int j = 0; j < prepared.jointCount(); ++j)
+    for (int level = 0; level < 2; ++level)
+      needed += prepared.clusterJoint(j, level, thresholds[static_cast<std::size_t>(level)]).work;
+  ASSERT_GT(needed, 3 * clip.frameCount) << "the wobble makes the key search work";
+  for (int threads : {1, 4}) {
+    SCOPED_TRACE(threads);
+    EXPECT_TRUE(simplifyClip(chain, clip, settings, thresholds, threads, needed));
+    const Result<std::vector<JpcLevelResult>> refused = simplifyClip(chain, clip, settings, thresholds, threads, needed - 1);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("clip 'chain'"), std::string::npos) << refused.message();
+    EXPECT_NE(refused.message().find("at most " + std::to_string(needed - 1) + " units of error evaluation"), std::string::npos)
+        << refused.message();
+  }
+  EXPECT_TRUE(simplifyClip(chain, clip, settings, thresholds)) << "the default limit is far above this";
+}
+
 // Guards that building tracks on demand (simplifyClip, the command line) changes no bit
 // against tracks kept (the editor): the same clusters, errors and evaluations per joint,
 // one level at a time or every level from one track.

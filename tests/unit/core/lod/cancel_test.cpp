@@ -4,6 +4,7 @@
 
 #include "core/cancel.h"
 #include "core/jpc/jpc.h"
+#include "core/lod/bone_reduction.h"
 #include "core/lod/lod_character.h"
 #include "core/lod/lod_package.h"
 #include "core/lod/lod_set.h"
@@ -82,6 +83,21 @@ TEST(Cancel, PresetFlagLeavesEveryJointOfJpcUnclustered) {
     for (const JointClustering& joint : joints)
       EXPECT_TRUE(joint.clusters.empty());
   }
+}
+
+// Guards bone reduction's per-joint loop (it ignored the flag: a long clip's frozen-pose
+// search ran to its end after Ctrl+C): with the flag set it answers kCancelled, although the
+// same call without it freezes joints of the tube.
+TEST(Cancel, PresetFlagMakesBoneReductionReturnCancelled) {
+  const BentTube bent;
+  const double threshold = 1e6; // every joint of the tube holds one posture within this
+  Result<BoneReduction> reduced = reduceBones(bent.tube.skeleton, bent.clips, threshold);
+  ASSERT_TRUE(reduced) << reduced.message();
+  ASSERT_GT(reduced->removedCount(), 0);
+  const std::atomic<bool> cancel{true};
+  reduced = reduceBones(bent.tube.skeleton, bent.clips, threshold, {}, 0, &cancel);
+  ASSERT_FALSE(reduced);
+  EXPECT_EQ(reduced.message(), kCancelled);
 }
 
 TEST(Cancel, PresetFlagStopsLodCharacter) {
