@@ -1,12 +1,13 @@
 // Every skinned character of Debian's assimp-testmodels with at least 500 triangles reaches
 // 50%, 25% and 10% of its triangles within 5% (issue 14's goal; 64 closed cubes stopped at
-// 16.7% before components could be pruned). The characters are named (kCharacters) and
-// found: every file under MLOD_ASSIMP_MODELS that imports with a skinned mesh of >= 500
+// 16.7% before components could be pruned). The characters are named (the shared fixture
+// list, unit/real_files.h) and found: every file under MLOD_ASSIMP_MODELS that imports with a skinned mesh of >= 500
 // triangles. A named one that does not import, or has no such mesh any more, fails the
 // test, and so does one found that is not named: nothing is skipped in silence.
 
 #include "core/mesh/mesh_lod.h"
 #include "io/isolated_import.h"
+#include "unit/real_files.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,19 +21,6 @@ namespace {
 
 // note: pictures, texts and shaders beside the models are not tried (they are no models;
 // importing them only costs time)
-// The skinned characters of assimp-testmodels 5.2.5 with >= 500 triangles (motionlod info on
-// every file of the package: skeleton, skinned mesh and its triangle count).
-const std::vector<std::string> kCharacters = {
-    "ASE/MotionCaptureROM.ase",                          // 2016 triangles, 27 joints
-    "Collada/anims_with_full_rotations_between_keys.DAE", // 768 triangles in 64 closed cubes
-    "FBX/animation_with_skeleton.fbx",                   // 2112 triangles
-    "SMD/WusonSMD.smd",                                  // 3732 triangles, one bone
-    "SMD/holy_grailref.smd",                             // 896 triangles, one bone
-    "X/BCN_Epileptic.X",                                 // 5126 triangles, 54 joints
-    "X/Testwuson.X",                                     // 3732 triangles, 38 joints, 3 clips
-    "X/anim_test.x",                                     // 840 triangles, 4 joints
-};
-
 bool mayBeModel(const std::filesystem::path& path) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
@@ -48,6 +36,8 @@ TEST(MeshLodCharacters, EverySkinnedCharacterReachesFiftyTwentyFiveAndTenPercent
   namespace fs = std::filesystem;
   const fs::path root(MLOD_ASSIMP_MODELS);
   ASSERT_TRUE(fs::is_directory(root)) << root << " is not installed (assimp-testmodels)";
+  const std::vector<std::string> characters = test::fixtureCharacters();
+  ASSERT_GE(characters.size(), 5u) << "tests/data/expected_counts.json names no characters";
   std::vector<fs::path> files;
   for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root))
     if (entry.is_regular_file() && mayBeModel(entry.path()))
@@ -61,10 +51,11 @@ TEST(MeshLodCharacters, EverySkinnedCharacterReachesFiftyTwentyFiveAndTenPercent
     limits.timeoutSeconds = 30.0;
     limits.memoryBytes = std::size_t{2} << 30;
     const std::string name = fs::relative(file, root).string();
-    const bool named = std::find(kCharacters.begin(), kCharacters.end(), name) != kCharacters.end();
+    const bool named = std::find(characters.begin(), characters.end(), name) != characters.end();
     Result<Asset> asset = importAssetIsolated(file.string(), {}, limits);
-    if (named)
+    if (named) {
       EXPECT_TRUE(asset) << name << " no longer imports: " << asset.message();
+    }
     if (!asset || asset->skeleton.empty())
       continue;
     for (const SkinnedMesh& mesh : asset->meshes) {
@@ -72,7 +63,7 @@ TEST(MeshLodCharacters, EverySkinnedCharacterReachesFiftyTwentyFiveAndTenPercent
         continue;
       SCOPED_TRACE(file.string() + " mesh '" + mesh.name + "'");
       found.push_back(name);
-      EXPECT_TRUE(named) << name << " is a skinned character of >= 500 triangles that kCharacters does not name";
+      EXPECT_TRUE(named) << name << " is a skinned character of >= 500 triangles that the fixture list does not name";
       Result<MeshLod> lod = MeshLod::build(mesh, &asset->skeleton, asset->clips);
       ASSERT_TRUE(lod) << lod.message();
       const ProgressiveMesh& pm = lod->progressive();
@@ -86,7 +77,7 @@ TEST(MeshLodCharacters, EverySkinnedCharacterReachesFiftyTwentyFiveAndTenPercent
       }
     }
   }
-  for (const std::string& name : kCharacters)
+  for (const std::string& name : characters)
     EXPECT_NE(std::find(found.begin(), found.end(), name), found.end())
         << name << " was not found as a skinned character of >= 500 triangles";
 }

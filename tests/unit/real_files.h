@@ -1,0 +1,51 @@
+#pragma once
+// The real files that tests of a general claim run on: tests/data/expected_counts.json's
+// "fixtures" (every skinned character of Debian's assimp-testmodels that imports with a
+// mesh of >= 500 triangles, and BVH clips), one list for every test, so a claim proven on
+// one file is proven on all of them. Parametrise with
+//   INSTANTIATE_TEST_SUITE_P(Characters, Suite, ::testing::ValuesIn(test::fixtureCharacters()),
+//                            test::fixtureName);
+// Needs MLOD_TEST_DATA_DIR and nlohmann_json.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace mlod::test {
+
+inline const nlohmann::json& fixtureTable() {
+  static const nlohmann::json fixtures = [] {
+    std::ifstream in(std::string(MLOD_TEST_DATA_DIR) + "/expected_counts.json");
+    const nlohmann::json table = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    return table.is_object() && table.contains("fixtures") ? table["fixtures"] : nlohmann::json::object();
+  }();
+  return fixtures;
+}
+
+// Paths relative to MLOD_ASSIMP_MODELS. `animatedOnly`: the characters with a skeleton of
+// >= 2 joints and a clip of >= 3 frames (what a claim about motion needs).
+inline std::vector<std::string> fixtureCharacters(bool animatedOnly = false) {
+  std::vector<std::string> paths;
+  for (const nlohmann::json& entry : fixtureTable().value("characters", nlohmann::json::array()))
+    if (!animatedOnly || entry.value("animated", false))
+      paths.push_back(entry.value("path", std::string()));
+  return paths;
+}
+
+inline std::vector<std::string> fixtureClips() {
+  return fixtureTable().value("clips", std::vector<std::string>());
+}
+
+// A test name from a fixture path: "X/BCN_Epileptic.X" -> "X_BCN_Epileptic_X".
+inline std::string fixtureName(const ::testing::TestParamInfo<std::string>& info) {
+  std::string name = info.param;
+  std::replace_if(name.begin(), name.end(), [](unsigned char c) { return !std::isalnum(c); }, '_');
+  return name;
+}
+
+} // namespace mlod::test
