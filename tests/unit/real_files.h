@@ -27,12 +27,14 @@ inline const nlohmann::json& fixtureTable() {
   return fixtures;
 }
 
-// Paths relative to MLOD_ASSIMP_MODELS. `animatedOnly`: the characters with a skeleton of
-// >= 2 joints and a clip of >= 3 frames (what a claim about motion needs).
-inline std::vector<std::string> fixtureCharacters(bool animatedOnly = false) {
+// Paths relative to MLOD_ASSIMP_MODELS. `flag` (may be null: all of them): only the
+// characters whose entry sets it: "animated" (a skeleton of >= 2 joints and a clip of >= 3
+// frames: a claim about motion), "still" (at E = 50 cm a joint is frozen through its clips
+// and a level removes it: a claim about frozen joints).
+inline std::vector<std::string> fixtureCharacters(const char* flag = nullptr) {
   std::vector<std::string> paths;
   for (const nlohmann::json& entry : fixtureTable().value("characters", nlohmann::json::array()))
-    if (!animatedOnly || entry.value("animated", false))
+    if (!flag || entry.value(flag, false))
       paths.push_back(entry.value("path", std::string()));
   return paths;
 }

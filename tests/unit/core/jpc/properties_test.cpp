@@ -262,7 +262,7 @@ TEST_P(JpcPropertiesOnRealFiles, TracksOnDemandClusterAsKeptOnes) {
 
 INSTANTIATE_TEST_SUITE_P(Clips, JpcPropertiesOnRealFiles, ::testing::ValuesIn(test::fixtureClips()),
                          test::fixtureName);
-INSTANTIATE_TEST_SUITE_P(Characters, JpcPropertiesOnRealFiles, ::testing::ValuesIn(test::fixtureCharacters(true)),
+INSTANTIATE_TEST_SUITE_P(Characters, JpcPropertiesOnRealFiles, ::testing::ValuesIn(test::fixtureCharacters("animated")),
                          test::fixtureName);
 
 } // namespace
