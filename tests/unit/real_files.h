@@ -22,9 +22,32 @@ inline const nlohmann::json& fixtureTable() {
   static const nlohmann::json fixtures = [] {
     std::ifstream in(std::string(MLOD_TEST_DATA_DIR) + "/expected_counts.json");
     const nlohmann::json table = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-    return table.is_object() && table.contains("fixtures") ? table["fixtures"] : nlohmann::json::object();
+    const auto found = table.is_object() ? table.find("fixtures") : table.end();
+    return found != table.end() && found->is_object() ? *found : nlohmann::json::object();
   }();
   return fixtures;
+}
+
+// The strings of fixtureTable()'s array `key`, or of member `member` of its objects, taking
+// only the objects whose boolean `flag` (null: any) is true.
+inline std::vector<std::string> fixtureStrings(const char* key, const char* member, const char* flag) {
+  std::vector<std::string> out;
+  const auto list = fixtureTable().find(key);
+  if (list == fixtureTable().end() || !list->is_array())
+    return out;
+  for (const nlohmann::json& entry : *list) {
+    const nlohmann::json* text = &entry;
+    if (member) {
+      const auto found = entry.is_object() ? entry.find(member) : entry.end();
+      const auto wanted = flag && entry.is_object() ? entry.find(flag) : entry.end();
+      if (found == entry.end() || (flag && (wanted == entry.end() || !wanted->is_boolean() || !wanted->get<bool>())))
+        continue;
+      text = &*found;
+    }
+    if (text->is_string())
+      out.push_back(text->get<std::string>());
+  }
+  return out;
 }
 
 // Paths relative to MLOD_ASSIMP_MODELS. `flag` (may be null: all of them): only the
@@ -32,16 +55,10 @@ inline const nlohmann::json& fixtureTable() {
 // frames: a claim about motion), "still" (at E = 50 cm a joint is frozen through its clips
 // and a level removes it: a claim about frozen joints).
 inline std::vector<std::string> fixtureCharacters(const char* flag = nullptr) {
-  std::vector<std::string> paths;
-  for (const nlohmann::json& entry : fixtureTable().value("characters", nlohmann::json::array()))
-    if (!flag || entry.value(flag, false))
-      paths.push_back(entry.value("path", std::string()));
-  return paths;
+  return fixtureStrings("characters", "path", flag);
 }
 
-inline std::vector<std::string> fixtureClips() {
-  return fixtureTable().value("clips", std::vector<std::string>());
-}
+inline std::vector<std::string> fixtureClips() { return fixtureStrings("clips", nullptr, nullptr); }
 
 // A test name from a fixture path: "X/BCN_Epileptic.X" -> "X_BCN_Epileptic_X".
 inline std::string fixtureName(const ::testing::TestParamInfo<std::string>& info) {
