@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <poll.h>
@@ -68,13 +69,18 @@ bool writeAll(int fd, const char* data, std::size_t size) {
 #else
   (void)memoryBytes;
 #endif
+#ifdef MLOD_TESTING
   // Tests of stopping a stuck import (Ctrl+C, kill -9, a cancel, the timeout) need an
   // import that never ends; nothing Assimp reads can block any more (a FIFO side file is
   // refused), so a worker whose file is the one this variable names blocks as a stuck
-  // Assimp would, until it is killed.
-  if (const char* stuck = std::getenv(kStuckImportVariable); stuck && path == stuck)
+  // Assimp would, until it is killed. Only test builds (mlod_io_testing) have this hook.
+  if (const char* stuck = std::getenv(kStuckImportVariable); stuck && path == stuck) {
+    std::fprintf(stderr, "import worker: %s names %s: blocking until stopped (a test hook)\n", kStuckImportVariable,
+                 stuck);
     for (;;)
       ::pause();
+  }
+#endif
   Result<Asset> result = importAsset(path, options);
   bool sent = false;
   if (result.ok()) {

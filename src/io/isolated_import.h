@@ -20,9 +20,10 @@ struct IsolationLimits {
   const std::atomic<bool>* cancel = nullptr; // when set to true, the child is stopped
 };
 
-// For tests of stopping a stuck import: the worker for exactly the file this environment
-// variable names blocks instead of importing, until it is killed (a cancel, the timeout,
-// its parent's death).
+// For tests of stopping a stuck import: in a test build (mlod_io_testing, compiled with
+// MLOD_TESTING) the worker for exactly the file this environment variable names says so on
+// stderr and blocks instead of importing, until it is killed (a cancel, the timeout, its
+// parent's death). Release builds (mlod_io) ignore the variable.
 inline constexpr const char* kStuckImportVariable = "MLOD_TEST_STUCK_IMPORT";
 
 Result<Asset> importAssetIsolated(const std::string& path, const ImportOptions& options = {},

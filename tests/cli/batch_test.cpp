@@ -22,8 +22,7 @@ using test::keysOf;
 using test::runMotionlod;
 
 fs::path freshFolder(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("mlod_cli_batch_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
+  const fs::path dir = test::freshFolder("batch", name);
   fs::create_directories(dir / "out");
   return dir;
 }

@@ -9,14 +9,16 @@
 
 namespace mlod::test {
 
-void execMotionlod(const std::vector<std::string>& arguments) {
-  std::vector<char*> argv{const_cast<char*>(MLOD_MOTIONLOD)};
+void execProgram(const std::string& program, const std::vector<std::string>& arguments) {
+  std::vector<char*> argv{const_cast<char*>(program.c_str())};
   for (const std::string& argument : arguments)
     argv.push_back(const_cast<char*>(argument.c_str()));
   argv.push_back(nullptr);
-  ::execv(MLOD_MOTIONLOD, argv.data());
+  ::execv(program.c_str(), argv.data());
   ::_exit(127);
 }
+
+void execMotionlod(const std::vector<std::string>& arguments) { execProgram(MLOD_MOTIONLOD, arguments); }
 
 namespace {
 std::string quote(const std::string& text) {
@@ -47,7 +49,7 @@ CliRun runMotionlod(const std::vector<std::string>& arguments, int timeoutSecond
 
 std::filesystem::path freshFolder(const std::string& suite, const std::string& name) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("mlod_cli_" + suite + "_" + std::to_string(::getpid())) / name;
+  const fs::path dir = processTempFolder("mlod_cli_" + suite + "_") / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -21,10 +21,12 @@ CliRun runMotionlod(const std::vector<std::string>& arguments);
 CliRun runMotionlod(const std::vector<std::string>& arguments, int timeoutSeconds);
 
 // In a child process after fork() (its descriptors set up by the caller): becomes
-// `motionlod ARGS`; exits 127 if that fails.
+// `PROGRAM ARGS` (execProgram) or `motionlod ARGS`; exits 127 if that fails.
+[[noreturn]] void execProgram(const std::string& program, const std::vector<std::string>& arguments);
 [[noreturn]] void execMotionlod(const std::vector<std::string>& arguments);
 
-// An empty folder of its own for one test: <temp>/mlod_cli_<suite>_<pid>/<name>.
+// An empty folder of its own for one test: <temp>/mlod_cli_<suite>_<pid>/<name>, removed
+// when this process exits (test_files.h's processTempFolder).
 std::filesystem::path freshFolder(const std::string& suite, const std::string& name);
 // The names of the files in `dir`, sorted.
 std::vector<std::string> filesIn(const std::filesystem::path& dir);

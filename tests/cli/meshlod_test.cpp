@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <cmath>
 #include <unistd.h>
 
 namespace mlod {
@@ -117,15 +118,36 @@ TEST(CliMeshLod, BadInputIsExitTwo) {
 // exit 2 with nothing written.
 TEST(CliMeshLod, ExportWithMeshRatios) {
   namespace fs = std::filesystem;
-  const fs::path out = fs::temp_directory_path() / ("mlod_cli_meshratio_" + std::to_string(::getpid()) + ".mlodb");
-  fs::remove(out);
+  const fs::path out = test::freshFolder("meshlod", "ratios") / "out.mlodb";
   const std::string bcn = test::modelPath("X/BCN_Epileptic.X");
   test::CliRun run =
       runMotionlod({"export", bcn, "--plugin", "bundle", "-o", out.string(), "--mesh-ratio", "0.5,0.25,0.1", "--json"});
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json doc = nlohmann::json::parse(run.out);
   EXPECT_EQ(doc["levels"], 4);
-  EXPECT_TRUE(fs::exists(out));
+  // The bundle read back (info reads it as an engine does): LOD0 the whole mesh, then one
+  // level per ratio, each at most round(ratio x triangles) and within 5% of it (the
+  // simplifier's promise, MeshLodBcn.RatiosReachTheirTriangleCountsWithinFivePercent).
+  const test::CliRun info = runMotionlod({"info", out.string(), "--json"});
+  ASSERT_EQ(info.status, 0) << info.err;
+  const nlohmann::json bundle = nlohmann::json::parse(info.out);
+  const test::CliRun source = runMotionlod({"info", bcn, "--json"});
+  ASSERT_EQ(source.status, 0) << source.err;
+  const int triangles = nlohmann::json::parse(source.out)["meshes"][0]["triangles"].get<int>();
+  ASSERT_EQ(bundle["levels"].size(), 4u);
+  ASSERT_TRUE(bundle["levels"][0]["mesh"].is_object());
+  EXPECT_EQ(bundle["levels"][0]["mesh"]["triangles"].get<int>(), triangles);
+  const double ratios[] = {0.5, 0.25, 0.1};
+  for (std::size_t l = 1; l < 4; ++l) {
+    SCOPED_TRACE("LOD" + std::to_string(l));
+    const nlohmann::json& level = bundle["levels"][l];
+    ASSERT_TRUE(level["mesh"].is_object());
+    EXPECT_DOUBLE_EQ(level["mesh_ratio"].get<double>(), ratios[l - 1]);
+    const double target = double(std::llround(ratios[l - 1] * triangles));
+    const double got = level["mesh"]["triangles"].get<double>();
+    EXPECT_LE(got, target);
+    EXPECT_GE(got, 0.95 * target);
+  }
   fs::remove(out);
   for (const char* bad : {"0", "1.5", "x", "0.5,nan"}) {
     run = runMotionlod({"export", bcn, "--plugin", "bundle", "-o", out.string(), "--mesh-ratio", bad});

@@ -245,13 +245,14 @@ TEST(CliSafety, OutputNamesAreKeptAsBytes) {
 
 // --- the import worker: stopped with its parent ------------------------------------
 
-// `motionlod ARGS` started in the background, stderr to `err`; its PID.
+// `motionlod ARGS` started in the background, stderr to `err`; its PID. The test build
+// (motionlod_testing): its import worker blocks on a test::StuckImport.
 pid_t startMotionlod(const std::vector<std::string>& arguments, const fs::path& err) {
   const pid_t pid = ::fork();
   if (pid == 0) {
     std::FILE* out = std::freopen(err.c_str(), "w", stderr);
     (void)out;
-    test::execMotionlod(arguments);
+    test::execProgram(MLOD_MOTIONLOD_TESTING, arguments);
   }
   return pid;
 }
@@ -285,7 +286,8 @@ bool goneWithin(pid_t pid, double seconds) {
 // worker is stopped and motionlod ends by SIGINT, as a shell expects.
 TEST(CliSafety, CtrlCStopsAStuckImportAtOnce) {
   const fs::path dir = freshFolder("ctrl_c");
-  const pid_t cli = startMotionlod({"info", test::stuckImport(), "--import-timeout", "600"}, dir / "err");
+  const test::StuckImport stuck;
+  const pid_t cli = startMotionlod({"info", stuck.path(), "--import-timeout", "600"}, dir / "err");
   const pid_t worker = test::workerOf(cli, 10.0);
   ASSERT_GT(worker, 0);
   ::kill(cli, SIGINT);
@@ -294,18 +296,30 @@ TEST(CliSafety, CtrlCStopsAStuckImportAtOnce) {
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << status;
   EXPECT_NE(bytesOf(dir / "err").find("interrupted: the import was stopped"), std::string::npos)
       << bytesOf(dir / "err");
+  EXPECT_NE(bytesOf(dir / "err").find("MLOD_TEST_STUCK_IMPORT names " + stuck.path()), std::string::npos)
+      << "the hook fired without saying so: " << bytesOf(dir / "err");
   EXPECT_TRUE(goneWithin(worker, 10.0)) << "the worker outlived the interrupted command";
 }
 
 // kill -9 of motionlod while it imports left the worker running forever.
 TEST(CliSafety, KilledCommandTakesItsWorkerAlong) {
   const fs::path dir = freshFolder("kill9");
-  const pid_t cli = startMotionlod({"info", test::stuckImport(), "--import-timeout", "600"}, dir / "err");
+  const test::StuckImport stuck;
+  const pid_t cli = startMotionlod({"info", stuck.path(), "--import-timeout", "600"}, dir / "err");
   const pid_t worker = test::workerOf(cli, 10.0);
   ASSERT_GT(worker, 0);
   ::kill(cli, SIGKILL);
   waitAtMost(cli, 10.0);
   EXPECT_TRUE(goneWithin(worker, 10.0)) << "the worker outlived motionlod";
+}
+
+// The stuck-import hook is in test builds only: the released motionlod imports the file
+// that MLOD_TEST_STUCK_IMPORT names like any other.
+TEST(CliSafety, ReleaseBuildHasNoStuckImportHook) {
+  const test::StuckImport stuck;
+  const test::CliRun run = runMotionlod({"info", stuck.path(), "--import-timeout", "10"}, kTimeout);
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.err.find("test hook"), std::string::npos) << run.err;
 }
 
 // --- the bundle and its manifest: whole after any failure ----------------------------

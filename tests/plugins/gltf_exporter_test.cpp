@@ -9,6 +9,8 @@
 // clusters), animation bytes that fall with each level, one valid file per level on request.
 
 #include "exporter_test_support.h"
+#include "unit/package_fixtures.h"
+#include "unit/real_files.h"
 #include "core/lod/held_keys.h"
 #include "io/importer.h"
 
@@ -624,10 +626,15 @@ TEST(GltfExporter, AnimationBytesFallWithEachLevel) {
   }
 }
 
+// The claims about characters below run on every animated character of the shared fixture
+// list (unit/real_files.h) at its own or guessed unit: Testwuson.X has three clips, so "one
+// animation per clip and level" sees more than one clip (BCN_Epileptic has one).
+class GltfExporterOnCharacters : public ::testing::TestWithParam<std::string> {};
+
 // split_levels=true: OUT_LOD0.glb ... one complete character per level, each valid, each
 // with its level's mesh, skin, animations and cluster table; OUT itself is not written.
-TEST(GltfExporter, SplitLevelsWriteOneValidCharacterPerLevel) {
-  const LodPackage& package = test::bcnPackage();
+TEST_P(GltfExporterOnCharacters, SplitLevelsWriteOneValidCharacterPerLevel) {
+  const LodPackage& package = test::realPackage(GetParam(), 0.0);
   QTemporaryDir dir;
   const Exported whole = exportTo(package, dir.filePath("whole.glb"));
   ASSERT_TRUE(whole.result.ok);
@@ -636,8 +643,10 @@ TEST(GltfExporter, SplitLevelsWriteOneValidCharacterPerLevel) {
   const Exported out = exportTo(package, dir.filePath("split/BCN.glb"), {"split_levels=true"});
   ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
   EXPECT_TRUE(out.bytes.isEmpty()); // no OUT, only OUT_LOD<n>
-  EXPECT_EQ(test::filesIn(dir.filePath("split")),
-            QStringList({"BCN_LOD0.glb", "BCN_LOD1.glb", "BCN_LOD2.glb", "BCN_LOD3.glb"}));
+  QStringList expectedFiles;
+  for (std::size_t l = 0; l < package.levels.size(); ++l)
+    expectedFiles << QStringLiteral("BCN_LOD%1.glb").arg(l);
+  EXPECT_EQ(test::filesIn(dir.filePath("split")), expectedFiles);
   for (std::size_t l = 0; l < package.levels.size(); ++l) {
     const std::string lod = "_LOD" + std::to_string(l);
     SCOPED_TRACE(lod);
@@ -648,22 +657,25 @@ TEST(GltfExporter, SplitLevelsWriteOneValidCharacterPerLevel) {
     const QByteArray bytes = readAll(path);
     const tinygltf::Model model = parseModel(bytes);
     ASSERT_EQ(model.meshes.size(), 1u);
-    EXPECT_EQ(model.meshes[0].name, "BCN_Epileptic" + lod);
+    EXPECT_EQ(model.meshes[0].name, package.name + lod);
     ASSERT_EQ(model.skins.size(), 1u);
     ASSERT_EQ(model.animations.size(), package.clips.size());
-    EXPECT_EQ(model.animations[0].name, package.clips[0].name + lod);
+    for (std::size_t c = 0; c < package.clips.size(); ++c)
+      EXPECT_EQ(model.animations[c].name, package.clips[c].name + lod);
     EXPECT_EQ(animationBytesPerLevel(model, 1), std::vector<std::size_t>{wholeBytes[l]});
     const json document = documentOf(bytes);
     EXPECT_FALSE(document["nodes"].back().contains("extensions")); // one mesh: no MSFT_lod
     const json& levels = document.at("extensions").at("MLOD_joint_clusters").at("levels");
     ASSERT_EQ(levels.size(), 1u);
     EXPECT_EQ(levels[0].at("level").get<int>(), package.levels[l].index);
-    EXPECT_EQ(levels[0].at("nodeName").get<std::string>(), "BCN_Epileptic" + lod);
+    EXPECT_EQ(levels[0].at("nodeName").get<std::string>(), package.name + lod);
     const Result<Asset> back = importAsset(path.toStdString());
     ASSERT_TRUE(back) << back.message();
     ASSERT_EQ(back->clips.size(), package.clips.size());
-    EXPECT_EQ(back->clips[0].fps, package.clips[0].fps);
-    EXPECT_EQ(back->clips[0].frameCount, package.clips[0].frameCount);
+    for (std::size_t c = 0; c < package.clips.size(); ++c) {
+      EXPECT_EQ(back->clips[c].fps, package.clips[c].fps);
+      EXPECT_EQ(back->clips[c].frameCount, package.clips[c].frameCount);
+    }
   }
 }
 
@@ -687,24 +699,34 @@ std::set<std::string> assimpMeshes(const QString& path, std::size_t animations) 
   return names;
 }
 
-TEST(GltfExporter, AssimpSeesBonesLevelNamesAndAnimations) {
-  const LodPackage& package = test::bcnPackage();
+TEST_P(GltfExporterOnCharacters, AssimpSeesBonesLevelNamesAndAnimations) {
+  const LodPackage& package = test::realPackage(GetParam(), 0.0);
   QTemporaryDir dir;
   const Exported out = exportTo(package, dir.filePath("BCN.glb"));
   ASSERT_TRUE(out.result.ok);
   EXPECT_EQ(assimpMeshes(out.path, package.levels.size() * package.clips.size()),
-            std::set<std::string>{"BCN_Epileptic_LOD0"});
+            std::set<std::string>{package.name + "_LOD0"});
   const Exported split = exportTo(package, dir.filePath("BCN.glb"), {"split_levels=true"});
   ASSERT_TRUE(split.result.ok);
   for (std::size_t l = 0; l < package.levels.size(); ++l)
     EXPECT_EQ(assimpMeshes(dir.filePath(QStringLiteral("BCN_LOD%1.glb").arg(l)), package.clips.size()),
-              std::set<std::string>{"BCN_Epileptic_LOD" + std::to_string(l)});
+              std::set<std::string>{package.name + "_LOD" + std::to_string(l)});
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(out.path.toStdString(), aiProcess_ValidateDataStructure);
   ASSERT_TRUE(scene);
+  ASSERT_EQ(scene->mNumAnimations, package.levels.size() * package.clips.size());
+  std::vector<std::string> names; // one animation per level and clip, level by level
+  for (unsigned a = 0; a < scene->mNumAnimations; ++a)
+    names.push_back(scene->mAnimations[a]->mName.C_Str());
+  std::vector<std::string> expected;
   for (std::size_t l = 0; l < package.levels.size(); ++l)
-    EXPECT_EQ(std::string(scene->mAnimations[l]->mName.C_Str()), package.clips[0].name + "_LOD" + std::to_string(l));
+    for (const Clip& clip : package.clips)
+      expected.push_back(clip.name + "_LOD" + std::to_string(l));
+  EXPECT_EQ(names, expected);
 }
+
+INSTANTIATE_TEST_SUITE_P(Characters, GltfExporterOnCharacters, ::testing::ValuesIn(test::fixtureCharacters("animated")),
+                         test::fixtureName);
 
 // MLOD_joint_clusters names its animations and joints as well as numbering them: a tool that
 // reorders the animations leaves the importer able to find each animation's clusters.

@@ -11,6 +11,7 @@
 #include "editor/main_window.h"
 #include "editor/views/budget_dialog.h"
 #include "editor/views/job_progress.h"
+#include "event_conditions.h"
 
 #include <QApplication>
 #include <QDoubleSpinBox>
@@ -173,21 +174,32 @@ private slots:
     window->findChild<QAction*>("actionGenerateLevels")->trigger();
     auto* dialog = window->findChild<BudgetDialog*>("budgetDialog");
     QVERIFY(dialog);
-    // the preview starts once the values rest, and its progress shows only after 300 ms
+    // The preview starts once the values rest; its progress is a JobProgress, which shows
+    // only after JobProgress::kShowDelayMs (test_main_window checks that on the dialog
+    // alone: here, how soon the test sees the run start is the event loop's business). It
+    // shows once, while the preview runs, and hides on Cancel.
+    const mlod::test::ShowCounter shows(dialog->progress());
     QTRY_VERIFY_WITH_TIMEOUT(document->levelGenerator()->isRunning(), 5000);
-    QVERIFY(!dialog->progress()->isVisible());
     QTRY_VERIFY_WITH_TIMEOUT(dialog->progress()->isVisible(), 5000);
+    QVERIFY(dialog->progress()->isRunning());
+    QCOMPARE(shows.count(), 1);
     QTest::mouseClick(dialog->progress()->findChild<QPushButton*>(), Qt::LeftButton);
     QVERIFY(!document->levelGenerator()->isRunning());
     QVERIFY(!dialog->progress()->isVisible());
+    QVERIFY(!dialog->progress()->isRunning());
     QVERIFY(!dialog->applyButton()->isEnabled());
     QVERIFY(dialog->statusLabel()->text().contains("cancelled"));
     QCOMPARE(dialog->table()->rowCount(), 0);
     document->levelGenerator()->setWorkerHook({});
     QTRY_VERIFY_WITH_TIMEOUT(!document->levelGenerator()->isBusy(), 20000);
 
-    // a second preview, then the dialog's own Cancel: nothing lands
-    QTest::mouseClick(dialog->previewButton(), Qt::LeftButton);
+    // a second preview, then the dialog's own Cancel: nothing lands. Preview starts the run
+    // at once and its progress does not show at once: no event loop ran since the click, so
+    // this holds however slow the machine is.
+    dialog->previewButton()->click();
+    QVERIFY(dialog->progress()->isRunning());
+    QVERIFY(!dialog->progress()->isVisible());
+    QCOMPARE(shows.count(), 1);
     QTRY_VERIFY_WITH_TIMEOUT(dialog->isPreviewCurrent(), 60000);
     QTest::mouseClick(dialog->findChild<QPushButton*>("cancelButton"), Qt::LeftButton);
     QTRY_VERIFY(!window->findChild<BudgetDialog*>("budgetDialog"));

@@ -7,6 +7,8 @@
 #include "editor/models/asset_tree.h"
 #include "editor/views/help_browser.h"
 #include "editor/views/job_progress.h"
+#include "test_files.h"
+#include "event_conditions.h"
 
 #include <QAction>
 #include <QDockWidget>
@@ -20,8 +22,12 @@
 #include <QTextDocument>
 #include <QTreeView>
 
+#include <unistd.h>
+
 using mlod::AssetTreeModel;
 using mlod::MainWindow;
+using mlod::test::ShowCounter;
+using mlod::test::timersOfAtMostHaveFired;
 
 class TestMainWindow : public QObject {
   Q_OBJECT
@@ -88,7 +94,8 @@ private slots:
     QCOMPARE(importAndWait(window, MLOD_SAMPLE).value(0).toBool(), true);
   }
 
-  // Cancel stops a runaway import (a file that makes Assimp allocate without end).
+  // Cancel stops a runaway import (a file that makes Assimp allocate without end): its
+  // worker is running when Cancel comes, and is gone after it.
   void cancelStopsImport() {
     MainWindow window;
     window.show();
@@ -98,16 +105,20 @@ private slots:
     QSignalSpy spy(&window, &MainWindow::importFinished);
     window.importFile(QString(MLOD_ASSIMP_MODELS) + "/invalid/OutOfMemory.off");
     QVERIFY(window.isImporting());
-    QTest::qWait(300);
+    const pid_t worker = mlod::test::workerOf(::getpid(), 20.0);
+    QVERIFY2(worker > 0, "no import worker started");
     QVERIFY2(spy.isEmpty(), qPrintable(spy.isEmpty() ? QString() : spy.first()[2].toString()));
     window.cancelImport();
     QVERIFY(spy.wait(20000));
     QCOMPARE(spy.first()[0].toBool(), false);
     QCOMPARE(spy.first()[2].toString(), QString("import cancelled"));
     QVERIFY(!window.isImporting());
+    QTRY_VERIFY_WITH_TIMEOUT(!mlod::test::runs(worker), 10000);
   }
 
-  // A second import while one runs is refused and logged, not queued silently.
+  // A second import while one runs is refused and logged, not queued silently: a third
+  // import after the first ends is the next one to finish (a queued second would finish
+  // before it, or have it refused).
   void secondImportWhileRunningIsRefused() {
     MainWindow window;
     QSignalSpy spy(&window, &MainWindow::importFinished);
@@ -115,9 +126,15 @@ private slots:
     window.importFile(MLOD_SAMPLE);
     QVERIFY(window.logText().contains("already running"));
     QVERIFY(spy.wait(60000));
-    QTest::qWait(200);
     QCOMPARE(spy.count(), 1);
-    QCOMPARE(window.assetModel()->assetCount(), 1);
+    const QString third = QString(MLOD_ASSIMP_MODELS) + "/BVH/01_01.bvh";
+    const QList<QVariant> result = importAndWait(window, third);
+    QVERIFY(!result.isEmpty());
+    QCOMPARE(result[1].toString(), third);
+    QCOMPARE(result[0].toBool(), true);
+    QCOMPARE(spy.count(), 2);
+    QCOMPARE(window.logText().count("already running"), 1);
+    QCOMPARE(window.assetModel()->assetCount(), 2);
   }
 
   // The import unit applies to the next import and is remembered (QSettings).
@@ -233,32 +250,41 @@ private slots:
     QSignalSpy analysed(window.document(), &mlod::Document::analysisFinished);
     QCOMPARE(importAndWait(window, MLOD_SAMPLE).value(0).toBool(), true);
     QVERIFY(analysed.wait(60000));
-    QTest::qWait(mlod::JobProgress::kShowDelayMs + 500); // past every show timer
-    QVERIFY(window.importProgress());
+    QVERIFY(window.importProgress() && window.analysisProgress() && window.levelsProgress());
+    const ShowCounter importShows(window.importProgress());
+    const ShowCounter analysisShows(window.analysisProgress());
+    const ShowCounter levelsShows(window.levelsProgress());
+    QVERIFY(timersOfAtMostHaveFired(mlod::JobProgress::kShowDelayMs)); // past every show timer
     QVERIFY(!window.importProgress()->isVisible());
     QVERIFY(!window.analysisProgress()->isVisible());
     QVERIFY(!window.levelsProgress()->isVisible());
+    QCOMPARE(importShows.count() + analysisShows.count() + levelsShows.count(), 0);
   }
 
   // The dialog itself: shown once a job has run kShowDelayMs, hidden when it ends; a job
-  // shorter than that never shows it.
+  // shorter than that never shows it, not even for a moment (counted by Show events).
   void jobProgressShowsOnlyForLongWork() {
     QWidget parent;
     parent.show();
     mlod::JobProgress progress("Work", "Cancel", &parent);
+    const ShowCounter shows(&progress);
+    // a short job: one pass of the event loop between its start and its end
     progress.begin("short", 10);
-    QTest::qWait(50);
+    QCoreApplication::processEvents();
     progress.finish();
-    QTest::qWait(mlod::JobProgress::kShowDelayMs + 300);
+    QVERIFY(timersOfAtMostHaveFired(mlod::JobProgress::kShowDelayMs));
+    QCOMPARE(shows.count(), 0);
     QVERIFY(!progress.isVisible());
     progress.begin("long", 10);
     QTRY_VERIFY_WITH_TIMEOUT(progress.isVisible(), 5000);
+    QCOMPARE(shows.count(), 1);
     progress.step(5, 10);
     QCOMPARE(progress.value(), 5);
     progress.finish();
     QVERIFY(!progress.isVisible());
-    QTest::qWait(mlod::JobProgress::kShowDelayMs + 300);
+    QVERIFY(timersOfAtMostHaveFired(mlod::JobProgress::kShowDelayMs));
     QVERIFY(!progress.isVisible());
+    QCOMPARE(shows.count(), 1);
   }
 
   // A project whose "current" fields are all out of range (hand-edited, or from a damaged
@@ -284,8 +310,8 @@ private slots:
       QSignalSpy opened(window.document(), &mlod::Document::projectOpened);
       QVERIFY2(window.openProject(path), qPrintable(current));
       QVERIFY(opened.wait(60000));
-      QTest::qWait(300); // the views refresh
       const mlod::Document* document = window.document();
+      QTRY_VERIFY_WITH_TIMEOUT(!document->isLoading() && !document->isAnalysing(), 60000); // the views refresh
       QVERIFY(document->currentLevel() >= 0 && document->currentLevel() < document->project().levelCount());
       QVERIFY(document->currentAsset() >= -1 && document->currentAsset() < document->assetCount());
       QVERIFY(!window.statusText().isEmpty());

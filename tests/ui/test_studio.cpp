@@ -7,15 +7,21 @@
 #include "editor/document/document.h"
 #include "editor/main_window.h"
 #include "editor/studio/scripted_run.h"
+#include "editor/viewport/scene_view.h"
+#include "editor/viewport/viewport_panel.h"
 
 #include <QApplication>
 #include <QDockWidget>
 #include <QImage>
+#include <QRegularExpression>
 #include <QSet>
 #include <QSignalSpy>
 #include <QSurfaceFormat>
 #include <QTemporaryDir>
 #include <QTest>
+
+#include <cmath>
+#include <cstdlib>
 
 using namespace mlod;
 
@@ -48,6 +54,28 @@ int sampledColours(const QImage& image) {
   return int(colours.size());
 }
 
+// Pixels of `a` inside `region` that differ from `b` by more than 24 in a channel.
+int differingPixels(const QImage& a, const QImage& b, const QRect& region) {
+  int count = 0;
+  for (int y = region.top(); y <= region.bottom(); ++y)
+    for (int x = region.left(); x <= region.right(); ++x) {
+      const QRgb p = a.pixel(x, y), q = b.pixel(x, y);
+      if (std::abs(qRed(p) - qRed(q)) > 24 || std::abs(qGreen(p) - qGreen(q)) > 24 || std::abs(qBlue(p) - qBlue(q)) > 24)
+        ++count;
+    }
+  return count;
+}
+
+// The captures of a line such as "crowd: 40 agents · LOD0 12 · LOD1 28" by `pattern`, or
+// none when no line of `lines` matches it whole.
+QStringList figuresOf(const QStringList& lines, const QString& pattern) {
+  const QRegularExpression whole(QRegularExpression::anchoredPattern(pattern));
+  for (const QString& line : lines)
+    if (const QRegularExpressionMatch match = whole.match(line); match.hasMatch())
+      return match.capturedTexts().mid(1);
+  return {};
+}
+
 ScriptedRunOptions sampleRun(const QString& png) {
   ScriptedRunOptions options;
   options.files = {{MLOD_SAMPLE, 5.6444}};
@@ -77,10 +105,30 @@ private slots:
     QCOMPARE(document->currentLevel(), 2);
     QVERIFY(document->currentAssetPtr());
     QCOMPARE(document->currentJoint(), document->currentAssetPtr()->skeleton.find("LeftUpLeg"));
-    const QImage shot(options.screenshot);
+    const QImage shot = QImage(options.screenshot).convertToFormat(QImage::Format_RGB32);
     QVERIFY(!shot.isNull());
     QCOMPARE(shot.size(), window.size() * window.devicePixelRatio());
     QVERIFY2(sampledColours(shot) > 50, "the picture is nearly blank");
+    // The 3D view's part of the picture against a blank render of the same view (same
+    // camera, size and overlay, its meshes and lines taken away, grabbed as the run grabs):
+    // the widgets around it cannot make up for a 3D view that draws nothing.
+    auto* viewport = window.findChild<ViewportPanel*>();
+    QVERIFY(viewport && viewport->sceneView());
+    SceneView* view = viewport->sceneView();
+    const qreal scale = window.devicePixelRatio();
+    const QRect region = QRect(QPointF(view->mapTo(&window, QPoint(0, 0))).toPoint() * scale, view->size() * scale)
+                             .intersected(shot.rect());
+    QVERIFY(region.width() >= 400 && region.height() >= 300);
+    view->setBatches({});
+    view->setLines({}, {});
+    const QImage blank = ScriptedRun::grabWindow(window).convertToFormat(QImage::Format_RGB32);
+    QCOMPARE(blank.size(), shot.size());
+    const int drawn = differingPixels(shot, blank, region);
+    const int area = region.width() * region.height();
+    qInfo("3D view: %d of %d pixels differ from the blank render", drawn, area);
+    // the skeleton's capsules at this size cover a few percent of the view: 0.5% is far
+    // below them and far above rendering noise (none: the same view rendered twice)
+    QVERIFY2(drawn > area / 200, qPrintable(QString("%1 of %2 pixels drawn").arg(drawn).arg(area)));
   }
 
   // --crowd N: the Crowd dock in front with N agents, its figures reported, then the picture.
@@ -95,10 +143,35 @@ private slots:
     const Outcome outcome = runScript(window, options);
     QCOMPARE(outcome.status, 0);
     QVERIFY2(outcome.errors.isEmpty(), qPrintable(outcome.errors.join('\n')));
-    QVERIFY(outcome.lines.size() >= 3);
-    QVERIFY(outcome.lines.first().startsWith("crowd: "));
-    QVERIFY2(outcome.lines.filter("mean over 10 frames").size() == 1, qPrintable(outcome.lines.join('\n')));
+    const QString all = outcome.lines.join('\n');
     QCOMPARE(outcome.lines.last(), "screenshot: " + options.screenshot);
+    // Each figure parses and is plausible for 40 agents of the sample (38 joints, no mesh).
+    const int joints = window.document()->currentAssetPtr()->skeleton.jointCount();
+    const QStringList agents = figuresOf(outcome.lines, "crowd: (\\d+) agents((?: · \\S+ \\d+)+)");
+    QVERIFY2(agents.size() == 2, qPrintable(all));
+    QCOMPARE(agents[0].toInt(), 40);
+    int placed = 0;
+    for (const QString& level : agents[1].split(" · ", Qt::SkipEmptyParts))
+      placed += level.section(' ', -1).toInt();
+    QCOMPARE(placed, 40); // every agent plays one level
+    const QStringList evaluated =
+        figuresOf(outcome.lines, "crowd: joints evaluated ([\\d,]+) / ([\\d,]+) at full detail \\(([\\d.]+)%\\)");
+    QVERIFY2(evaluated.size() == 3, qPrintable(all));
+    const qlonglong done = QString(evaluated[0]).remove(',').toLongLong();
+    const qlonglong full = QString(evaluated[1]).remove(',').toLongLong();
+    QVERIFY2(full > 0 && full % 40 == 0 && full / 40 <= joints, qPrintable(evaluated[1]));
+    QVERIFY2(done > 0 && done <= full, qPrintable(evaluated[0]));
+    QVERIFY(std::abs(evaluated[2].toDouble() - 100.0 * double(done) / double(full)) <= 0.05 + 1e-9);
+    const QStringList skinned = figuresOf(outcome.lines, "crowd: vertices skinned ([\\d,]+)");
+    QVERIFY2(skinned.size() == 1, qPrintable(all));
+    const QStringList mean = figuresOf(
+        outcome.lines, "crowd: mean over 10 frames: pose evaluation ([\\d.]+) ms CPU per frame, ([\\d.]+) fps");
+    QVERIFY2(mean.size() == 2, qPrintable(all));
+    bool ok = false;
+    const double poseMs = mean[0].toDouble(&ok);
+    QVERIFY(ok && poseMs > 0.0 && poseMs < 1000.0); // 40 agents of 38 joints: far under a second
+    const double fps = mean[1].toDouble(&ok);
+    QVERIFY(ok && fps > 0.0 && fps < 100000.0);
     QVERIFY(window.crowdDock()->isVisible());
     QVERIFY(window.centralWidget()->isVisible()); // the character beside the crowd
     QVERIFY(!QImage(options.screenshot).isNull());

@@ -14,6 +14,7 @@
 #include "editor/viewport/playback.h"
 #include "editor/viewport/viewport_panel.h"
 #include "io/importer.h"
+#include "event_conditions.h"
 
 #include <QApplication>
 #include <QGuiApplication>
@@ -678,7 +679,8 @@ private slots:
       view->update();
       if (!QTest::qWaitFor([&] { return view->isVisible() && view->paintCount() > before; }, 10000))
         return -1;
-      QTest::qWait(100);
+      if (!mlod::test::settles([&] { return QList<QRect>{view->geometry(), dock->geometry()}; })) // docked, floated
+        return -1;
       const PixelCensus pixels = census(keep(view->grabFramebuffer(), what), QRectF());
       qInfo("%s: %d coloured pixels (%d blue, %d orange)", what, pixels.saturated, pixels.blue, pixels.orange);
       return pixels.saturated;

@@ -118,4 +118,18 @@ inline const Asset& meshAsset(const std::string& relative) {
 
 inline const Asset& bcnEpileptic() { return meshAsset("X/BCN_Epileptic.X"); }
 
+// A character of the shared fixture list (unit/real_files.h), imported once per test
+// program at its own unit or the guessed one (a human height), as the studio imports it.
+inline const Asset& fixtureCharacter(const std::string& relative) {
+  static std::map<std::string, Asset> cache;
+  auto found = cache.find(relative);
+  if (found == cache.end()) {
+    Result<Asset> asset = importAsset(std::string(MLOD_ASSIMP_MODELS) + "/" + relative);
+    if (!asset)
+      throw std::runtime_error(relative + ": " + asset.message());
+    found = cache.emplace(relative, std::move(asset).value()).first;
+  }
+  return found->second;
+}
+
 } // namespace mlod::test

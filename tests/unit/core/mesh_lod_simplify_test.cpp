@@ -282,15 +282,21 @@ TEST(MeshLodTube, ErrorsGrowAsTheRatioFalls) {
   EXPECT_GT(previous, 0.0);
 }
 
+// Guards levelForError: the level stays within the error, and it is the most simplified
+// that does (one more collapse would exceed it), not merely some level within it.
 TEST(MeshLodTube, ALevelByErrorStaysWithinIt) {
   const test::Tube tube = test::makeTube();
   const Clip bend = test::tubeBendClip(tube.skeleton);
   Result<MeshLod> lod = MeshLod::build(tube.mesh, &tube.skeleton, std::span<const Clip>(&bend, 1));
   ASSERT_TRUE(lod) << lod.message();
-  for (double cm : {0.2}) {
+  const std::size_t all = lod->progressive().collapseCount();
+  for (double cm : {0.2, 1.0}) {
     const MeshLodLevel level = lod->levelForError(cm);
     EXPECT_LE(level.maxErrorCm, cm);
     EXPECT_LT(level.triangles(), tube.mesh.triangleCount()) << cm << " cm allows some simplification";
+    ASSERT_LT(level.collapses, all) << cm << " cm: the tube cannot be simplified to the end within it";
+    EXPECT_GT(lod->errorsAt(level.collapses + 1).maxCm(), cm)
+        << "one more collapse (" << level.collapses + 1 << " of " << all << ") stays within " << cm << " cm";
   }
   // the straight tube's flat rings can go with no error at all
   EXPECT_EQ(lod->levelForError(0.0).maxErrorCm, 0.0);
@@ -432,14 +438,44 @@ TEST_F(MeshLodBcn, ErrorsGrowAsTheRatioFalls) {
   EXPECT_LT(previousMax, 10.0) << "cm at 10% on a 1.9 m character";
 }
 
+// Guards the progressive mesh's promise: halfedge collapses keep original vertices and only
+// remove triangles, so each coarser level uses a subset of the finer level's vertices and
+// keeps a subset of its (original) triangles; and the counts are what the order says.
 TEST_F(MeshLodBcn, LevelsAreNestedAndCountsMatchTheProgressiveMesh) {
   const ProgressiveMesh& pm = s_lod->progressive();
   EXPECT_EQ(pm.trianglesAfter(0), 5126u);
-  for (std::size_t k : {std::size_t(0), std::size_t(1), pm.collapseCount() / 3, pm.collapseCount()}) {
+  const auto vertexSet = [](const MeshLevelIndices& level) {
+    std::vector<std::uint32_t> vertices = level.indices;
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    return vertices;
+  };
+  // 200 steps along the whole order, each level against the one before (level(k) replays k
+  // collapses: every step of the order would take seconds)
+  const std::size_t all = pm.collapseCount();
+  std::vector<std::size_t> steps;
+  for (std::size_t i = 0; i <= 200; ++i)
+    steps.push_back(i * all / 200);
+  steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+  MeshLevelIndices finer;
+  std::vector<std::uint32_t> finerVertices;
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    const std::size_t k = steps[i];
     const MeshLevelIndices level = pm.level(k);
     EXPECT_EQ(level.triangles.size(), pm.trianglesAfter(k)) << "k = " << k;
     EXPECT_EQ(level.indices.size(), level.triangles.size() * 3);
     EXPECT_TRUE(std::is_sorted(level.triangles.begin(), level.triangles.end()));
+    const std::vector<std::uint32_t> vertices = vertexSet(level);
+    if (i > 0) {
+      ASSERT_TRUE(std::includes(finer.triangles.begin(), finer.triangles.end(), level.triangles.begin(),
+                                level.triangles.end()))
+          << "the triangles after " << k << " collapses are not among those after " << steps[i - 1];
+      ASSERT_TRUE(std::includes(finerVertices.begin(), finerVertices.end(), vertices.begin(), vertices.end()))
+          << "the vertices after " << k << " collapses are not among those after " << steps[i - 1];
+      EXPECT_LE(vertices.size(), finerVertices.size());
+    }
+    finer = level;
+    finerVertices = vertices;
   }
   for (std::size_t k = 0; k < pm.collapseCount(); ++k)
     ASSERT_LE(pm.trianglesAfter(k + 1), pm.trianglesAfter(k));

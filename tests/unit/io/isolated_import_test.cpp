@@ -165,7 +165,8 @@ TEST(IsolatedImport, FifoIsRefused) {
 // Guards the worker's lifetime: a parent killed with SIGKILL runs no handler, and its
 // stuck worker ran at 100% CPU (or here, blocked) forever. It must die with its parent.
 TEST(IsolatedImport, WorkerDiesWithItsParent) {
-  const std::string file = test::stuckImport();
+  const test::StuckImport stuck;
+  const std::string& file = stuck.path();
   const pid_t parent = ::fork();
   ASSERT_GE(parent, 0);
   if (parent == 0) {
@@ -189,7 +190,8 @@ TEST(IsolatedImport, WorkerDiesWithItsParent) {
 
 // Guards the cancel flag: a stuck worker is stopped at once when the caller cancels.
 TEST(IsolatedImport, CancelStopsAStuckWorker) {
-  const std::string file = test::stuckImport();
+  const test::StuckImport stuck;
+  const std::string& file = stuck.path();
   std::atomic<bool> cancel{false};
   IsolationLimits limits;
   limits.timeoutSeconds = 120.0;

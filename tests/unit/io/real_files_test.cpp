@@ -1,8 +1,10 @@
 // Import of real files from Debian's assimp-testmodels, checked against the committed
 // table tests/data/expected_counts.json and against the files' own numbers.
 
+#include "core/lod/lod_character.h"
 #include "io/importer.h"
 #include "test_files.h"
+#include "unit/real_files.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
@@ -179,6 +181,44 @@ TEST(RealFiles, CommittedCountsFollowFromTheFiles) {
     EXPECT_EQ(entry["meshes"][0]["triangles"].get<std::size_t>(), counts.triangles);
     EXPECT_EQ(entry["meshes"][0]["bones"].get<std::size_t>(), counts.bones);
   }
+}
+
+// Guards the shared fixture list (unit/real_files.h): each character imports with a skeleton
+// and a skinned mesh of >= 500 triangles and is "animated" exactly when it has >= 2 joints
+// and a clip of >= 3 frames; each clip is a motion without mesh; and there are enough of
+// both for a general claim (>= 3 clips, >= 2 animated characters).
+TEST(RealFiles, FixturesAreWhatTheySay) {
+  const nlohmann::json& fixtures = test::fixtureTable();
+  ASSERT_TRUE(fixtures["characters"].is_array());
+  for (const nlohmann::json& entry : fixtures["characters"]) {
+    const std::string path = entry["path"];
+    SCOPED_TRACE(path);
+    const Asset asset = importModel(path);
+    ASSERT_EQ(asset.meshes.size(), 1u);
+    EXPECT_TRUE(asset.meshes[0].skinned());
+    EXPECT_GE(asset.meshes[0].triangleCount(), 500u);
+    const bool moves = std::any_of(asset.clips.begin(), asset.clips.end(), [](const Clip& c) { return c.frameCount >= 3; });
+    EXPECT_EQ(entry["animated"].get<bool>(), asset.skeleton.jointCount() >= 2 && moves);
+    bool still = false;
+    if (entry["animated"].get<bool>()) {
+      Result<LodCharacter> character = LodCharacter::prepare(asset.skeleton, &asset.meshes[0], asset.clips);
+      ASSERT_TRUE(character) << character.message();
+      Result<LevelMotion> level = character->motionAt(50.0);
+      ASSERT_TRUE(level) << level.message();
+      still = level->bones.removedCount() > 0;
+    }
+    EXPECT_EQ(entry["still"].get<bool>(), still);
+  }
+  for (const std::string& path : test::fixtureClips()) {
+    SCOPED_TRACE(path);
+    const Asset asset = importModel(path);
+    EXPECT_GE(asset.skeleton.jointCount(), 2);
+    ASSERT_EQ(asset.clips.size(), 1u);
+    EXPECT_GE(asset.clips[0].frameCount, 3);
+    EXPECT_TRUE(asset.meshes.empty());
+  }
+  EXPECT_GE(test::fixtureClips().size(), 3u);
+  EXPECT_GE(test::fixtureCharacters("animated").size(), 2u);
 }
 
 // Guards the unit guess on real files that state no unit (the issue: BCN_Epileptic.X read

@@ -1,5 +1,6 @@
 #include "test_files.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -7,8 +8,11 @@
 #include <sys/stat.h>
 #include <thread>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <unistd.h>
+#include <utility>
+#include <vector>
 
 namespace mlod::test {
 
@@ -22,14 +26,41 @@ int channelCount(const std::string& channels) {
 }
 } // namespace
 
+namespace {
+// The folders processTempFolder() made, each with the process that made it.
+struct TempFolders {
+  std::mutex mutex;
+  std::vector<std::pair<pid_t, std::filesystem::path>> folders;
+  ~TempFolders() {
+    for (const auto& [owner, folder] : folders) {
+      std::error_code ignored;
+      if (owner == ::getpid())
+        std::filesystem::remove_all(folder, ignored);
+    }
+  }
+};
+TempFolders& tempFolders() {
+  static TempFolders folders;
+  return folders;
+}
+} // namespace
+
+std::filesystem::path processTempFolder(const std::string& stem) {
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / (stem + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  TempFolders& made = tempFolders();
+  const std::lock_guard lock(made.mutex);
+  const std::pair<pid_t, std::filesystem::path> entry{::getpid(), folder};
+  if (std::find(made.folders.begin(), made.folders.end(), entry) == made.folders.end())
+    made.folders.push_back(entry);
+  return folder;
+}
+
 std::string modelPath(const std::string& relative) { return std::string(MLOD_ASSIMP_MODELS) + "/" + relative; }
 std::string dataPath(const std::string& relative) { return std::string(MLOD_TEST_DATA_DIR) + "/" + relative; }
 
 std::string writeTemp(const std::string& name, const std::string& content) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("mlod-test-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::filesystem::path file = dir / name;
+  const std::filesystem::path file = processTempFolder("mlod-test-") / name;
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   out << content;
   return file.string();
@@ -89,14 +120,15 @@ bool runs(pid_t pid) {
 
 // An OBJ that the import worker blocks on (kStuckImportVariable names it), as a stuck
 // import does: a FIFO material library no longer blocks (the import refuses it).
-std::string stuckImport() {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("mlod-stuck-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string file = (dir / "s.obj").string();
-  std::ofstream(file) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-  ::setenv("MLOD_TEST_STUCK_IMPORT", file.c_str(), 1); // io/isolated_import.h's kStuckImportVariable
-  return file;
+StuckImport::StuckImport() : m_path((processTempFolder("mlod-stuck-") / "s.obj").string()) {
+  std::ofstream(m_path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  ::setenv("MLOD_TEST_STUCK_IMPORT", m_path.c_str(), 1); // io/isolated_import.h's kStuckImportVariable
+}
+
+StuckImport::~StuckImport() {
+  ::unsetenv("MLOD_TEST_STUCK_IMPORT");
+  std::error_code ignored;
+  std::filesystem::remove(m_path, ignored);
 }
 
 } // namespace mlod::test

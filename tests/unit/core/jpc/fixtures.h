@@ -59,6 +59,25 @@ inline const Asset& realAsset(const std::string& relative) {
   return found->second;
 }
 
+// `source` looped or cut to `frames` frames (scripts/check-docs-figures.sh makes the long
+// BVHs of the memory table so; a cut one is a frame range of a long clip).
+inline Clip repeated(const Clip& source, int frames) {
+  Clip out = source;
+  out.frameCount = frames;
+  const std::size_t total = static_cast<std::size_t>(frames) * static_cast<std::size_t>(source.jointCount);
+  out.rotations.resize(total);
+  out.translations.resize(total);
+  out.scales.resize(total);
+  for (int j = 0; j < source.jointCount; ++j)
+    for (int t = 0; t < frames; ++t) {
+      const std::size_t from = source.index(j, t % source.frameCount);
+      out.rotations[out.index(j, t)] = source.rotations[from];
+      out.translations[out.index(j, t)] = source.translations[from];
+      out.scales[out.index(j, t)] = source.scales[from];
+    }
+  return out;
+}
+
 // Joint j's rotations in `clip`, frames [first, first + count).
 inline std::span<const glm::quat> rotationsOf(const Clip& clip, int joint, int first = 0, int count = -1) {
   if (count < 0)

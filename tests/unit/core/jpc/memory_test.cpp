@@ -7,6 +7,7 @@
 
 #include "core/jpc/jpc.h"
 #include "unit/core/jpc/fixtures.h"
+#include "unit/real_files.h"
 
 #include <atomic>
 #include <cstdlib>
@@ -81,25 +82,6 @@ void operator delete[](void* pointer, std::size_t, std::align_val_t) noexcept {
 namespace mlod {
 namespace {
 
-// CMU 01_01 repeated to `frames` frames, as scripts/check-docs-figures.sh makes the long
-// BVHs of the memory table.
-Clip repeated(const Clip& source, int frames) {
-  Clip out = source;
-  out.frameCount = frames;
-  const std::size_t total = static_cast<std::size_t>(frames) * static_cast<std::size_t>(source.jointCount);
-  out.rotations.resize(total);
-  out.translations.resize(total);
-  out.scales.resize(total);
-  for (int j = 0; j < source.jointCount; ++j)
-    for (int t = 0; t < frames; ++t) {
-      const std::size_t from = source.index(j, t % source.frameCount);
-      out.rotations[out.index(j, t)] = source.rotations[from];
-      out.translations[out.index(j, t)] = source.translations[from];
-      out.scales[out.index(j, t)] = source.scales[from];
-    }
-  return out;
-}
-
 std::size_t decodedBytes(const Clip& clip) {
   return clip.rotations.size() * sizeof(glm::quat) +
          (clip.translations.size() + clip.scales.size()) * sizeof(glm::vec3);
@@ -123,22 +105,29 @@ std::size_t simplifyPeak(const Asset& asset, const Clip& clip, JpcMode mode, con
 // track at once, 2.3 times the decoded clip (3.4 times in all with the clip and its joint
 // positions, 1,018,748 KB at 200,000 frames). Now it holds the joint positions (12 bytes
 // per joint-frame, 0.3 times the clip) and the buffers of the joints in flight, within
-// the larger of 16 MiB and half the clip: at most 0.8 times the clip. The clip here is
-// 35 MiB, so half of it exceeds the 16 MiB floor. Greedy at the command line's T = 50 and
-// at T = 300 (96% simplified: long clusters, the larger key-posture buffers); optimal at
-// T = 50 (row starts kept too).
-TEST(JpcMemory, SimplifyHoldsAtMostTheDecodedClipBesideIt) {
-  const Asset& asset = test::realAsset("BVH/01_01.bvh");
-  const Clip clip = repeated(asset.clips.front(), 24000);
+// the larger of 16 MiB and half the clip: at most 0.8 times the clip. Each clip here is
+// repeated to 35 MiB (CMU 01_01: 24,000 frames), so half of it exceeds the 16 MiB floor.
+// Greedy at the command line's T = 50 and at T = 300 (96% simplified: long clusters, the
+// larger key-posture buffers); optimal at T = 50 (row starts kept too). On every clip of the
+// shared fixture list.
+class JpcMemory : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(JpcMemory, SimplifyHoldsAtMostTheDecodedClipBesideIt) {
+  const Asset& asset = test::realAsset(GetParam());
+  const Clip& source = asset.clips.front();
+  const std::size_t perFrame = decodedBytes(source) / static_cast<std::size_t>(source.frameCount);
+  const Clip clip = test::repeated(source, static_cast<int>((std::size_t{35} << 20) / perFrame) + 1);
   const std::size_t decoded = decodedBytes(clip);
   ASSERT_GT(decoded, 2 * kSimplifyWorkingBytes);
   const std::size_t greedy = simplifyPeak(asset, clip, JpcMode::Greedy, {50.0, 300.0});
   const std::size_t optimal = simplifyPeak(asset, clip, JpcMode::Optimal, {50.0});
   EXPECT_LE(greedy, decoded) << "greedy: " << greedy << " bytes beside a decoded clip of " << decoded;
   EXPECT_LE(optimal, decoded) << "optimal: " << optimal << " bytes beside a decoded clip of " << decoded;
-  std::printf("decoded clip %zu bytes; simplifyClip peak beside it: greedy %zu, optimal %zu\n", decoded, greedy,
-              optimal);
+  std::printf("%s: decoded clip %zu bytes; simplifyClip peak beside it: greedy %zu, optimal %zu\n",
+              GetParam().c_str(), decoded, greedy, optimal);
 }
+
+INSTANTIATE_TEST_SUITE_P(Clips, JpcMemory, ::testing::ValuesIn(test::fixtureClips()), test::fixtureName);
 
 } // namespace
 } // namespace mlod

@@ -6,7 +6,9 @@
 #include "core/jpc/jpc.h"
 #include "core/jpc/simplified_motion.h"
 #include "unit/core/jpc/fixtures.h"
+#include "unit/real_files.h"
 
+#include <algorithm>
 #include <gtest/gtest.h>
 
 namespace mlod {
@@ -251,10 +253,11 @@ TEST(JpcProperties, WorkPastTheLimitIsRefused) {
 
 // Guards that building tracks on demand (simplifyClip, the command line) changes no bit
 // against tracks kept (the editor): the same clusters, errors and evaluations per joint,
-// one level at a time or every level from one track.
-TEST(JpcProperties, TracksOnDemandClusterAsKeptOnes) {
-  const Asset& asset = test::realAsset("BVH/01_01.bvh");
-  const Clip& clip = asset.clips.front();
+// one level at a time or every level from one track. On every clip and animated character
+// of the shared fixture list (their first 600 frames: the claim holds frame by frame; CMU
+// 01_01 alone moved only its root, and nothing scaled), each clip of a character.
+void tracksOnDemandClusterAsKeptOnes(const Asset& asset, const Clip& clip) {
+  SCOPED_TRACE(clip.name);
   const std::vector<double> thresholds{5.0, 100.0};
   for (JpcMode mode : {JpcMode::Greedy, JpcMode::Optimal}) {
     const JpcSettings settings = settingsFor(asset, mode, 5.0);
@@ -280,6 +283,20 @@ TEST(JpcProperties, TracksOnDemandClusterAsKeptOnes) {
     }
   }
 }
+
+class JpcPropertiesOnRealFiles : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(JpcPropertiesOnRealFiles, TracksOnDemandClusterAsKeptOnes) {
+  const Asset& asset = test::realAsset(GetParam());
+  ASSERT_FALSE(asset.clips.empty());
+  for (const Clip& source : asset.clips)
+    tracksOnDemandClusterAsKeptOnes(asset, test::repeated(source, std::min(source.frameCount, 600)));
+}
+
+INSTANTIATE_TEST_SUITE_P(Clips, JpcPropertiesOnRealFiles, ::testing::ValuesIn(test::fixtureClips()),
+                         test::fixtureName);
+INSTANTIATE_TEST_SUITE_P(Characters, JpcPropertiesOnRealFiles, ::testing::ValuesIn(test::fixtureCharacters("animated")),
+                         test::fixtureName);
 
 } // namespace
 } // namespace mlod
