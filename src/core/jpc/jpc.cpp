@@ -120,13 +120,13 @@ double JpcClip::threshold(int joint, int level, double levelThreshold) const {
   return m_settings.thresholdFor(jointName(joint), level, levelThreshold);
 }
 
-JointClustering JpcClip::clusterJoint(int joint, int level, double levelThreshold) const {
+JointClustering JpcClip::clusterJoint(int joint, int level, double levelThreshold, JpcWorkBudget* budget) const {
   if (!clusterable(joint) || locked(joint))
     return {};
   const double jointThreshold = threshold(joint, level, levelThreshold);
   if (tracksKept())
-    return mlod::clusterJoint(track(joint), jointThreshold, m_settings.mode);
-  return mlod::clusterJoint(buildTrack(joint), jointThreshold, m_settings.mode);
+    return mlod::clusterJoint(track(joint), jointThreshold, m_settings.mode, budget);
+  return mlod::clusterJoint(buildTrack(joint), jointThreshold, m_settings.mode, budget);
 }
 
 std::vector<JointClustering> JpcClip::clusterJointLevels(int joint, std::span<const double> levelThresholds,
@@ -145,11 +145,11 @@ std::vector<JointClustering> JpcClip::clusterJointLevels(int joint, std::span<co
 }
 
 std::vector<JointClustering> JpcClip::cluster(int level, double levelThreshold, int threads,
-                                              const std::atomic<bool>* cancel) const {
+                                              const std::atomic<bool>* cancel, JpcWorkBudget* budget) const {
   std::vector<JointClustering> out(m_joints.size());
   parallelFor(jointCount(), threads, [&](int j) {
-    if (!cancelled(cancel)) // looked at per joint
-      out[static_cast<std::size_t>(j)] = clusterJoint(j, level, levelThreshold);
+    if (!cancelled(cancel) && !exhausted(budget)) // looked at per joint
+      out[static_cast<std::size_t>(j)] = clusterJoint(j, level, levelThreshold, budget);
   });
   return out;
 }

@@ -97,7 +97,8 @@ public:
   double threshold(int joint, int level, double levelThreshold) const;
 
   // Clusters one joint at `level` (no clusters for locked and unclusterable joints).
-  JointClustering clusterJoint(int joint, int level, double levelThreshold) const;
+  // `budget` as in mlod::clusterJoint().
+  JointClustering clusterJoint(int joint, int level, double levelThreshold, JpcWorkBudget* budget = nullptr) const;
   // Clusters one joint at every level (level i at levelThresholds[i]) from one track:
   // what clusterJoint(joint, i, levelThresholds[i]) gives, level by level. `budget` as in
   // mlod::clusterJoint().
@@ -106,9 +107,9 @@ public:
   // Clusters every joint at one level, on up to `threads` threads (0 = all hardware
   // threads). One entry per joint. Once `cancel` (core/cancel.h, may be null) is set, the
   // joints not yet started are left without clusters: the caller checks the flag and drops
-  // the result.
+  // the result. Likewise once `budget` (may be null) is exhausted: the caller refuses.
   std::vector<JointClustering> cluster(int level, double levelThreshold, int threads = 0,
-                                       const std::atomic<bool>* cancel = nullptr) const;
+                                       const std::atomic<bool>* cancel = nullptr, JpcWorkBudget* budget = nullptr) const;
 
 private:
   struct JointEntry {

@@ -29,6 +29,7 @@
 #include "core/skinned_mesh.h"
 
 #include <atomic>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -75,7 +76,13 @@ public:
   double boundingRadiusCm() const { return m_radius; }
 
   // Steps 1-3 at threshold E (>= 0) of LOD level `level` (for per-joint overrides).
+  // Every call's clustering counts against one work budget (core/jpc/work_budget.h, the
+  // limit of setWorkLimit(), kMaxJpcWork by default): a pixel budget's search tries many
+  // thresholds, so a clip that one simplify takes seconds for could keep it busy for hours.
+  // Past it, this and every later call is refused, naming the limit.
   Result<LevelMotion> motionAt(double threshold, int level = 0) const;
+  // The work every motionAt() of this character may spend together, from now on.
+  void setWorkLimit(std::int64_t units) { m_work = std::make_shared<JpcWorkBudget>(units); }
   // Step 4's progressive mesh for a level's motion (an error without a mesh).
   Result<MeshLod> meshLodFor(const LevelMotion& motion) const;
   // A whole level: motion at E, mesh at ratio r in (0, 1].
@@ -89,6 +96,7 @@ private:
   JpcSettings m_jpc;
   MeshLodSettings m_meshSettings; // its cancel is the character's
   double m_radius = 0.0;
+  std::shared_ptr<JpcWorkBudget> m_work = std::make_shared<JpcWorkBudget>(); // shared by copies
 };
 
 } // namespace mlod

@@ -193,6 +193,7 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
       LodCharacter::prepare(asset.skeleton, characterMesh(asset), clips, options.jpc, options.mesh);
   if (!character)
     return character.error();
+  character->setWorkLimit(options.workLimit);
 
   LodSet out;
   out.projection = options.projection;

@@ -29,6 +29,7 @@
 #include "core/clip.h"
 #include "core/error.h"
 #include "core/jpc/jpc_settings.h"
+#include "core/jpc/work_budget.h"
 #include "core/lod/error_budget.h"
 #include "core/mesh/mesh_lod.h"
 
@@ -85,6 +86,10 @@ struct LodBudgetOptions {
   // the poses measured) stops and fromPixelBudget() returns kLodBudgetCancelled within a
   // fraction of a second. What the CLI's Ctrl+C and the studio's Cancel set.
   const std::atomic<bool>* cancel = nullptr;
+  // The clustering work the whole search may spend (core/jpc/work_budget.h units, every
+  // threshold tried, every clip and joint together); past it fromPixelBudget() refuses the
+  // character, naming the limit (LodCharacter::motionAt()).
+  std::int64_t workLimit = kMaxJpcWork;
 };
 
 // The deviation a level may spend goes where it buys frame time (docs/architecture.md

@@ -434,6 +434,23 @@ TEST(PixelBudgetRules, OverridesAboveTheirLevelAreListed) {
   EXPECT_EQ(above, expected);
 }
 
+// Guards the work cap of the budget's search (issue 29: `export` of 3DS mutants whose one
+// joint got 19,725 and 39,455 frames ran past 60 s, clustering threshold after threshold,
+// where `simplify` of them ends in seconds): a search that would spend more than
+// LodBudgetOptions::workLimit is refused, naming the limit; the default lets it through.
+TEST(PixelBudgetInput, SearchPastItsWorkLimitIsRefused) {
+  const Asset& asset = sample();
+  LodBudgetOptions options;
+  options.workLimit = 1000;
+  const Result<LodSet> refused = LodSet::fromPixelBudget(asset, 1.0, 4, options);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.message().find("needs more work"), std::string::npos) << refused.message();
+  EXPECT_NE(refused.message().find("1000 units"), std::string::npos) << refused.message();
+  options.workLimit = kMaxJpcWork;
+  const Result<LodSet> passed = LodSet::fromPixelBudget(asset, 1.0, 4, options);
+  EXPECT_TRUE(passed) << passed.message();
+}
+
 TEST(PixelBudgetInput, BadRequestsAreErrors) {
   const Asset& asset = test::bcnEpileptic();
   EXPECT_FALSE(LodSet::fromPixelBudget(asset, 0.0, 4));
