@@ -22,6 +22,7 @@
 #include <QFile>
 #include <QFileInfo>
 #include <QTemporaryDir>
+#include <algorithm>
 #include <cstring>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -729,29 +730,40 @@ INSTANTIATE_TEST_SUITE_P(Characters, GltfExporterOnCharacters, ::testing::Values
                          test::fixtureName);
 
 // MLOD_joint_clusters names its animations and joints as well as numbering them: a tool that
-// reorders the animations leaves the importer able to find each animation's clusters.
-TEST(GltfExporter, ClusterTablesSurviveRenumberedAnimations) {
-  const LodPackage& package = test::cmuPackage();
+// reorders the animations leaves the importer able to find each animation's clusters. On every
+// clip of the fixture list (unit/real_files.h), at CMU's unit, every level's animation
+// reversed.
+class GltfExporterOnClips : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(GltfExporterOnClips, ClusterTablesSurviveRenumberedAnimations) {
+  const LodPackage& package = test::realPackage(GetParam(), 5.6444);
+  ASSERT_EQ(package.clips.size(), 1u);
+  const std::size_t levels = package.levels.size();
+  ASSERT_GE(levels, 2u);
   QTemporaryDir dir;
-  const Exported out = exportTo(package, dir.filePath("01_01.gltf"));
+  const Exported out = exportTo(package, dir.filePath("clip.gltf"));
   ASSERT_TRUE(out.result.ok);
   json document = documentOf(out.bytes);
   json& animations = document["animations"];
-  ASSERT_EQ(animations.size(), 4u);
-  std::swap(animations[0], animations[3]); // LOD3 first, LOD0 last: the indices now lie
-  std::swap(animations[1], animations[2]);
+  ASSERT_EQ(animations.size(), levels);
+  std::reverse(animations.begin(), animations.end()); // the coarsest first: the indices now lie
   const std::string renumbered = document.dump();
   const Result<Asset> back = importAssetFromMemory(renumbered.data(), renumbered.size(), "gltf");
   ASSERT_TRUE(back) << back.message();
-  ASSERT_EQ(back->clips.size(), 4u);
-  ASSERT_EQ(back->clusters.size(), 4u);
-  for (std::size_t a = 0; a < 4; ++a) {
-    const std::size_t level = 3 - a;
+  ASSERT_EQ(back->clips.size(), levels);
+  ASSERT_EQ(back->clusters.size(), levels);
+  std::size_t clustered = 0;
+  for (std::size_t a = 0; a < levels; ++a) {
+    const std::size_t level = levels - 1 - a;
     EXPECT_EQ(back->clips[a].name, package.clips[0].name + "_LOD" + std::to_string(level));
-    EXPECT_EQ(back->clusters[a].clusterCount(), package.levels[level].build.motion.clusters[0].clusterCount())
-        << back->clips[a].name;
+    const std::size_t expected = package.levels[level].build.motion.clusters[0].clusterCount();
+    EXPECT_EQ(back->clusters[a].clusterCount(), expected) << back->clips[a].name;
+    clustered += expected;
   }
+  EXPECT_GT(clustered, 0u) << "no level has clusters: nothing was checked";
 }
+
+INSTANTIATE_TEST_SUITE_P(Clips, GltfExporterOnClips, ::testing::ValuesIn(test::fixtureClips()), test::fixtureName);
 
 } // namespace
 } // namespace mlod
