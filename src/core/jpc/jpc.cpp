@@ -238,10 +238,9 @@ Result<std::vector<JpcLevelResult>> simplifyClip(const Skeleton& skeleton, const
       clustered[level][static_cast<std::size_t>(joint)] = std::move(byLevel[level]);
   });
   if (budget.exhausted())
-    return Error("clip '" + clip.name + "' needs more work than joint posture clustering takes (at most " +
-                 std::to_string(budget.limit()) +
-                 " units of error evaluation per clip, every joint and threshold together): trim the clip, lock "
-                 "joints or lower the threshold");
+    return Error(workLimitMessage(clip.name, budget, "joint posture clustering",
+                                  "per clip, every joint and threshold together",
+                                  "trim the clip, lock joints or lower the threshold"));
   const std::vector<glm::vec3> original = jointPositions(skeleton, clip);
   std::vector<JpcLevelResult> out(static_cast<std::size_t>(levels));
   parallelFor(levels, threads, [&](int level) {

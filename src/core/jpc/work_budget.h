@@ -14,6 +14,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <string>
 
 namespace mlod {
 
@@ -48,6 +49,14 @@ private:
   std::int64_t m_limit;
   std::atomic<std::int64_t> m_spent{0};
 };
+
+// Why a clip past `budget`'s limit is refused: `clip` needs more work than `what` takes (the
+// limit, in units over `scope`), and what the user can do (`remedy`).
+inline std::string workLimitMessage(const std::string& clip, const JpcWorkBudget& budget, const std::string& what,
+                                    const std::string& scope, const std::string& remedy) {
+  return "clip '" + clip + "' needs more work than " + what + " takes (at most " + std::to_string(budget.limit()) +
+         " units of error evaluation " + scope + "): " + remedy;
+}
 
 // True where `budget` (may be null: no limit) is past its limit.
 inline bool exhausted(const JpcWorkBudget* budget) { return budget != nullptr && budget->exhausted(); }

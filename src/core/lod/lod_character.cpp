@@ -97,10 +97,9 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
     if (cancelled(cancel))
       return Error(kCancelled);
     if (m_work->exhausted())
-      return Error("clip '" + clip.name + "' needs more work than the LOD set's motion search takes (at most " +
-                   std::to_string(m_work->limit()) +
-                   " units of error evaluation for every threshold it tries, every joint together): trim the clip, "
-                   "lock joints or give the levels' thresholds in a project");
+      return Error(workLimitMessage(clip.name, *m_work, "the LOD set's motion search",
+                                    "for every threshold it tries, every joint together",
+                                    "trim the clip, lock joints or give the levels' thresholds in a project"));
     for (JointClustering& joint : joints) {
       clusteredJointFrames += joint.clusteredFrames;
       clusters.joints.push_back(std::move(joint.clusters));

@@ -222,7 +222,7 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
   std::sort(candidates.begin(), candidates.end());
   const bool perLevel = hasThresholdOverrides(options.jpc);
   std::map<std::pair<int, double>, LevelMotion> motions; // by (level for overrides, threshold)
-  double previousThreshold = 0.0, previousDistance = 0.0;
+  double previousThreshold = 0.0; // (the previous distance: out.levels.back().switchDistanceCm)
   // note: with a mesh, the mesh leads (docs/architecture.md section 5): each level's ratio
   // comes from levelRatios(), its error is measured on the full motion's mesh LOD, and the
   // motion takes the largest threshold whose error stays within motionShare of the level's
@@ -354,8 +354,8 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
         report->simplifiedPercent.pop_back();
       }
       out.levels.pop_back();
-      previousDistance = out.levels.back().switchDistanceCm;
     }
+    const double previousDistance = out.levels.back().switchDistanceCm;
     if (own <= previousDistance && out.levels.size() > 1) {
       if (report)
         report->dropped.push_back("Aimed level " + std::to_string(i) + " is left out: it would switch in at " +
@@ -366,10 +366,8 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
     level.switchDistanceCm = distance;
     level.pixelError = deviationPixels(level.deviationCm(), distance, radius, options.projection);
     level.screenSizePixels = screenSizePixels(radius, distance, options.projection);
-    if (keepLevel(out, level, i, true, report, chosen->simplifiedPercent)) {
+    if (keepLevel(out, level, i, true, report, chosen->simplifiedPercent))
       previousThreshold = level.motionThreshold;
-      previousDistance = distance;
-    }
   }
   progress(1.0);
   return out;
