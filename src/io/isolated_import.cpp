@@ -41,6 +41,19 @@ bool writeAll(int fd, const char* data, std::size_t size) {
   return true;
 }
 
+#ifdef MLOD_ASAN
+// The process's address space in bytes (the first field of /proc/self/statm, in pages).
+std::size_t mappedBytes() {
+  std::size_t pages = 0;
+  if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(statm, "%zu", &pages) != 1)
+      pages = 0;
+    std::fclose(statm);
+  }
+  return pages * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+}
+#endif
+
 [[noreturn]] void runChild(int fd, pid_t parent, const std::string& path, const ImportOptions& options,
                            std::size_t memoryBytes) {
   // The worker dies with its parent: killed (kill -9) while it imports, the parent can no
@@ -60,15 +73,17 @@ bool writeAll(int fd, const char* data, std::size_t size) {
   std::signal(SIGPIPE, SIG_IGN);
   std::signal(SIGINT, SIG_DFL); // the parent's handlers (Ctrl+C cancels) are not the worker's
   std::signal(SIGTERM, SIG_DFL);
-#ifndef MLOD_ASAN
-  // note: ASan reserves terabytes of address space up front, so the limit is skipped there.
   if (memoryBytes > 0) {
+#ifdef MLOD_ASAN
+    // ASan reserves terabytes of address space up front (shadow, allocator regions), so
+    // there the limit is on growth: what the worker has mapped now, plus memoryBytes. An
+    // allocation past it ends the worker with ASan's out-of-memory report, as the bad_alloc
+    // of a release build would.
+    memoryBytes += mappedBytes();
+#endif
     rlimit limit{memoryBytes, memoryBytes};
     ::setrlimit(RLIMIT_AS, &limit);
   }
-#else
-  (void)memoryBytes;
-#endif
 #ifdef MLOD_TESTING
   // Tests of stopping a stuck import (Ctrl+C, kill -9, a cancel, the timeout) need an
   // import that never ends; nothing Assimp reads can block any more (a FIFO side file is

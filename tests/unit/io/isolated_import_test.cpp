@@ -85,17 +85,17 @@ TEST(IsolatedImport, ErrorsCrossThePipe) {
   EXPECT_NE(asset.message().find("empty"), std::string::npos);
 }
 
-// Guards the memory limit and the time limit on a file that makes Assimp allocate
-// hundreds of gigabytes (assimp-testmodels' invalid/OutOfMemory.off).
+// Guards the memory limit on a file that makes Assimp allocate 16 GB
+// (assimp-testmodels' invalid/OutOfMemory.off): the limit ends the worker, not the clock,
+// in ASan builds too (where the limit is on the address space's growth).
 TEST(IsolatedImport, RunawayImportIsStopped) {
   IsolationLimits limits;
-  limits.timeoutSeconds = 20.0;
+  limits.timeoutSeconds = 60.0;
   limits.memoryBytes = std::size_t{2} << 30;
-  const auto start = std::chrono::steady_clock::now();
   const Result<Asset> asset = importAssetIsolated(test::modelPath("invalid/OutOfMemory.off"), {}, limits);
   ASSERT_FALSE(asset.ok());
   EXPECT_FALSE(asset.message().empty());
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(60));
+  EXPECT_EQ(asset.message().find("stopped after"), std::string::npos) << asset.message();
 }
 
 // Guards the timeout path alone: without a memory limit, OutOfMemory.off keeps Assimp
