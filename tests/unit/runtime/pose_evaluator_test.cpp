@@ -5,6 +5,7 @@
 // in turn.
 
 #include "runtime/pose_evaluator.h"
+#include "unit/real_files.h"
 #include "unit/runtime/runtime_fixtures.h"
 
 #include <algorithm>
@@ -586,18 +587,30 @@ struct ReferenceCharacter {
 // forward, now and then jumping back or several periods ahead (loop wraps) and switching
 // between full detail and two levels (level changes, also during a running blend), with
 // blending off and on.
-TEST(PoseEvaluator, RandomCharacterFramesEqualTheReference) {
-  const Asset& asset = runtimeAsset(kCmu);
+// On every fixture clip and animated character (their first clip): CMU clips where only
+// the root translates, characters whose other joints translate too and whose skeletons and
+// hierarchies differ.
+class RandomFrames : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RandomFrames, EqualTheReference) {
+  const std::string file = GetParam();
+  const Asset& asset = runtimeAsset(file);
   const Clip& clip = asset.clips.front();
   const Rig rig(asset.skeleton);
   const std::size_t joints = static_cast<std::size_t>(rig.joints());
+  const std::vector<JpcLevelResult>& levels = levelsOf(file);
   LodClip full = lodClip(clip, nullptr, true);
-  LodClip fine = lodClip(clip, &levelsOf(kCmu)[2].clusters, true);
-  LodClip coarse = lodClip(clip, &levelsOf(kCmu).back().clusters, true);
+  LodClip fine = lodClip(clip, &levels[2].clusters, true);
+  LodClip coarse = lodClip(clip, &levels.back().clusters, true);
   const LodClip* choices[3] = {&full, &fine, &coarse};
   // each level's joint-position fidelity (cm): the bound inside unfreeze windows
-  const float fidelity[3] = {0.0f, static_cast<float>(levelsOf(kCmu)[2].maxJointPositionErrorCm),
-                             static_cast<float>(levelsOf(kCmu).back().maxJointPositionErrorCm)};
+  const float fidelity[3] = {0.0f, static_cast<float>(levels[2].maxJointPositionErrorCm),
+                             static_cast<float>(levels.back().maxJointPositionErrorCm)};
+  // does a cluster of the coarse level end before the clip does (an unfreeze window)
+  bool hasWindows = false;
+  for (int j = 0; j < coarse.jointCount(); ++j)
+    for (const LodClip::Cluster& cluster : coarse.clusters(j))
+      hasWindows = hasWindows || cluster.last < coarse.frameCount() - 1;
   constexpr int kCharacters = 40, kSteps = 60;
   WorkerPool pool(2);
   for (const int blendFrames : {0, 5}) {
@@ -696,11 +709,21 @@ TEST(PoseEvaluator, RandomCharacterFramesEqualTheReference) {
     EXPECT_GT(switches, 100);
     if (blendFrames > 0) {
       EXPECT_GT(wraps, 0) << "some character-frames lie in a wrap window";
-      EXPECT_GT(inside, 500) << "joint-frames inside unfreeze windows";
-      EXPECT_GT(outside, 5000) << "joint-frames outside every window";
+      if (hasWindows) {
+        EXPECT_GT(inside, 0) << "joint-frames inside unfreeze windows";
+      }
+      EXPECT_GT(outside, static_cast<int>(joints) * kCharacters * kSteps / 4) << "joint-frames outside every window";
     }
   }
 }
+
+std::vector<std::string> randomFrameFiles() {
+  std::vector<std::string> files = test::fixtureClips();
+  for (const std::string& character : test::fixtureCharacters("animated"))
+    files.push_back(character);
+  return files;
+}
+INSTANTIATE_TEST_SUITE_P(Fixtures, RandomFrames, ::testing::ValuesIn(randomFrameFiles()), test::fixtureName);
 
 // Guards validate(): each invalid input in turn fails, and run() then writes nothing.
 TEST(PoseEvaluator, RejectsInvalidJobs) {
