@@ -16,6 +16,7 @@
 #include <fstream>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <thread>
@@ -376,10 +377,39 @@ TEST(CliSafety, FailedExportKeepsThePreviousPair) {
 // its place (here an immutable file: even root's rename is refused), every level already
 // placed gets its previous version back byte for byte, and no temporary stays (issue 29:
 // the old LOD0 and LOD1 were gone when LOD2's rename failed).
-TEST(CliSafety, SplitLevelsWhoseLastFileCannotLandKeepEveryOldLevel) {
-  const fs::path dir = freshFolder("split_last_fails");
+// motionlod's environment for one scope: LD_PRELOAD of the no-exchange shim
+// (tests/cli/support/no_exchange.cpp), its refusals counted in `log`.
+class NoExchange {
+public:
+  explicit NoExchange(const fs::path& log) {
+    ::setenv("LD_PRELOAD", MLOD_NO_EXCHANGE, 1);
+    ::setenv("MLOD_NO_EXCHANGE_LOG", log.c_str(), 1);
+  }
+  ~NoExchange() {
+    ::unsetenv("LD_PRELOAD");
+    ::unsetenv("MLOD_NO_EXCHANGE_LOG");
+  }
+  NoExchange(const NoExchange&) = delete;
+  NoExchange& operator=(const NoExchange&) = delete;
+};
+
+int linesOf(const fs::path& file) {
+  std::ifstream in(file);
+  int lines = 0;
+  for (std::string line; std::getline(in, line);)
+    ++lines;
+  return lines;
+}
+
+// A glTF export with split levels whose highest level file cannot be replaced (immutable):
+// the export fails and every old level stays byte-identical, no temporary left. `exchange`:
+// the file system exchanges names (ext4, tmpfs), else the writer renames aside.
+void splitLevelsWhoseLastFileCannotLand(const std::string& folder, bool exchange) {
+  const fs::path dir = freshFolder(folder);
+  const fs::path log = freshFolder(folder + "_log") / "refused.txt";
   const std::string input = sampleIn(dir).string();
   const auto exportAt = [&](const char* unit) {
+    const std::optional<NoExchange> shim = exchange ? std::nullopt : std::make_optional<NoExchange>(log);
     return runMotionlod({"export", input, "--unit-scale", unit, "--plugin", "gltf", "--option", "split_levels=true",
                          "-o", (dir / "split.glb").string()},
                         kTimeout);
@@ -395,6 +425,7 @@ TEST(CliSafety, SplitLevelsWhoseLastFileCannotLandKeepEveryOldLevel) {
   if (shell("chattr +i " + last.string()).first != 0)
     GTEST_SKIP() << "no immutable files here (chattr +i): AtomicWrite.SetWhoseLastFileCannotLandKeepsEveryOldFile "
                     "covers the rollback with a folder in the way";
+  const int refusedBefore = linesOf(log);
   const test::CliRun second = exportAt("m"); // other sizes: every level's bytes differ
   shell("chattr -i " + last.string());
   EXPECT_EQ(second.status, 1) << second.err;
@@ -403,6 +434,46 @@ TEST(CliSafety, SplitLevelsWhoseLastFileCannotLandKeepEveryOldLevel) {
   for (std::size_t i = 0; i < names.size(); ++i)
     EXPECT_EQ(bytesOf(dir / names[i]), before[i]) << names[i];
   EXPECT_EQ(filesIn(dir), names) << "no temporary left";
+  if (!exchange) { // the levels before the last were replaced by rename-aside, then put back
+    EXPECT_GE(linesOf(log) - refusedBefore, static_cast<int>(names.size()) - 1) << "exchanges refused by the shim";
+  }
+}
+
+TEST(CliSafety, SplitLevelsWhoseLastFileCannotLandKeepEveryOldLevel) {
+  splitLevelsWhoseLastFileCannotLand("split_last_fails", true);
+}
+
+// The same where the file system cannot exchange two names (a preloaded shim refuses
+// RENAME_EXCHANGE with EINVAL): the writer renames the old files aside (the immutable last
+// one cannot be: it is copied aside) and puts every one back.
+TEST(CliSafety, SplitLevelsWhoseLastFileCannotLandKeepEveryOldLevelWithoutExchange) {
+  splitLevelsWhoseLastFileCannotLand("split_last_fails_no_exchange", false);
+}
+
+// Without RENAME_EXCHANGE an export still replaces its outputs: a bundle and its manifest
+// exported twice hold the second export's bytes, nothing beside them (no version kept
+// aside, no temporary), and the shim saw the exchanges it refused.
+TEST(CliSafety, ExportWithoutExchangeReplacesItsOutputs) {
+  const fs::path dir = freshFolder("no_exchange_replace");
+  const fs::path log = freshFolder("no_exchange_replace_log") / "refused.txt";
+  const std::string input = sampleIn(dir).string();
+  const fs::path bundle = dir / "walk.mlodb";
+  const auto exportAt = [&](const char* unit) {
+    const NoExchange shim(log);
+    return runMotionlod({"export", input, "--unit-scale", unit, "--plugin", "bundle", "-o", bundle.string()},
+                        kTimeout);
+  };
+  const test::CliRun first = exportAt("cmu");
+  ASSERT_EQ(first.status, 0) << first.err;
+  EXPECT_EQ(linesOf(log), 0) << "nothing to replace the first time";
+  const std::string firstBytes = bytesOf(bundle);
+  const test::CliRun second = exportAt("m");
+  ASSERT_EQ(second.status, 0) << second.err;
+  EXPECT_EQ(linesOf(log), 2) << "the bundle and its manifest, each refused once";
+  EXPECT_NE(bytesOf(bundle), firstBytes) << "the second export's bundle";
+  const test::CliRun info = runMotionlod({"info", bundle.string(), "--json"}, kTimeout);
+  EXPECT_EQ(info.status, 0) << info.err;
+  EXPECT_EQ(filesIn(dir), (std::vector<std::string>{"walk.bvh", "walk.mlodb", "walk.mlodb.json"}));
 }
 
 // The repro files of issue 29 (../shared/repro, kept in tests/data/bad), through the commands
