@@ -23,7 +23,10 @@
 // - mesh levels: one node per level with a mesh; the first written level's node is in the
 //   scene and carries MSFT_lod {"ids": [the other levels' nodes]} and
 //   extras.MSFT_screencoverage (per level, the fraction of the viewport height the
-//   character's bounding sphere spans where the next level takes over; 0 for the last);
+//   character's bounding sphere spans, under the LOD set's projection, at the switch
+//   distance of the next level: R / (d tan(fov / 2)); 0 for the last). Where the set has
+//   no bounding radius or a level no switch distance there is no coverage array, and
+//   WriteStats::warnings says so (a made-up 1 would show the coarsest level at any size);
 // - the cluster tables and bone reduction of every level in the vendor extension
 //   MLOD_joint_clusters at the asset's top level (docs/gltf-extension.md), never required;
 //   nodes and animations named there by index and by name.
@@ -60,7 +63,8 @@ struct LevelStats {
   std::size_t heldTracks = 0;     // tracks keyed at fewer than every frame (frozen spans held by their ends)
 };
 struct WriteStats {
-  std::vector<LevelStats> levels; // per written level, in order
+  std::vector<LevelStats> levels;    // per written level, in order
+  std::vector<std::string> warnings; // what the file lacks that a reader may look for, one sentence each
 };
 
 // Progress: fraction in [0, 1] and what is being done; returns false to cancel. May be empty.

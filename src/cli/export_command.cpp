@@ -74,6 +74,7 @@ int ExportCommand::run() const {
   line.clear();
   if (!outcome.ok())
     printError(outcome.errorFile, outcome.message);
+  printWarnings(job.output, outcome.warnings);
   if (json) {
     nlohmann::json options_json = nlohmann::json::object();
     for (auto it = filled.options.begin(); it != filled.options.end(); ++it)

@@ -373,7 +373,9 @@ ExportOutcome writePackage(JobRun& run, const LodPackage& package) {
       package, path, run.options,
       ExportProgress([&](double fraction, const QString& detail) { run.tell("export", fraction, detail.toStdString()); },
                      [&] { return run.cancelled(); }));
-  std::string message = result.message.toStdString();
+  QString text = result.message;
+  const QStringList warnings = splitExportWarnings(&text);
+  std::string message = text.toStdString();
   const std::string written = path.toStdString();
   for (std::size_t at = message.find(written); exact && at != std::string::npos; at = message.find(written, at))
     message.replace(at, written.size(), job.output); // the temporary name is no one's business
@@ -392,6 +394,8 @@ ExportOutcome writePackage(JobRun& run, const LodPackage& package) {
     return failed;
   }
   out.message = message;
+  for (const QString& warning : warnings)
+    out.warnings.push_back(warning.toStdString());
   if (exact)
     out.message += " (the name is not valid UTF-8: the file has the exact name given; names inside it use U+FFFD)";
   std::error_code sizeError;

@@ -38,6 +38,7 @@ struct ExportJob {
 struct ExportOutcome {
   int exitCode = kExitOk;
   std::string message; // what was written, or why nothing was (without "error: FILE: ")
+  std::vector<std::string> warnings; // what the written file lacks (the exporter's warning lines), one sentence each
   std::string errorFile; // the file the error is about (the input, the output, the plugin id)
   std::int64_t bytes = 0; // the output file's size (0 when nothing was written)
   double importSeconds = 0.0;

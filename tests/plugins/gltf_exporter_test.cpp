@@ -23,6 +23,7 @@
 #include <QFileInfo>
 #include <QTemporaryDir>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -345,6 +346,45 @@ void expectReadBack(const LodPackage& package, const Asset& back) {
 
 // The bytes of the key times and values that each animation uses (data shared between
 // channels counted once), per level: what a file of that level alone holds.
+// The MSFT_lod node of a combined file (the scene's mesh node that carries MSFT_lod), or null.
+const json* lodNode(const json& document) {
+  for (const json& index : document["scenes"][0]["nodes"]) {
+    const json& node = document["nodes"][index.get<std::size_t>()];
+    if (node.contains("extensions") && node["extensions"].contains("MSFT_lod"))
+      return &node;
+  }
+  return nullptr;
+}
+
+// MSFT_screencoverage read back: entry k is the fraction of the viewport height the
+// package's bounding sphere spans at level k + 1's switch distance under the set's
+// projection, R / (d tan(fov / 2)) (the sphere's diameter over the visible height at d),
+// so the entries fall strictly (each level switches in farther out) down to 0 for the last.
+void expectCoveragesFollowSwitchDistances(const LodPackage& package, const json& document) {
+  const json* top = lodNode(document);
+  ASSERT_TRUE(top != nullptr);
+  const std::vector<double> coverage = top->at("extras").at("MSFT_screencoverage").get<std::vector<double>>();
+  ASSERT_EQ(coverage.size(), package.levels.size());
+  const double radius = package.lods.boundingRadiusCm;
+  const double halfHeight = std::tan(0.5 * package.lods.projection.verticalFovDegrees * 3.14159265358979323846 / 180.0);
+  ASSERT_GT(radius, 0.0);
+  for (std::size_t k = 0; k + 1 < coverage.size(); ++k) {
+    const double distance = package.levels[k + 1].settings.switchDistanceCm;
+    ASSERT_GT(distance, 0.0) << "LOD" << k + 1;
+    const double expected = radius / (distance * halfHeight);
+    EXPECT_NEAR(coverage[k], expected, 1e-5 * expected) << "LOD" << k << " down to LOD" << k + 1 << "'s switch";
+    if (k > 0) {
+      EXPECT_LT(coverage[k], coverage[k - 1]) << "LOD" << k;
+    }
+  }
+  EXPECT_GT(coverage[coverage.size() - 2], 0.0);
+  EXPECT_EQ(coverage.back(), 0.0);
+  std::cout << "[ coverage ] " << package.name << ":";
+  for (double c : coverage)
+    std::cout << " " << c;
+  std::cout << "\n";
+}
+
 std::vector<std::size_t> animationBytesPerLevel(const tinygltf::Model& model, std::size_t levels) {
   std::vector<std::size_t> out;
   const std::size_t clips = model.animations.size() / levels;
@@ -429,13 +469,7 @@ TEST(GltfExporter, SkinnedCharacterPassesTheValidatorAndReadsBack) {
       EXPECT_EQ(node.at("name").get<std::string>(), "BCN_Epileptic_LOD" + std::to_string(k + 1));
       EXPECT_EQ(document["meshes"][k + 1].at("name").get<std::string>(), "BCN_Epileptic_LOD" + std::to_string(k + 1));
     }
-    const std::vector<double> coverage = top.at("extras").at("MSFT_screencoverage").get<std::vector<double>>();
-    ASSERT_EQ(coverage.size(), package.levels.size());
-    for (std::size_t k = 0; k + 1 < coverage.size(); ++k) {
-      EXPECT_GT(coverage[k], 0.0);
-      EXPECT_LE(coverage[k + 1], coverage[k]); // farther levels take over at smaller sizes
-    }
-    EXPECT_EQ(coverage.back(), 0.0);
+    expectCoveragesFollowSwitchDistances(package, document);
     const auto used = document["extensionsUsed"].get<std::vector<std::string>>();
     EXPECT_NE(std::find(used.begin(), used.end(), "MSFT_lod"), used.end());
     expectClusterTablesRoundTrip(package, document);
@@ -600,6 +634,44 @@ TEST(GltfExporter, CancelLeavesNothingBehindAndKeepsAnOldFile) {
   EXPECT_EQ(test::filesIn(dir.path()), QStringList{"cancelled.glb"});
 }
 
+// Guards issue 28, item 2: a level without a switch distance (export --mesh-ratio) or a set
+// without a bounding radius has no coverage to give. The file then has MSFT_lod without
+// MSFT_screencoverage, and the result warns; before, it carried [1, 1, 1, 0], so a reader
+// that honours coverage showed the coarsest level at any size below full screen.
+TEST(GltfExporter, NoSwitchDistanceGivesNoCoverageAndAWarning) {
+  LodPackage noDistance = test::bcnPackage();
+  ASSERT_GE(noDistance.levels.size(), 3u);
+  noDistance.levels[2].settings.switchDistanceCm = 0.0;
+  LodPackage noRadius = test::bcnPackage();
+  noRadius.lods.boundingRadiusCm = 0.0;
+  const std::pair<const LodPackage*, std::string> cases[] = {{&noDistance, "level LOD2 has no switch distance"},
+                                                             {&noRadius, "the LOD set has no bounding radius"}};
+  for (const auto& [package, reason] : cases) {
+    SCOPED_TRACE(reason);
+    QTemporaryDir dir;
+    const Exported out = exportTo(*package, dir.filePath("out.glb"));
+    ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+    const json document = documentOf(out.bytes);
+    const json* top = lodNode(document);
+    ASSERT_TRUE(top != nullptr);
+    EXPECT_EQ(top->at("extensions").at("MSFT_lod").at("ids").size(), package->levels.size() - 1);
+    EXPECT_FALSE(top->contains("extras") && top->at("extras").contains("MSFT_screencoverage")) << top->dump();
+    QString message = out.result.message;
+    const QStringList warnings = splitExportWarnings(&message);
+    ASSERT_EQ(warnings.size(), 1) << out.result.message.toStdString();
+    EXPECT_TRUE(warnings[0].startsWith(QStringLiteral("no MSFT_screencoverage: ") + QString::fromStdString(reason)))
+        << warnings[0].toStdString();
+    EXPECT_FALSE(message.contains(QStringLiteral("warning"))) << message.toStdString();
+    EXPECT_EQ(test::runValidator(out.path).errors, 0);
+  }
+  // with its distances and radius, the same package warns of nothing
+  QTemporaryDir dir;
+  const Exported out = exportTo(test::bcnPackage(), dir.filePath("out.glb"));
+  ASSERT_TRUE(out.result.ok);
+  QString message = out.result.message;
+  EXPECT_TRUE(splitExportWarnings(&message).isEmpty()) << out.result.message.toStdString();
+}
+
 // Frozen spans are held by their ends (or, where cheaper, by the shared every-frame times), so
 // a coarser level's animations take fewer bytes; the summary says how many per level.
 TEST(GltfExporter, AnimationBytesFallWithEachLevel) {
@@ -724,6 +796,18 @@ TEST_P(GltfExporterOnCharacters, AssimpSeesBonesLevelNamesAndAnimations) {
     for (const Clip& clip : package.clips)
       expected.push_back(clip.name + "_LOD" + std::to_string(l));
   EXPECT_EQ(names, expected);
+}
+
+// Issue 28, item 2: on every character, the coverage of each level is where the next one
+// switches in, by the formula, strictly falling.
+TEST_P(GltfExporterOnCharacters, ScreenCoverageFollowsTheSwitchDistances) {
+  const LodPackage& package = test::realPackage(GetParam(), 0.0);
+  ASSERT_GE(package.levels.size(), 2u);
+  QTemporaryDir dir;
+  const Exported out = exportTo(package, dir.filePath("out.gltf"));
+  ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+  EXPECT_FALSE(out.result.message.contains(QStringLiteral("warning: "))) << out.result.message.toStdString();
+  expectCoveragesFollowSwitchDistances(package, documentOf(out.bytes));
 }
 
 INSTANTIATE_TEST_SUITE_P(Characters, GltfExporterOnCharacters, ::testing::ValuesIn(test::fixtureCharacters("animated")),
