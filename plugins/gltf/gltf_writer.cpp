@@ -140,22 +140,6 @@ private:
   std::unordered_map<std::string, int> m_shared;
 };
 
-// A held rotation track (core/lod/held_keys.h) as glTF's x, y, z, w floats.
-std::vector<float> rotationValues(const HeldRotationTrack& track) {
-  std::vector<float> values;
-  values.reserve(track.values.size() * 4);
-  for (const glm::quat& q : track.values)
-    values.insert(values.end(), {q.x, q.y, q.z, q.w});
-  return values;
-}
-
-std::vector<int> allFrames(int n) {
-  std::vector<int> frames(static_cast<std::size_t>(n));
-  for (int f = 0; f < n; ++f)
-    frames[static_cast<std::size_t>(f)] = f;
-  return frames;
-}
-
 void addChannel(tinygltf::Animation& animation, int node, const char* path, int input, int output) {
   tinygltf::AnimationSampler sampler;
   sampler.input = input;
@@ -177,54 +161,21 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
   const int joints = package.skeleton.jointCount();
   if (clip.jointCount != joints)
     return Error("clip '" + clip.name + "' does not animate the package's skeleton");
-  const BoneReduction& bones = level.build.motion.bones;
-  const bool reduced = static_cast<int>(bones.removed.size()) == joints;
   const ClusterSet* clusters =
       clipIndex < level.build.motion.clusters.size() ? &level.build.motion.clusters[clipIndex] : nullptr;
   if (clusters && !clusters->joints.empty() && clusters->jointCount() != joints)
     return Error("the clusters of clip '" + clip.name + "' at level " + std::to_string(level.index) +
                  " are not of the package's skeleton");
-  if (clusters && clusters->joints.empty())
-    clusters = nullptr;
 
+  // every joint keyed (core/lod/held_keys.h): a clip played after another leaves nothing of it
   tinygltf::Animation animation;
   animation.name = name;
-  const std::vector<int> frames = allFrames(clip.frameCount);
-  const float s = static_cast<float>(kMetresPerCm);
-  for (int j = 0; j < joints; ++j) {
-    const std::size_t jj = static_cast<std::size_t>(j);
-    if (clip.hasRotation[jj]) {
-      const HeldRotationTrack track = heldRotationTrack(
-          clip, j, clusters ? std::span<const Cluster>(clusters->joints[jj]) : std::span<const Cluster>(),
-          reduced && bones.removed[jj], reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
-      const int output = builder.shared(rotationValues(track), 4, TINYGLTF_TYPE_VEC4, false);
-      addChannel(animation, j, "rotation", builder.times(track.frames, clip.fps), output);
-    }
-    if (clip.hasTranslation[jj]) {
-      std::vector<float> values;
-      values.reserve(frames.size() * 3);
-      for (int f : frames) {
-        const glm::vec3& t = clip.translation(j, f);
-        values.insert(values.end(), {t.x * s, t.y * s, t.z * s});
-      }
-      const int output = builder.shared(values, 3, TINYGLTF_TYPE_VEC3, false);
-      addChannel(animation, j, "translation", builder.times(frames, clip.fps), output);
-    }
-    if (clip.hasScale[jj]) {
-      std::vector<float> values;
-      values.reserve(frames.size() * 3);
-      for (int f : frames) {
-        const glm::vec3& v = clip.scale(j, f);
-        values.insert(values.end(), {v.x, v.y, v.z});
-      }
-      const int output = builder.shared(values, 3, TINYGLTF_TYPE_VEC3, false);
-      addChannel(animation, j, "scale", builder.times(frames, clip.fps), output);
-    }
-  }
-  if (animation.channels.empty()) { // a clip without channels: the rest pose (an animation needs a channel)
-    const HeldRotationTrack track = heldRotationTrack(clip, 0, {}, true, package.skeleton.joints[0].rest.rotation);
-    const int output = builder.shared(rotationValues(track), 4, TINYGLTF_TYPE_VEC4, false);
-    addChannel(animation, 0, "rotation", builder.times(track.frames, clip.fps), output);
+  for (const LevelTrack& track : levelTracks(package, level, clipIndex)) {
+    const bool rotation = track.path == TrackPath::Rotation;
+    const int output = builder.shared(track.values, track.components(),
+                                      rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, false);
+    const char* path = rotation ? "rotation" : track.path == TrackPath::Translation ? "translation" : "scale";
+    addChannel(animation, track.joint, path, builder.times(track.frames, clip.fps), output);
   }
   // glTF keeps no frame rate: the source's, so that readers can key on its frames again.
   Value::Object extras;

@@ -12,7 +12,9 @@
 #include "unit/package_fixtures.h"
 #include "unit/real_files.h"
 #include "core/lod/held_keys.h"
+#include "core/mapping/motion_mapping.h"
 #include "io/importer.h"
+#include "test_files.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
@@ -845,6 +847,91 @@ TEST_P(GltfExporterOnClips, ClusterTablesSurviveRenumberedAnimations) {
     clustered += expected;
   }
   EXPECT_GT(clustered, 0u) << "no level has clusters: nothing was checked";
+}
+
+// Guards issue 28, item 3: a CMU clip mapped onto BCN_Epileptic (the automatic mapping, as a
+// project's mapping or export --motion makes it) drives only the joints the mapping names.
+// In the file, every animation (the character's own clip and the mapped one, every level)
+// keys every joint's rotation, and every translation or scale that any animation keys; each
+// joint the mapping leaves out holds its rest (bind) rotation by a held track of at most 2
+// keys. Before, the mapped clip keyed 27 of 54 joints, so played after the character's own
+// clip the others kept that clip's pose. On every clip of the fixture list.
+TEST_P(GltfExporterOnClips, MappedClipKeysEveryJointOfTheCharacter) {
+  ImportOptions characterUnit, clipUnit;
+  characterUnit.unitScale = 100.0;
+  clipUnit.unitScale = 2.54 / 0.45;
+  const Result<Asset> character = importAsset(test::modelPath("X/BCN_Epileptic.X"), characterUnit);
+  const Result<Asset> motion = importAsset(test::modelPath(GetParam()), clipUnit);
+  ASSERT_TRUE(character && motion);
+  const MotionMapping mapping = MotionMapping::automatic(motion->skeleton, character->skeleton);
+  const Result<RestPoseDifferences> differences =
+      restPoseDifferences(mapping, motion->skeleton, character->skeleton);
+  ASSERT_TRUE(differences) << differences.message();
+  const Result<Clip> mapped = retargetClip(*differences, motion->skeleton, motion->clips.at(0), character->skeleton);
+  ASSERT_TRUE(mapped) << mapped.message();
+  const int joints = character->skeleton.jointCount();
+  std::set<int> unmapped;
+  for (int j = 1; j < joints; ++j)
+    if (differences->source[std::size_t(j)] < 0)
+      unmapped.insert(j);
+  ASSERT_FALSE(unmapped.empty()) << "the mapping names every joint: nothing to check";
+  std::cout << "[ mapped ] " << GetParam() << " on BCN_Epileptic: " << joints - int(unmapped.size()) << " of "
+            << joints << " joints mapped\n";
+
+  LodSet lods;
+  lods.boundingRadiusCm = 100.0;
+  lods.levels.resize(2);
+  lods.levels[0].name = "LOD0";
+  lods.levels[1] = {.name = "LOD1", .motionThreshold = 50.0, .meshRatio = 0.5, .switchDistanceCm = 1000.0};
+  JpcSettings jpc;
+  jpc.zeroLength = 1e-6 * character->unitScale;
+  const Result<LodPackage> package = buildLodPackage(*character, lods, jpc, {}, {}, std::span<const Clip>(&*mapped, 1));
+  ASSERT_TRUE(package) << package.message();
+  ASSERT_EQ(package->clips.size(), character->clips.size() + 1);
+  QTemporaryDir dir;
+  const Exported out = exportTo(*package, dir.filePath("mapped.glb"));
+  ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+  EXPECT_EQ(test::runValidator(out.path).errors, 0);
+  const tinygltf::Model model = parseModel(out.bytes);
+  ASSERT_EQ(model.animations.size(), package->clips.size() * package->levels.size());
+
+  std::map<std::string, std::set<int>> keyedByAny; // path -> nodes some animation keys
+  for (const tinygltf::Animation& animation : model.animations)
+    for (const tinygltf::AnimationChannel& channel : animation.channels)
+      keyedByAny[channel.target_path].insert(channel.target_node);
+  int checked = 0;
+  for (const tinygltf::Animation& animation : model.animations) {
+    SCOPED_TRACE(animation.name);
+    std::map<std::string, std::set<int>> keyed;
+    for (const tinygltf::AnimationChannel& channel : animation.channels)
+      EXPECT_TRUE(keyed[channel.target_path].insert(channel.target_node).second) << "node " << channel.target_node;
+    std::set<int> every;
+    for (int j = 0; j < joints; ++j)
+      every.insert(j);
+    EXPECT_EQ(keyed["rotation"], every);
+    EXPECT_EQ(keyed["translation"], keyedByAny["translation"]);
+    EXPECT_EQ(keyed["scale"], keyedByAny["scale"]);
+    if (animation.name.rfind(mapped->name + "_LOD", 0) != 0)
+      continue;
+    // the mapped clip: what the mapping leaves out holds the node's rest rotation
+    for (const tinygltf::AnimationChannel& channel : animation.channels) {
+      if (channel.target_path != "rotation" || !unmapped.count(channel.target_node))
+        continue;
+      const tinygltf::AnimationSampler& sampler = animation.samplers[std::size_t(channel.sampler)];
+      const std::vector<float> values = elements<float>(model, sampler.output, 4);
+      EXPECT_LE(values.size(), 8u) << "node " << channel.target_node << ": a held key is at most 2 keys";
+      const tinygltf::Node& node = model.nodes[std::size_t(channel.target_node)];
+      const glm::quat rest = node.rotation.size() == 4 ? glm::quat(float(node.rotation[3]), float(node.rotation[0]),
+                                                                   float(node.rotation[1]), float(node.rotation[2]))
+                                                       : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+      for (std::size_t k = 0; k + 3 < values.size(); k += 4) {
+        const glm::quat q(values[k + 3], values[k], values[k + 1], values[k + 2]);
+        EXPECT_NEAR(std::abs(glm::dot(q, rest)), 1.0f, 1e-6f) << node.name;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, int(unmapped.size() * package->levels.size()));
 }
 
 INSTANTIATE_TEST_SUITE_P(Clips, GltfExporterOnClips, ::testing::ValuesIn(test::fixtureClips()), test::fixtureName);
