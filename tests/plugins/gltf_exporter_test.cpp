@@ -674,6 +674,50 @@ TEST(GltfExporter, NoSwitchDistanceGivesNoCoverageAndAWarning) {
   EXPECT_TRUE(splitExportWarnings(&message).isEmpty()) << out.result.message.toStdString();
 }
 
+bool anyWarningStartsWith(const Asset& asset, const std::string& prefix) {
+  return std::any_of(asset.warnings.begin(), asset.warnings.end(),
+                     [&](const std::string& w) { return w.rfind(prefix, 0) == 0; });
+}
+
+// Guards issue 28, item 6: a tool that rewrites a file (gltf-transform copy, prune) drops the
+// vendor extension MLOD_joint_clusters; reading such a file (motionlod info, the studio's
+// import) says the cluster tables are gone instead of showing none without a word. The
+// animations' extras (which such tools keep) or MSFT_lod tell a file of levels.
+TEST(GltfExporter, LostClusterTablesAreSaid) {
+  for (const LodPackage* package : {&test::cmuPackage(), &test::bcnPackage()}) {
+    SCOPED_TRACE(package->name);
+    QTemporaryDir dir;
+    const Exported out = exportTo(*package, dir.filePath("out.gltf"));
+    ASSERT_TRUE(out.result.ok);
+    json document = documentOf(out.bytes);
+    const std::string whole = document.dump();
+    const Result<Asset> intact = importAssetFromMemory(whole.data(), whole.size(), "gltf");
+    ASSERT_TRUE(intact) << intact.message();
+    EXPECT_FALSE(anyWarningStartsWith(*intact, "no MLOD_joint_clusters"));
+    EXPECT_EQ(intact->clusters.size(), package->clips.size() * package->levels.size());
+
+    document["extensions"].erase("MLOD_joint_clusters"); // what gltf-transform copy leaves
+    auto& used = document["extensionsUsed"];
+    used.erase(std::remove(used.begin(), used.end(), json("MLOD_joint_clusters")), used.end());
+    const std::string rewritten = document.dump();
+    const Result<Asset> lost = importAssetFromMemory(rewritten.data(), rewritten.size(), "gltf");
+    ASSERT_TRUE(lost) << lost.message();
+    const std::string levels = std::to_string(package->clips.size() * package->levels.size());
+    EXPECT_TRUE(anyWarningStartsWith(*lost, "no MLOD_joint_clusters: " + levels + " animations of LOD levels, but no "
+                                            "cluster tables"))
+        << ::testing::PrintToString(lost->warnings);
+    if (!package->mesh)
+      continue;
+    for (json& animation : document["animations"]) // extras gone too: MSFT_lod still tells
+      animation.erase("extras");
+    const std::string bare = document.dump();
+    const Result<Asset> meshOnly = importAssetFromMemory(bare.data(), bare.size(), "gltf");
+    ASSERT_TRUE(meshOnly) << meshOnly.message();
+    EXPECT_TRUE(anyWarningStartsWith(*meshOnly, "no MLOD_joint_clusters: mesh levels (MSFT_lod), but no cluster tables"))
+        << ::testing::PrintToString(meshOnly->warnings);
+  }
+}
+
 // Frozen spans are held by their ends (or, where cheaper, by the shared every-frame times), so
 // a coarser level's animations take fewer bytes; the summary says how many per level.
 TEST(GltfExporter, AnimationBytesFallWithEachLevel) {
