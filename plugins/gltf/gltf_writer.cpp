@@ -172,8 +172,8 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
   animation.name = name;
   for (const LevelTrack& track : levelTracks(package, level, clipIndex)) {
     const bool rotation = track.path == TrackPath::Rotation;
-    const int output = builder.shared(track.values, track.components(),
-                                      rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, false);
+    const int output =
+        builder.shared(track.values, track.components(), rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, false);
     const char* path = rotation ? "rotation" : track.path == TrackPath::Translation ? "translation" : "scale";
     addChannel(animation, track.joint, path, builder.times(track.frames, clip.fps), output);
   }

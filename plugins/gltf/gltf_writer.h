@@ -17,8 +17,9 @@
 //   span. Joints removed by bone reduction hold their frozen rotation; everything else is
 //   keyed at every frame. Every joint is keyed, whether the clip moves it or not
 //   (levelTracks(), core/lod/held_keys.h: a joint a mapped clip leaves alone holds its rest
-//   rotation by two keys), so one animation played after another leaves none of its pose; LINEAR, so it plays like the runtime's LodClip (which nlerps
-//   where glTF slerps: the same at every frame, within a hair between frames);
+//   rotation by two keys), so one animation played after another leaves none of its pose;
+//   LINEAR, so it plays like the runtime's LodClip (which nlerps where glTF slerps: the
+//   same at every frame, within a hair between frames);
 //   animation data that repeats (key times; a track a coarser level leaves as it was) is
 //   stored once and its accessor shared;
 // - a level's mesh: one primitive per part (source mesh), named in the mesh's extras.parts;
