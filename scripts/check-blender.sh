@@ -3,9 +3,10 @@
 #     scripts/check-blender.sh FILE.glb|FILE.gltf|FILE.fbx
 #     fps: 120 (from the glTF's animation extras)
 #     armature: 01_01_skin bones=38
-#     mesh: BCN_Epileptic_LOD0 vertices=3014 armature=...
+#     mesh: BCN_Epileptic_LOD0 vertices=3014 armature=... visible
+#     mesh: BCN_Epileptic_LOD1 vertices=1574 armature=... hidden (MSFT_lod level 1)
 #     action: 01_01_LOD0 frames=0-2751
-#     summary: armatures=1 bones=38 meshes=0 actions=4
+#     summary: armatures=1 bones=38 meshes=0 actions=4 empties=0 visible_meshes=0
 # Exit 0 when Blender imported the file, 1 when it failed, 77 when there is no Blender
 # (BLENDER=/path/to/blender picks one; default: `blender` on PATH).
 #
@@ -13,8 +14,11 @@
 # (apt install python3-numpy) and then fails on `np.bool`, which numpy 1.24 removed
 # (Blender 3.5 fixed it upstream). This script puts `numpy.bool = bool` back before it
 # imports, and sets the scene's frame rate to the glTF's (animation extras "fps",
-# docs/gltf-extension.md) so that keys land on Blender's frames. docs/user-guide.md says how to do the
-# same in Blender's window.
+# docs/gltf-extension.md) so that keys land on Blender's frames. Blender 3.4 shows every node
+# of a glTF whatever its scene and knows no MSFT_lod: the script enables the project's add-on
+# scripts/blender/motionlod_msft_lod.py, which hides the coarser levels MSFT_lod names (present,
+# hidden), and prints which meshes are visible. docs/user-guide.md says how to do the same in
+# Blender's window.
 set -eu
 if [ $# -ne 1 ]; then
   echo "usage: $0 FILE.glb|FILE.gltf|FILE.fbx" >&2
@@ -54,6 +58,10 @@ def gltf_json(path):
     return json.loads(data)
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
+# MSFT_lod on import (scripts/blender/motionlod_msft_lod.py): the coarser levels present, hidden
+import addon_utils
+sys.path.insert(0, os.environ["MLOD_BLENDER_ADDONS"])
+addon_utils.enable("motionlod_msft_lod", default_set=True)
 scene = bpy.context.scene
 ext = os.path.splitext(path)[1].lower()
 if ext in (".glb", ".gltf"):
@@ -79,19 +87,25 @@ bones = 0
 for o in armatures:
     bones += len(o.data.bones)
     print("armature: %s bones=%d" % (o.name, len(o.data.bones)))
+visible = 0
 for o in meshes:
     parent = o.find_armature()
-    print("mesh: %s vertices=%d armature=%s" % (o.name, len(o.data.vertices), parent.name if parent else "none"))
+    shown = o.visible_get() and not o.hide_render
+    visible += 1 if shown else 0
+    print("mesh: %s vertices=%d armature=%s %s" % (o.name, len(o.data.vertices), parent.name if parent else "none",
+                                                   "visible" if shown else "hidden (MSFT_lod level %s)" % o.get("MSFT_lod_level", "?")))
 empties = [o for o in bpy.data.objects if o.type == "EMPTY"]
 if empties:
     print("empties: %d" % len(empties))
 for a in bpy.data.actions:
     print("action: %s frames=%g-%g" % (a.name, a.frame_range[0], a.frame_range[1]))
-print("summary: armatures=%d bones=%d meshes=%d actions=%d empties=%d" %
-      (len(armatures), bones, len(meshes), len(bpy.data.actions), len(empties)))
+print("summary: armatures=%d bones=%d meshes=%d actions=%d empties=%d visible_meshes=%d" %
+      (len(armatures), bones, len(meshes), len(bpy.data.actions), len(empties), visible))
 sys.stdout.flush()
 os._exit(0)  # skip Blender's exit handlers (slow, and noisy without a display)
 PYTHON
+MLOD_BLENDER_ADDONS=$(cd "$(dirname "$0")/blender" && pwd)
+export MLOD_BLENDER_ADDONS
 if "$blender" --background --factory-startup --python-exit-code 1 --python "$script" -- "$file" >"$log" 2>&1; then
   grep -E '^(fps|armature|mesh|empties|action|summary): ' "$log"
   grep -q '^summary: ' "$log" && exit 0

@@ -61,6 +61,7 @@ ExportResult GltfExporter::exportPackage(const LodPackage& package, const QStrin
   }
   QList<QPair<QString, QByteArray>> files;
   std::vector<gltf::LevelStats> levels;
+  QStringList warnings;
   for (qsizetype k = 0; k < outputs.size(); ++k) {
     write.levels = outputs[k].second;
     const double from = double(k) / double(outputs.size());
@@ -80,6 +81,9 @@ ExportResult GltfExporter::exportPackage(const LodPackage& package, const QStrin
     }
     files.append({outputs[k].first, QByteArray(bytes->data(), static_cast<qsizetype>(bytes->size()))});
     levels.insert(levels.end(), stats.levels.begin(), stats.levels.end());
+    for (const std::string& warning : stats.warnings)
+      if (!warnings.contains(QString::fromStdString(warning)))
+        warnings << QString::fromStdString(warning);
   }
   if (progress.cancelled())
     return cancelledResult();
@@ -111,6 +115,8 @@ ExportResult GltfExporter::exportPackage(const LodPackage& package, const QStrin
                       .arg(level.rotationKeys);
     message += QStringLiteral("\nanimation bytes per level: ") + perLevel.join(QStringLiteral(", "));
   }
+  for (const QString& warning : warnings)
+    message += QLatin1Char('\n') + QString::fromLatin1(kExportWarningPrefix) + warning;
   return ExportResult::success(message);
 }
 

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <span>
 #include <sstream>
@@ -139,22 +140,6 @@ private:
   std::unordered_map<std::string, int> m_shared;
 };
 
-// A held rotation track (core/lod/held_keys.h) as glTF's x, y, z, w floats.
-std::vector<float> rotationValues(const HeldRotationTrack& track) {
-  std::vector<float> values;
-  values.reserve(track.values.size() * 4);
-  for (const glm::quat& q : track.values)
-    values.insert(values.end(), {q.x, q.y, q.z, q.w});
-  return values;
-}
-
-std::vector<int> allFrames(int n) {
-  std::vector<int> frames(static_cast<std::size_t>(n));
-  for (int f = 0; f < n; ++f)
-    frames[static_cast<std::size_t>(f)] = f;
-  return frames;
-}
-
 void addChannel(tinygltf::Animation& animation, int node, const char* path, int input, int output) {
   tinygltf::AnimationSampler sampler;
   sampler.input = input;
@@ -176,54 +161,21 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
   const int joints = package.skeleton.jointCount();
   if (clip.jointCount != joints)
     return Error("clip '" + clip.name + "' does not animate the package's skeleton");
-  const BoneReduction& bones = level.build.motion.bones;
-  const bool reduced = static_cast<int>(bones.removed.size()) == joints;
   const ClusterSet* clusters =
       clipIndex < level.build.motion.clusters.size() ? &level.build.motion.clusters[clipIndex] : nullptr;
   if (clusters && !clusters->joints.empty() && clusters->jointCount() != joints)
     return Error("the clusters of clip '" + clip.name + "' at level " + std::to_string(level.index) +
                  " are not of the package's skeleton");
-  if (clusters && clusters->joints.empty())
-    clusters = nullptr;
 
+  // every joint keyed (core/lod/held_keys.h): a clip played after another leaves nothing of it
   tinygltf::Animation animation;
   animation.name = name;
-  const std::vector<int> frames = allFrames(clip.frameCount);
-  const float s = static_cast<float>(kMetresPerCm);
-  for (int j = 0; j < joints; ++j) {
-    const std::size_t jj = static_cast<std::size_t>(j);
-    if (clip.hasRotation[jj]) {
-      const HeldRotationTrack track = heldRotationTrack(
-          clip, j, clusters ? std::span<const Cluster>(clusters->joints[jj]) : std::span<const Cluster>(),
-          reduced && bones.removed[jj], reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
-      const int output = builder.shared(rotationValues(track), 4, TINYGLTF_TYPE_VEC4, false);
-      addChannel(animation, j, "rotation", builder.times(track.frames, clip.fps), output);
-    }
-    if (clip.hasTranslation[jj]) {
-      std::vector<float> values;
-      values.reserve(frames.size() * 3);
-      for (int f : frames) {
-        const glm::vec3& t = clip.translation(j, f);
-        values.insert(values.end(), {t.x * s, t.y * s, t.z * s});
-      }
-      const int output = builder.shared(values, 3, TINYGLTF_TYPE_VEC3, false);
-      addChannel(animation, j, "translation", builder.times(frames, clip.fps), output);
-    }
-    if (clip.hasScale[jj]) {
-      std::vector<float> values;
-      values.reserve(frames.size() * 3);
-      for (int f : frames) {
-        const glm::vec3& v = clip.scale(j, f);
-        values.insert(values.end(), {v.x, v.y, v.z});
-      }
-      const int output = builder.shared(values, 3, TINYGLTF_TYPE_VEC3, false);
-      addChannel(animation, j, "scale", builder.times(frames, clip.fps), output);
-    }
-  }
-  if (animation.channels.empty()) { // a clip without channels: the rest pose (an animation needs a channel)
-    const HeldRotationTrack track = heldRotationTrack(clip, 0, {}, true, package.skeleton.joints[0].rest.rotation);
-    const int output = builder.shared(rotationValues(track), 4, TINYGLTF_TYPE_VEC4, false);
-    addChannel(animation, 0, "rotation", builder.times(track.frames, clip.fps), output);
+  for (const LevelTrack& track : levelTracks(package, level, clipIndex)) {
+    const bool rotation = track.path == TrackPath::Rotation;
+    const int output =
+        builder.shared(track.values, track.components(), rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, false);
+    const char* path = rotation ? "rotation" : track.path == TrackPath::Translation ? "translation" : "scale";
+    addChannel(animation, track.joint, path, builder.times(track.frames, clip.fps), output);
   }
   // glTF keeps no frame rate: the source's, so that readers can key on its frames again.
   Value::Object extras;
@@ -383,14 +335,35 @@ Result<tinygltf::Mesh> levelMesh(Builder& builder, const SkinnedMesh& mesh, int 
   return out;
 }
 
-// The fraction of the viewport height the bounding sphere spans at `distanceCm` (1 nearer
-// than where it fills the screen).
-double screenCoverage(const LodSet& lods, double distanceCm) {
-  if (!(distanceCm > 0.0) || !(lods.boundingRadiusCm > 0.0))
-    return 1.0;
-  const double pixels = screenSizePixels(lods.boundingRadiusCm, distanceCm, lods.projection);
-  const double coverage = pixels / lods.projection.viewportHeightPixels;
-  return std::isfinite(coverage) ? std::clamp(coverage, 0.0, 1.0) : 1.0;
+// MSFT_screencoverage of the written mesh levels `meshLevels` (places in `selected`): entry k
+// is the fraction of the viewport height the bounding sphere spans where the next of them
+// switches in (screenSizePixels() over the viewport's height, under the set's projection:
+// R / (d tan(fov / 2))), 0 for the last. Not clamped: a level that switches in nearer than
+// where the sphere fills the screen has a coverage above 1. Where the set has no bounding
+// radius or one of those levels no switch distance (levels by --mesh-ratio, a hand-written
+// project), there is no coverage to give: nothing, and `out_reason` says why.
+std::optional<Value::Array> screenCoverages(const LodPackage& package, const std::vector<std::size_t>& selected,
+                                            const std::vector<std::size_t>& meshLevels, std::string& out_reason) {
+  const LodSet& lods = package.lods;
+  if (!(lods.boundingRadiusCm > 0.0) || !std::isfinite(lods.boundingRadiusCm)) {
+    out_reason = "the LOD set has no bounding radius";
+    return std::nullopt;
+  }
+  Value::Array coverage;
+  for (std::size_t k = 1; k < meshLevels.size(); ++k) {
+    const LodLevel& next = package.levels[selected[meshLevels[k]]].settings;
+    const double distance = next.switchDistanceCm;
+    const double c = distance > 0.0 ? screenSizePixels(lods.boundingRadiusCm, distance, lods.projection) /
+                                          lods.projection.viewportHeightPixels
+                                    : 0.0;
+    if (!(distance > 0.0) || !std::isfinite(c) || !(c > 0.0)) {
+      out_reason = "level " + next.name + " has no switch distance";
+      return std::nullopt;
+    }
+    coverage.push_back(number(c));
+  }
+  coverage.push_back(number(0.0)); // the coarsest level down to nothing
+  return coverage;
 }
 
 // `bytes` (a .glb or a .gltf that tinygltf wrote) with `value` as the top-level extension `name`.
@@ -463,6 +436,7 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
   model.asset.version = "2.0";
   model.asset.generator = options.generator;
   Builder builder(model);
+  WriteStats stats;
 
   // Joints: nodes 0 .. J-1, the rest pose in metres.
   const float s = static_cast<float>(kMetresPerCm);
@@ -547,23 +521,20 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
     scene.nodes.push_back(levelNodes[meshLevels[0]]);
     if (meshLevels.size() > 1) {
       Value::Array ids;
-      Value::Array coverage;
       for (std::size_t k = 1; k < meshLevels.size(); ++k)
         ids.push_back(integer(levelNodes[meshLevels[k]]));
-      for (std::size_t k = 0; k < meshLevels.size(); ++k) {
-        // Level k is shown down to the coverage where level k + 1 switches in; the last to 0.
-        const double c =
-            k + 1 < meshLevels.size()
-                ? screenCoverage(package.lods, package.levels[selected[meshLevels[k + 1]]].settings.switchDistanceCm)
-                : 0.0;
-        coverage.push_back(number(c));
-      }
       Value::Object lod;
       lod["ids"] = Value(std::move(ids));
       top.extensions["MSFT_lod"] = Value(std::move(lod));
-      Value::Object extras;
-      extras["MSFT_screencoverage"] = Value(std::move(coverage));
-      top.extras = Value(std::move(extras));
+      std::string reason;
+      if (std::optional<Value::Array> coverage = screenCoverages(package, selected, meshLevels, reason)) {
+        Value::Object extras;
+        extras["MSFT_screencoverage"] = Value(std::move(*coverage));
+        top.extras = Value(std::move(extras));
+      } else {
+        stats.warnings.push_back("no MSFT_screencoverage: " + reason +
+                                 " (a reader that switches by coverage cannot tell when to show each level)");
+      }
       model.extensionsUsed.push_back("MSFT_lod");
     }
   }
@@ -576,7 +547,6 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
   json levelsJson = json::array();
   const std::size_t clipCount = jointCount > 0 ? package.clips.size() : 0;
   std::size_t done = 0;
-  WriteStats stats;
   for (std::size_t k = 0; k < selected.size(); ++k) {
     const LodPackageLevel& level = package.levels[selected[k]];
     const BoneReduction& bones = level.build.motion.bones;

@@ -15,15 +15,21 @@
 //   posture: two keys at frames first and last, or, where a track keyed at every frame
 //   takes fewer bytes (its key times are shared), the held posture at every frame of the
 //   span. Joints removed by bone reduction hold their frozen rotation; everything else is
-//   keyed at every frame; LINEAR, so it plays like the runtime's LodClip (which nlerps
-//   where glTF slerps: the same at every frame, within a hair between frames);
+//   keyed at every frame. Every joint is keyed, whether the clip moves it or not
+//   (levelTracks(), core/lod/held_keys.h: a joint a mapped clip leaves alone holds its rest
+//   rotation by two keys), so one animation played after another leaves none of its pose;
+//   LINEAR, so it plays like the runtime's LodClip (which nlerps where glTF slerps: the
+//   same at every frame, within a hair between frames);
 //   animation data that repeats (key times; a track a coarser level leaves as it was) is
 //   stored once and its accessor shared;
 // - a level's mesh: one primitive per part (source mesh), named in the mesh's extras.parts;
 // - mesh levels: one node per level with a mesh; the first written level's node is in the
 //   scene and carries MSFT_lod {"ids": [the other levels' nodes]} and
 //   extras.MSFT_screencoverage (per level, the fraction of the viewport height the
-//   character's bounding sphere spans where the next level takes over; 0 for the last);
+//   character's bounding sphere spans, under the LOD set's projection, at the switch
+//   distance of the next level: R / (d tan(fov / 2)); 0 for the last). Where the set has
+//   no bounding radius or a level no switch distance there is no coverage array, and
+//   WriteStats::warnings says so (a made-up 1 would show the coarsest level at any size);
 // - the cluster tables and bone reduction of every level in the vendor extension
 //   MLOD_joint_clusters at the asset's top level (docs/gltf-extension.md), never required;
 //   nodes and animations named there by index and by name.
@@ -60,7 +66,8 @@ struct LevelStats {
   std::size_t heldTracks = 0;     // tracks keyed at fewer than every frame (frozen spans held by their ends)
 };
 struct WriteStats {
-  std::vector<LevelStats> levels; // per written level, in order
+  std::vector<LevelStats> levels;    // per written level, in order
+  std::vector<std::string> warnings; // what the file lacks that a reader may look for, one sentence each
 };
 
 // Progress: fraction in [0, 1] and what is being done; returns false to cancel. May be empty.

@@ -189,6 +189,7 @@ int BatchCommand::run() const {
         exitCode = outcome.exitCode;
       printError(outcome.errorFile, outcome.message);
     }
+    printWarnings(job.output, outcome.warnings);
     jobList.push_back({{"index", mine[k]},
                        {"input", job.input},
                        {"plugin", job.plugin},

@@ -343,22 +343,15 @@ int BenchCrowdCommand::runScene() const {
     const std::optional<Asset> source = importForCommand(motion, motionImport);
     if (!source)
       return kExitBadInput;
-    if (source->clips.empty() || source->skeleton.empty()) {
-      printError(motion, "has no animation clip to play");
+    // the one path that puts a clip on a character (core/mapping/motion_mapping.h), as export --motion
+    Result<MappedMotion> played = mapMotionAutomatically(
+        source->skeleton, std::span<const Clip>(source->clips).first(std::min<std::size_t>(source->clips.size(), 1)),
+        asset->skeleton, file);
+    if (!played) {
+      printError(motion, played.message());
       return kExitBadInput;
     }
-    const MotionMapping mapping = MotionMapping::automatic(source->skeleton, asset->skeleton);
-    Result<RestPoseDifferences> differences = restPoseDifferences(mapping, source->skeleton, asset->skeleton);
-    if (!differences) {
-      printError(motion, "cannot be mapped onto " + file + ": " + differences.message());
-      return kExitBadInput;
-    }
-    Result<Clip> retargeted = retargetClip(*differences, source->skeleton, source->clips.front(), asset->skeleton);
-    if (!retargeted) {
-      printError(motion, retargeted.message());
-      return kExitBadInput;
-    }
-    mapped.push_back(std::move(retargeted).value());
+    mapped = std::move(played->clips);
     clip = mapped.front();
   } else if (!asset->clips.empty()) {
     clip = asset->clips.front();

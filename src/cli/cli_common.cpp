@@ -86,6 +86,11 @@ void printError(const std::string& file, const std::string& reason) {
   std::cerr << "error: " << file << ": " << reason << std::endl;
 }
 
+void printWarnings(const std::string& file, const std::vector<std::string>& warnings) {
+  for (const std::string& warning : warnings)
+    std::cerr << "warning: " << file << ": " << warning << std::endl;
+}
+
 std::optional<Asset> importForCommand(const std::string& file, const ImportArguments& arguments) {
   ImportOptions options;
   options.fps = arguments.fps;

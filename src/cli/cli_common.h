@@ -10,6 +10,7 @@
 #include <atomic>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace CLI { class App; }
 
@@ -21,6 +22,8 @@ inline constexpr int kExitBadInput = 2; // the input (file or arguments) is bad
 
 // Prints "error: FILE: reason" on stderr.
 void printError(const std::string& file, const std::string& reason);
+// `warning: FILE: warning` on stderr, one line each.
+void printWarnings(const std::string& file, const std::vector<std::string>& warnings);
 
 // The JSON text of `doc` (indent 2), never an exception: strings that are not valid UTF-8
 // (file names are kept as bytes; names from files are made valid on import) are written

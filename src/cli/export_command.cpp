@@ -25,6 +25,11 @@ void ExportCommand::attach(CLI::App& app) {
                       "instead of the default LOD set: LOD0 plus one level per triangle ratio in (0, 1], "
                       "comma-separated (0.5,0.25,0.1), each with the original motion (a file only)")
       ->delimiter(',');
+  command->add_option("--motion", job.motions,
+                      "a motion file whose clips play on FILE's character, mapped by joint names (the automatic "
+                      "motion mapping, as bench-crowd --scene --motion); repeatable; a file only");
+  command->add_flag("--allow-partial", job.allowPartial,
+                    "export a --motion whose mapping drives less than half of the character's joints with a child");
   command->add_option("--unit-scale", job.unitScale,
                       "cm per file unit, or a preset: cm, m, mm, inch, cmu (5.6444, CMU mocap); "
                       "default: the file's own unit (a project: each asset's)");
@@ -74,6 +79,7 @@ int ExportCommand::run() const {
   line.clear();
   if (!outcome.ok())
     printError(outcome.errorFile, outcome.message);
+  printWarnings(job.output, outcome.warnings);
   if (json) {
     nlohmann::json options_json = nlohmann::json::object();
     for (auto it = filled.options.begin(); it != filled.options.end(); ++it)

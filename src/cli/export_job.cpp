@@ -2,6 +2,7 @@
 
 #include "cli/file_checks.h"
 
+#include "core/mapping/motion_mapping.h"
 #include "core/project_package.h"
 #include "core/project.h"
 #include "io/import_options.h"
@@ -177,6 +178,7 @@ struct JobRun {
   QVariantMap options; // every option of the exporter, checked
   double unitScale = 0.0; // --unit-scale; 0 = each file's own
   ExportOutcome out;      // the timings so far
+  std::vector<std::string> notes; // lines that go before the exporter's message (the motions mapped)
 
   bool cancelled() const { return cancel && cancel->load(); }
   void tell(std::string_view stage, double fraction, std::string_view detail) const {
@@ -247,6 +249,9 @@ std::optional<ExportOutcome> checkJob(JobRun& run) {
       return failure(kExitBadInput, job.input, "--mesh-ratio " + std::to_string(ratio) + ": a triangle ratio must be in (0, 1]");
   if (!job.meshRatios.empty() && isProjectFile(job.input))
     return failure(kExitBadInput, job.input, "--mesh-ratio applies to a file; a project exports its own levels");
+  if (!job.motions.empty() && isProjectFile(job.input))
+    return failure(kExitBadInput, job.input,
+                   "--motion applies to a file; a project plays the motions its mappings assign to its character");
   return std::nullopt;
 }
 
@@ -318,6 +323,42 @@ std::optional<ExportOutcome> buildFromProject(JobRun& run, Result<LodPackage>& p
   return std::nullopt;
 }
 
+// 2. The clips of every --motion played on the file's character (mapMotionAutomatically(), the
+// path bench-crowd --scene --motion takes), each mapping's reach noted; a mapping that drives
+// too little of the character refused unless --allow-partial.
+std::optional<ExportOutcome> mapMotions(JobRun& run, const Asset& character, std::vector<Clip>& out_clips) {
+  const ExportJob& job = run.job;
+  const std::string name = std::filesystem::path(job.input).stem().string();
+  for (const std::string& file : job.motions) {
+    Result<Asset> motion = importFile(file, 0.0, job, run.cancel);
+    if (!motion)
+      return run.importFailure(file, motion.message());
+    Result<MappedMotion> mapped = mapMotionAutomatically(motion->skeleton, motion->clips, character.skeleton, name);
+    if (!mapped)
+      return failure(kExitBadInput, file, mapped.message());
+    const MappingCoverage& coverage = mapped->coverage;
+    const std::string reach = std::to_string(coverage.mapped) + " of " + name + "'s " +
+                              std::to_string(coverage.joints) + " joints with a child (" +
+                              std::to_string(int(std::lround(100.0 * coverage.share()))) + "%)";
+    if (coverage.share() < kMinMappedShare && !job.allowPartial)
+      return failure(kExitBadInput, file,
+                     "the automatic mapping drives " + reach + ", below " +
+                         std::to_string(int(std::lround(100.0 * kMinMappedShare))) +
+                         "%: the rest of the body would hold its rest pose (--allow-partial exports it anyway)");
+    const std::string stem = std::filesystem::path(file).stem().string();
+    for (Clip& clip : mapped->clips) {
+      // named after its file (a BVH clip is "Motion"): animations <file>_LOD<n>, or
+      // <file>_<clip>_LOD<n> for a file of several clips
+      clip.name = mapped->clips.size() == 1 ? stem : stem + "_" + clip.name;
+      run.notes.push_back("motion " + file + ": clip '" + clip.name + "' on " + name + ", " +
+                          std::to_string(mapped->mapping.pairs.size()) + " joints mapped by name, driving " + reach +
+                          "; the others hold their rest pose");
+      out_clips.push_back(std::move(clip));
+    }
+  }
+  return std::nullopt;
+}
+
 // 2-3. A file imported, what the exporter cannot hold refused, its default LOD set (or one
 // level per --mesh-ratio) built.
 std::optional<ExportOutcome> buildFromFile(JobRun& run, Result<LodPackage>& package) {
@@ -326,17 +367,22 @@ std::optional<ExportOutcome> buildFromFile(JobRun& run, Result<LodPackage>& pack
   Result<Asset> asset = importFile(job.input, run.unitScale, job, run.cancel);
   if (!asset)
     return run.importFailure(job.input, asset.message());
+  std::vector<Clip> mapped; // --motion clips on the character
+  if (std::optional<ExportOutcome> failed = mapMotions(run, *asset, mapped))
+    return *failed;
   run.out.importSeconds = secondsSince(start);
   // a file gets the default set of 4 levels (docs/architecture.md section 6), or LOD0 and
   // one level per --mesh-ratio
   const int levelCount = job.meshRatios.empty() ? 4 : int(job.meshRatios.size()) + 1;
-  if (const QString problem = run.exporter->planProblem(packagePlan(*asset, levelCount, job.levels));
-      !problem.isEmpty())
+  LodPackagePlan plan = packagePlan(*asset, levelCount, job.levels);
+  for (const Clip& clip : mapped)
+    plan.clipFrames += static_cast<std::uint64_t>(clip.frameCount);
+  if (const QString problem = run.exporter->planProblem(plan); !problem.isEmpty())
     return failure(kExitBadInput, job.input, problem.toStdString());
   start = Clock::now();
   try {
     if (job.meshRatios.empty()) {
-      package = buildLodPackage(*asset, job.levels, run.packageProgress(), run.cancel);
+      package = buildLodPackage(*asset, job.levels, run.packageProgress(), run.cancel, mapped);
     } else {
       // LOD0 and one level per ratio, all with the original motion
       LodSet lods;
@@ -347,7 +393,7 @@ std::optional<ExportOutcome> buildFromFile(JobRun& run, Result<LodPackage>& pack
       }
       JpcSettings jpc;
       jpc.zeroLength = 1e-6 * asset->unitScale; // docs/architecture.md section 4: 1e-6 file units
-      package = buildLodPackage(*asset, lods, jpc, job.levels, run.packageProgress(), {}, run.cancel);
+      package = buildLodPackage(*asset, lods, jpc, job.levels, run.packageProgress(), mapped, run.cancel);
     }
   } catch (const std::bad_alloc&) {
     return failure(kExitFailure, job.input, "not enough memory to build its LOD package");
@@ -373,7 +419,9 @@ ExportOutcome writePackage(JobRun& run, const LodPackage& package) {
       package, path, run.options,
       ExportProgress([&](double fraction, const QString& detail) { run.tell("export", fraction, detail.toStdString()); },
                      [&] { return run.cancelled(); }));
-  std::string message = result.message.toStdString();
+  QString text = result.message;
+  const QStringList warnings = splitExportWarnings(&text);
+  std::string message = text.toStdString();
   const std::string written = path.toStdString();
   for (std::size_t at = message.find(written); exact && at != std::string::npos; at = message.find(written, at))
     message.replace(at, written.size(), job.output); // the temporary name is no one's business
@@ -391,7 +439,12 @@ ExportOutcome writePackage(JobRun& run, const LodPackage& package) {
     failed.exportSeconds = out.exportSeconds;
     return failed;
   }
-  out.message = message;
+  out.message.clear();
+  for (const std::string& note : run.notes)
+    out.message += note + "\n";
+  out.message += message;
+  for (const QString& warning : warnings)
+    out.warnings.push_back(warning.toStdString());
   if (exact)
     out.message += " (the name is not valid UTF-8: the file has the exact name given; names inside it use U+FFFD)";
   std::error_code sizeError;
@@ -403,7 +456,7 @@ ExportOutcome writePackage(JobRun& run, const LodPackage& package) {
 
 ExportOutcome runExportJob(const PluginHost& host, const ExportJob& job, const std::atomic<bool>* cancel,
                            const ExportJobProgress& report) {
-  JobRun run{host, job, cancel, report, nullptr, {}, 0.0, {}};
+  JobRun run{host, job, cancel, report, nullptr, {}, 0.0, {}, {}};
   if (std::optional<ExportOutcome> failed = checkJob(run))
     return *failed;
   run.tell("import", -1.0, job.input);

@@ -33,11 +33,19 @@ struct ExportJob {
   // the original motion (threshold 0), so a mesh can be judged alone; empty = the default
   // LOD set. Not for a project (its levels are its own).
   std::vector<double> meshRatios;
+  // Motion files whose clips play on the file's character (a file only; a project plays the
+  // motions its mappings assign), each mapped by the automatic mapping
+  // (mapMotionAutomatically(), as bench-crowd --scene --motion), at its own unit. A motion
+  // whose mapping drives less than kMinMappedShare of the character's joints with a child is
+  // refused (exit 2) unless `allowPartial`.
+  std::vector<std::string> motions;
+  bool allowPartial = false;
 };
 
 struct ExportOutcome {
   int exitCode = kExitOk;
   std::string message; // what was written, or why nothing was (without "error: FILE: ")
+  std::vector<std::string> warnings; // what the written file lacks (the exporter's warning lines), one sentence each
   std::string errorFile; // the file the error is about (the input, the output, the plugin id)
   std::int64_t bytes = 0; // the output file's size (0 when nothing was written)
   double importSeconds = 0.0;

@@ -64,6 +64,23 @@ int resolve(const json* array, const json* index, const std::string& name) {
   return -1;
 }
 
+// What shows that `document` holds LOD levels as the glTF exporter writes them (animations
+// whose extras name their level, which rewriting tools keep; MSFT_lod), in words; empty if nothing.
+std::string levelSign(const json& document) {
+  int levelled = 0;
+  if (const json* animations = member(document, "animations"); animations && animations->is_array())
+    for (const json& animation : *animations)
+      if (const json* extras = member(animation, "extras"); extras && member(*extras, "level"))
+        ++levelled;
+  if (levelled > 0)
+    return std::to_string(levelled) + " animation" + (levelled == 1 ? "" : "s") + " of LOD levels";
+  if (const json* nodes = member(document, "nodes"); nodes && nodes->is_array())
+    for (const json& node : *nodes)
+      if (const json* extensions = member(node, "extensions"); extensions && member(*extensions, "MSFT_lod"))
+        return "mesh levels (MSFT_lod)";
+  return {};
+}
+
 } // namespace
 
 std::vector<GltfAnimationInfo> readGltfAnimationInfo(std::string_view bytes, std::vector<std::string>& out_warnings) {
@@ -90,8 +107,13 @@ std::vector<GltfAnimationInfo> readGltfAnimationInfo(std::string_view bytes, std
   const json* extensions = member(document, "extensions");
   const json* clusters = extensions ? member(*extensions, "MLOD_joint_clusters") : nullptr;
   const json* levels = clusters ? member(*clusters, "levels") : nullptr;
-  if (!levels || !levels->is_array())
+  if (!levels || !levels->is_array()) {
+    if (const std::string sign = levelSign(document); !sign.empty())
+      out_warnings.push_back("no MLOD_joint_clusters: " + sign +
+                             ", but no cluster tables (a tool that rewrote the file, such as gltf-transform copy or "
+                             "prune, drops vendor extensions; export it again to have them)");
     return out;
+  }
   if (const json* version = member(*clusters, "version");
       !version || !version->is_number_integer() || version->get<int>() != 1) {
     out_warnings.push_back("MLOD_joint_clusters: not version 1; its cluster tables are ignored");

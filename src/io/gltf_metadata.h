@@ -26,7 +26,10 @@ struct GltfAnimationInfo {
 // Per animation of the glTF `bytes` (a .glb, or the JSON of a .gltf), in the file's order.
 // Empty when the bytes are neither, or state nothing about any animation. References of
 // MLOD_joint_clusters are resolved by name where the name and the index disagree (a tool
-// renumbered the file); what cannot be resolved is skipped and said in `out_warnings`.
+// renumbered the file); what cannot be resolved is skipped and said in `out_warnings`. A
+// file of levels (an animation whose extras name its level, or a node with MSFT_lod) without
+// MLOD_joint_clusters lost its cluster tables (a tool that rewrote it: gltf-transform copy or
+// prune drops vendor extensions): `out_warnings` says so, rather than showing no cluster.
 std::vector<GltfAnimationInfo> readGltfAnimationInfo(std::string_view bytes, std::vector<std::string>& out_warnings);
 
 } // namespace mlod

@@ -36,6 +36,19 @@ ExportResult cancelledResult() {
   return ExportResult::failure(QStringLiteral("cancelled: nothing was written"));
 }
 
+QStringList splitExportWarnings(QString* inout_message) {
+  QStringList warnings, rest;
+  const QString prefix = QString::fromLatin1(kExportWarningPrefix);
+  for (const QString& line : inout_message->split(QLatin1Char('\n'))) {
+    if (line.startsWith(prefix))
+      warnings << line.mid(prefix.size());
+    else
+      rest << line;
+  }
+  *inout_message = rest.join(QLatin1Char('\n'));
+  return warnings;
+}
+
 QVariantMap defaultExporterOptions(const ExporterOptions& options) {
   QVariantMap out;
   for (const ExporterOption& option : options)

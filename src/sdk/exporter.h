@@ -51,10 +51,19 @@ const char* toString(ExporterOption::Type type); // "bool", "int", "double", "st
 
 struct ExportResult {
   bool ok = false;
-  QString message; // what was written (ok) or why nothing was (not ok)
+  // What was written (ok) or why nothing was (not ok). A line that begins with
+  // kExportWarningPrefix is a warning: what the written file lacks that a reader may look
+  // for. The CLI prints warnings on stderr (splitExportWarnings()), the studio with the rest.
+  QString message;
   static ExportResult success(const QString& message) { return {true, message}; }
   static ExportResult failure(const QString& message) { return {false, message}; }
 };
+
+inline constexpr const char* kExportWarningPrefix = "warning: ";
+
+// The warnings of `inout_message` (its lines that begin with kExportWarningPrefix, without
+// the prefix), in order; the other lines stay in `inout_message`.
+QStringList splitExportWarnings(QString* inout_message);
 
 // Progress of one export: report(fraction in [0, 1], message), and whether the user asked
 // to cancel. Both may be called from the exporting thread; either callback may be empty.

@@ -10,8 +10,10 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <unistd.h>
 
 namespace mlod {
@@ -340,6 +342,112 @@ TEST(CliExport, ProjectExportsTheCharacterWithItsMappedMotion) {
     previousTriangles = level["mesh"]["triangles"].get<int>();
   }
   EXPECT_GT(doc["levels"][2]["clips"][1]["clusters"].get<int>(), doc["levels"][1]["clips"][1]["clusters"].get<int>());
+}
+
+// The JSON chunk of a .glb.
+nlohmann::json glbDocument(const fs::path& file) {
+  const std::string bytes = test::readText(file.string());
+  EXPECT_GE(bytes.size(), 20u);
+  EXPECT_EQ(bytes.compare(0, 4, "glTF"), 0);
+  std::uint32_t length = 0;
+  std::memcpy(&length, bytes.data() + 12, 4);
+  return nlohmann::json::parse(bytes.begin() + 20, bytes.begin() + 20 + std::ptrdiff_t(length));
+}
+
+// Issue 28, item 5: `export CHARACTER --motion CLIP` plays the clip on the character through
+// the automatic mapping (the path bench-crowd --scene --motion takes), says how much of the
+// character it drives, and writes the clip's animation at every level, named after its file,
+// every joint keyed: the mapped ones at every frame of the original level, the others held.
+TEST(CliExport, MotionPlaysOnTheCharacter) {
+  const fs::path out = freshFolder("motion") / "bcn_0103.glb";
+  const std::string bcn = test::modelPath("X/BCN_Epileptic.X"), clip = test::modelPath("BVH/01_03.bvh");
+  const test::CliRun run = runMotionlod({"export", bcn, "--motion", clip, "--plugin", "gltf", "-o", out.string(), "-q"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.err, "");
+  const std::string said = "motion " + clip + ": clip '01_03' on BCN_Epileptic, ";
+  const std::size_t at = run.out.find(said);
+  ASSERT_EQ(at, 0u) << run.out;
+  const int mapped = std::atoi(run.out.c_str() + said.size()); // "28 joints mapped by name, driving 24 of ..."
+  EXPECT_NE(run.out.find(" joints mapped by name, driving 24 of BCN_Epileptic's 33 joints with a child (73%); "
+                         "the others hold their rest pose\n"),
+            std::string::npos)
+      << run.out;
+  EXPECT_GE(mapped, 24);
+
+  const nlohmann::json document = glbDocument(out);
+  const nlohmann::json& nodes = document["nodes"];
+  const std::size_t joints = document["skins"][0]["joints"].size();
+  ASSERT_EQ(joints, 54u);
+  int animations = 0;
+  for (const nlohmann::json& animation : document["animations"]) {
+    const std::string name = animation["name"];
+    if (name.rfind("01_03_LOD", 0) != 0)
+      continue;
+    SCOPED_TRACE(name);
+    ++animations;
+    EXPECT_EQ(animation["extras"]["frameCount"], 4511);
+    EXPECT_EQ(animation["extras"]["fps"], 120.0);
+    std::map<std::string, int> keys; // joint -> rotation keys
+    for (const nlohmann::json& channel : animation["channels"])
+      if (channel["target"]["path"] == "rotation") {
+        const nlohmann::json& sampler = animation["samplers"][channel["sampler"].get<std::size_t>()];
+        keys[nodes[channel["target"]["node"].get<std::size_t>()]["name"]] =
+            document["accessors"][sampler["input"].get<std::size_t>()]["count"].get<int>();
+      }
+    EXPECT_EQ(keys.size(), joints); // every joint keyed
+    if (name != "01_03_LOD0")
+      continue;
+    // the original level: each mapped joint keyed at every frame, each other held by <= 2 keys
+    int everyFrame = 0;
+    for (const auto& [joint, count] : keys) {
+      everyFrame += count == 4511;
+      EXPECT_TRUE(count == 4511 || count <= 2) << joint << ": " << count;
+    }
+    EXPECT_EQ(everyFrame, mapped);
+    // the checked table of CMU subject 01 on BCN_Epileptic agrees on most joints
+    const nlohmann::json table = nlohmann::json::parse(
+        test::readText(std::string(MLOD_TEST_DATA_DIR) + "/mappings/cmu_01_01_to_bcn_epileptic.json"));
+    int agreed = 0;
+    for (const nlohmann::json& pair : table["pairs"])
+      agreed += keys[pair["character"].get<std::string>()] == 4511;
+    EXPECT_GE(agreed, 24) << "of " << table["pairs"].size();
+  }
+  EXPECT_EQ(animations, 4);
+  // the project's importer reads the clip back at its frames
+  const test::CliRun info = runMotionlod({"info", out.string(), "--json"});
+  ASSERT_EQ(info.status, 0) << info.err;
+  int found = 0;
+  const nlohmann::json back = nlohmann::json::parse(info.out);
+  for (const nlohmann::json& c : back["clips"])
+    if (c["name"].get<std::string>().rfind("01_03_LOD", 0) == 0) {
+      ++found;
+      EXPECT_EQ(c["frames"], 4511);
+    }
+  EXPECT_EQ(found, 4);
+}
+
+// A motion that hardly fits the character is refused with the figures unless --allow-partial;
+// --motion is for a file, not a project.
+TEST(CliExport, MotionOfAnotherRigIsRefusedUnlessPartialIsAllowed) {
+  const fs::path dir = freshFolder("partial");
+  const std::string wuson = test::modelPath("X/Testwuson.X"), clip = test::modelPath("BVH/01_03.bvh");
+  const fs::path out = dir / "wuson.glb";
+  test::CliRun run = runMotionlod({"export", wuson, "--motion", clip, "--plugin", "gltf", "-o", out.string(), "-q"});
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.err, "error: " + clip + ": the automatic mapping drives 7 of Testwuson's 30 joints with a child (23%), "
+                                        "below 50%: the rest of the body would hold its rest pose (--allow-partial "
+                                        "exports it anyway)\n");
+  EXPECT_FALSE(fs::exists(out));
+  run = runMotionlod({"export", wuson, "--motion", clip, "--allow-partial", "--mesh-ratio", "0.5", "--plugin", "gltf",
+                      "-o", out.string(), "-q"});
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("driving 7 of Testwuson's 30 joints with a child (23%)"), std::string::npos) << run.out;
+  EXPECT_TRUE(fs::exists(out));
+  const fs::path project = dir / "p.mlod";
+  std::ofstream(project) << "{}";
+  run = runMotionlod({"export", project.string(), "--motion", clip, "--plugin", "gltf", "-o", (dir / "p.glb").string()});
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("--motion applies to a file"), std::string::npos) << run.err;
 }
 
 } // namespace

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <cmath>
@@ -155,6 +156,33 @@ TEST(CliMeshLod, ExportWithMeshRatios) {
     EXPECT_EQ(run.err.rfind("error: " + bcn + ": ", 0), 0u) << run.err;
     EXPECT_FALSE(fs::exists(out));
   }
+}
+
+// Guards issue 28, item 2: levels by --mesh-ratio have no switch distance, so the glTF has
+// MSFT_lod without MSFT_screencoverage (it carried [1, 1, 1, 0]) and stderr says why; the
+// summary on stdout stays as it was.
+TEST(CliMeshLod, GltfExportWithMeshRatiosWarnsOfNoCoverage) {
+  namespace fs = std::filesystem;
+  const fs::path out = test::freshFolder("meshlod", "gltf") / "out.gltf";
+  const std::string bcn = test::modelPath("X/BCN_Epileptic.X");
+  const test::CliRun run =
+      runMotionlod({"export", bcn, "--plugin", "gltf", "-o", out.string(), "--mesh-ratio", "0.5,0.25,0.1", "--quiet"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.err, "warning: " + out.string() +
+                         ": no MSFT_screencoverage: the LOD set has no bounding radius (a reader that switches by "
+                         "coverage cannot tell when to show each level)\n");
+  EXPECT_EQ(run.out.find("warning"), std::string::npos) << run.out;
+  std::ifstream file(out);
+  const nlohmann::json document = nlohmann::json::parse(file);
+  int lods = 0;
+  for (const nlohmann::json& node : document["nodes"]) {
+    if (!node.contains("extensions"))
+      continue;
+    ++lods;
+    EXPECT_EQ(node["extensions"]["MSFT_lod"]["ids"].size(), 3u);
+    EXPECT_FALSE(node.contains("extras") && node["extras"].contains("MSFT_screencoverage")) << node.dump();
+  }
+  EXPECT_EQ(lods, 1);
 }
 
 } // namespace

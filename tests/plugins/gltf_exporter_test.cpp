@@ -12,7 +12,9 @@
 #include "unit/package_fixtures.h"
 #include "unit/real_files.h"
 #include "core/lod/held_keys.h"
+#include "core/mapping/motion_mapping.h"
 #include "io/importer.h"
+#include "test_files.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
@@ -23,6 +25,7 @@
 #include <QFileInfo>
 #include <QTemporaryDir>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -345,6 +348,45 @@ void expectReadBack(const LodPackage& package, const Asset& back) {
 
 // The bytes of the key times and values that each animation uses (data shared between
 // channels counted once), per level: what a file of that level alone holds.
+// The MSFT_lod node of a combined file (the scene's mesh node that carries MSFT_lod), or null.
+const json* lodNode(const json& document) {
+  for (const json& index : document["scenes"][0]["nodes"]) {
+    const json& node = document["nodes"][index.get<std::size_t>()];
+    if (node.contains("extensions") && node["extensions"].contains("MSFT_lod"))
+      return &node;
+  }
+  return nullptr;
+}
+
+// MSFT_screencoverage read back: entry k is the fraction of the viewport height the
+// package's bounding sphere spans at level k + 1's switch distance under the set's
+// projection, R / (d tan(fov / 2)) (the sphere's diameter over the visible height at d),
+// so the entries fall strictly (each level switches in farther out) down to 0 for the last.
+void expectCoveragesFollowSwitchDistances(const LodPackage& package, const json& document) {
+  const json* top = lodNode(document);
+  ASSERT_TRUE(top != nullptr);
+  const std::vector<double> coverage = top->at("extras").at("MSFT_screencoverage").get<std::vector<double>>();
+  ASSERT_EQ(coverage.size(), package.levels.size());
+  const double radius = package.lods.boundingRadiusCm;
+  const double halfHeight = std::tan(0.5 * package.lods.projection.verticalFovDegrees * 3.14159265358979323846 / 180.0);
+  ASSERT_GT(radius, 0.0);
+  for (std::size_t k = 0; k + 1 < coverage.size(); ++k) {
+    const double distance = package.levels[k + 1].settings.switchDistanceCm;
+    ASSERT_GT(distance, 0.0) << "LOD" << k + 1;
+    const double expected = radius / (distance * halfHeight);
+    EXPECT_NEAR(coverage[k], expected, 1e-5 * expected) << "LOD" << k << " down to LOD" << k + 1 << "'s switch";
+    if (k > 0) {
+      EXPECT_LT(coverage[k], coverage[k - 1]) << "LOD" << k;
+    }
+  }
+  EXPECT_GT(coverage[coverage.size() - 2], 0.0);
+  EXPECT_EQ(coverage.back(), 0.0);
+  std::cout << "[ coverage ] " << package.name << ":";
+  for (double c : coverage)
+    std::cout << " " << c;
+  std::cout << "\n";
+}
+
 std::vector<std::size_t> animationBytesPerLevel(const tinygltf::Model& model, std::size_t levels) {
   std::vector<std::size_t> out;
   const std::size_t clips = model.animations.size() / levels;
@@ -429,13 +471,7 @@ TEST(GltfExporter, SkinnedCharacterPassesTheValidatorAndReadsBack) {
       EXPECT_EQ(node.at("name").get<std::string>(), "BCN_Epileptic_LOD" + std::to_string(k + 1));
       EXPECT_EQ(document["meshes"][k + 1].at("name").get<std::string>(), "BCN_Epileptic_LOD" + std::to_string(k + 1));
     }
-    const std::vector<double> coverage = top.at("extras").at("MSFT_screencoverage").get<std::vector<double>>();
-    ASSERT_EQ(coverage.size(), package.levels.size());
-    for (std::size_t k = 0; k + 1 < coverage.size(); ++k) {
-      EXPECT_GT(coverage[k], 0.0);
-      EXPECT_LE(coverage[k + 1], coverage[k]); // farther levels take over at smaller sizes
-    }
-    EXPECT_EQ(coverage.back(), 0.0);
+    expectCoveragesFollowSwitchDistances(package, document);
     const auto used = document["extensionsUsed"].get<std::vector<std::string>>();
     EXPECT_NE(std::find(used.begin(), used.end(), "MSFT_lod"), used.end());
     expectClusterTablesRoundTrip(package, document);
@@ -600,6 +636,88 @@ TEST(GltfExporter, CancelLeavesNothingBehindAndKeepsAnOldFile) {
   EXPECT_EQ(test::filesIn(dir.path()), QStringList{"cancelled.glb"});
 }
 
+// Guards issue 28, item 2: a level without a switch distance (export --mesh-ratio) or a set
+// without a bounding radius has no coverage to give. The file then has MSFT_lod without
+// MSFT_screencoverage, and the result warns; before, it carried [1, 1, 1, 0], so a reader
+// that honours coverage showed the coarsest level at any size below full screen.
+TEST(GltfExporter, NoSwitchDistanceGivesNoCoverageAndAWarning) {
+  LodPackage noDistance = test::bcnPackage();
+  ASSERT_GE(noDistance.levels.size(), 3u);
+  noDistance.levels[2].settings.switchDistanceCm = 0.0;
+  LodPackage noRadius = test::bcnPackage();
+  noRadius.lods.boundingRadiusCm = 0.0;
+  const std::pair<const LodPackage*, std::string> cases[] = {{&noDistance, "level LOD2 has no switch distance"},
+                                                             {&noRadius, "the LOD set has no bounding radius"}};
+  for (const auto& [package, reason] : cases) {
+    SCOPED_TRACE(reason);
+    QTemporaryDir dir;
+    const Exported out = exportTo(*package, dir.filePath("out.glb"));
+    ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+    const json document = documentOf(out.bytes);
+    const json* top = lodNode(document);
+    ASSERT_TRUE(top != nullptr);
+    EXPECT_EQ(top->at("extensions").at("MSFT_lod").at("ids").size(), package->levels.size() - 1);
+    EXPECT_FALSE(top->contains("extras") && top->at("extras").contains("MSFT_screencoverage")) << top->dump();
+    QString message = out.result.message;
+    const QStringList warnings = splitExportWarnings(&message);
+    ASSERT_EQ(warnings.size(), 1) << out.result.message.toStdString();
+    EXPECT_TRUE(warnings[0].startsWith(QStringLiteral("no MSFT_screencoverage: ") + QString::fromStdString(reason)))
+        << warnings[0].toStdString();
+    EXPECT_FALSE(message.contains(QStringLiteral("warning"))) << message.toStdString();
+    EXPECT_EQ(test::runValidator(out.path).errors, 0);
+  }
+  // with its distances and radius, the same package warns of nothing
+  QTemporaryDir dir;
+  const Exported out = exportTo(test::bcnPackage(), dir.filePath("out.glb"));
+  ASSERT_TRUE(out.result.ok);
+  QString message = out.result.message;
+  EXPECT_TRUE(splitExportWarnings(&message).isEmpty()) << out.result.message.toStdString();
+}
+
+bool anyWarningStartsWith(const Asset& asset, const std::string& prefix) {
+  return std::any_of(asset.warnings.begin(), asset.warnings.end(),
+                     [&](const std::string& w) { return w.rfind(prefix, 0) == 0; });
+}
+
+// Guards issue 28, item 6: a tool that rewrites a file (gltf-transform copy, prune) drops the
+// vendor extension MLOD_joint_clusters; reading such a file (motionlod info, the studio's
+// import) says the cluster tables are gone instead of showing none without a word. The
+// animations' extras (which such tools keep) or MSFT_lod tell a file of levels.
+TEST(GltfExporter, LostClusterTablesAreSaid) {
+  for (const LodPackage* package : {&test::cmuPackage(), &test::bcnPackage()}) {
+    SCOPED_TRACE(package->name);
+    QTemporaryDir dir;
+    const Exported out = exportTo(*package, dir.filePath("out.gltf"));
+    ASSERT_TRUE(out.result.ok);
+    json document = documentOf(out.bytes);
+    const std::string whole = document.dump();
+    const Result<Asset> intact = importAssetFromMemory(whole.data(), whole.size(), "gltf");
+    ASSERT_TRUE(intact) << intact.message();
+    EXPECT_FALSE(anyWarningStartsWith(*intact, "no MLOD_joint_clusters"));
+    EXPECT_EQ(intact->clusters.size(), package->clips.size() * package->levels.size());
+
+    document["extensions"].erase("MLOD_joint_clusters"); // what gltf-transform copy leaves
+    auto& used = document["extensionsUsed"];
+    used.erase(std::remove(used.begin(), used.end(), json("MLOD_joint_clusters")), used.end());
+    const std::string rewritten = document.dump();
+    const Result<Asset> lost = importAssetFromMemory(rewritten.data(), rewritten.size(), "gltf");
+    ASSERT_TRUE(lost) << lost.message();
+    const std::string levels = std::to_string(package->clips.size() * package->levels.size());
+    EXPECT_TRUE(anyWarningStartsWith(*lost, "no MLOD_joint_clusters: " + levels + " animations of LOD levels, but no "
+                                            "cluster tables"))
+        << ::testing::PrintToString(lost->warnings);
+    if (!package->mesh)
+      continue;
+    for (json& animation : document["animations"]) // extras gone too: MSFT_lod still tells
+      animation.erase("extras");
+    const std::string bare = document.dump();
+    const Result<Asset> meshOnly = importAssetFromMemory(bare.data(), bare.size(), "gltf");
+    ASSERT_TRUE(meshOnly) << meshOnly.message();
+    EXPECT_TRUE(anyWarningStartsWith(*meshOnly, "no MLOD_joint_clusters: mesh levels (MSFT_lod), but no cluster tables"))
+        << ::testing::PrintToString(meshOnly->warnings);
+  }
+}
+
 // Frozen spans are held by their ends (or, where cheaper, by the shared every-frame times), so
 // a coarser level's animations take fewer bytes; the summary says how many per level.
 TEST(GltfExporter, AnimationBytesFallWithEachLevel) {
@@ -726,6 +844,18 @@ TEST_P(GltfExporterOnCharacters, AssimpSeesBonesLevelNamesAndAnimations) {
   EXPECT_EQ(names, expected);
 }
 
+// Issue 28, item 2: on every character, the coverage of each level is where the next one
+// switches in, by the formula, strictly falling.
+TEST_P(GltfExporterOnCharacters, ScreenCoverageFollowsTheSwitchDistances) {
+  const LodPackage& package = test::realPackage(GetParam(), 0.0);
+  ASSERT_GE(package.levels.size(), 2u);
+  QTemporaryDir dir;
+  const Exported out = exportTo(package, dir.filePath("out.gltf"));
+  ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+  EXPECT_FALSE(out.result.message.contains(QStringLiteral("warning: "))) << out.result.message.toStdString();
+  expectCoveragesFollowSwitchDistances(package, documentOf(out.bytes));
+}
+
 INSTANTIATE_TEST_SUITE_P(Characters, GltfExporterOnCharacters, ::testing::ValuesIn(test::fixtureCharacters("animated")),
                          test::fixtureName);
 
@@ -761,6 +891,91 @@ TEST_P(GltfExporterOnClips, ClusterTablesSurviveRenumberedAnimations) {
     clustered += expected;
   }
   EXPECT_GT(clustered, 0u) << "no level has clusters: nothing was checked";
+}
+
+// Guards issue 28, item 3: a CMU clip mapped onto BCN_Epileptic (the automatic mapping, as a
+// project's mapping or export --motion makes it) drives only the joints the mapping names.
+// In the file, every animation (the character's own clip and the mapped one, every level)
+// keys every joint's rotation, and every translation or scale that any animation keys; each
+// joint the mapping leaves out holds its rest (bind) rotation by a held track of at most 2
+// keys. Before, the mapped clip keyed 27 of 54 joints, so played after the character's own
+// clip the others kept that clip's pose. On every clip of the fixture list.
+TEST_P(GltfExporterOnClips, MappedClipKeysEveryJointOfTheCharacter) {
+  ImportOptions characterUnit, clipUnit;
+  characterUnit.unitScale = 100.0;
+  clipUnit.unitScale = 2.54 / 0.45;
+  const Result<Asset> character = importAsset(test::modelPath("X/BCN_Epileptic.X"), characterUnit);
+  const Result<Asset> motion = importAsset(test::modelPath(GetParam()), clipUnit);
+  ASSERT_TRUE(character && motion);
+  const MotionMapping mapping = MotionMapping::automatic(motion->skeleton, character->skeleton);
+  const Result<RestPoseDifferences> differences =
+      restPoseDifferences(mapping, motion->skeleton, character->skeleton);
+  ASSERT_TRUE(differences) << differences.message();
+  const Result<Clip> mapped = retargetClip(*differences, motion->skeleton, motion->clips.at(0), character->skeleton);
+  ASSERT_TRUE(mapped) << mapped.message();
+  const int joints = character->skeleton.jointCount();
+  std::set<int> unmapped;
+  for (int j = 1; j < joints; ++j)
+    if (differences->source[std::size_t(j)] < 0)
+      unmapped.insert(j);
+  ASSERT_FALSE(unmapped.empty()) << "the mapping names every joint: nothing to check";
+  std::cout << "[ mapped ] " << GetParam() << " on BCN_Epileptic: " << joints - int(unmapped.size()) << " of "
+            << joints << " joints mapped\n";
+
+  LodSet lods;
+  lods.boundingRadiusCm = 100.0;
+  lods.levels.resize(2);
+  lods.levels[0].name = "LOD0";
+  lods.levels[1] = {.name = "LOD1", .motionThreshold = 50.0, .meshRatio = 0.5, .switchDistanceCm = 1000.0};
+  JpcSettings jpc;
+  jpc.zeroLength = 1e-6 * character->unitScale;
+  const Result<LodPackage> package = buildLodPackage(*character, lods, jpc, {}, {}, std::span<const Clip>(&*mapped, 1));
+  ASSERT_TRUE(package) << package.message();
+  ASSERT_EQ(package->clips.size(), character->clips.size() + 1);
+  QTemporaryDir dir;
+  const Exported out = exportTo(*package, dir.filePath("mapped.glb"));
+  ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+  EXPECT_EQ(test::runValidator(out.path).errors, 0);
+  const tinygltf::Model model = parseModel(out.bytes);
+  ASSERT_EQ(model.animations.size(), package->clips.size() * package->levels.size());
+
+  std::map<std::string, std::set<int>> keyedByAny; // path -> nodes some animation keys
+  for (const tinygltf::Animation& animation : model.animations)
+    for (const tinygltf::AnimationChannel& channel : animation.channels)
+      keyedByAny[channel.target_path].insert(channel.target_node);
+  int checked = 0;
+  for (const tinygltf::Animation& animation : model.animations) {
+    SCOPED_TRACE(animation.name);
+    std::map<std::string, std::set<int>> keyed;
+    for (const tinygltf::AnimationChannel& channel : animation.channels)
+      EXPECT_TRUE(keyed[channel.target_path].insert(channel.target_node).second) << "node " << channel.target_node;
+    std::set<int> every;
+    for (int j = 0; j < joints; ++j)
+      every.insert(j);
+    EXPECT_EQ(keyed["rotation"], every);
+    EXPECT_EQ(keyed["translation"], keyedByAny["translation"]);
+    EXPECT_EQ(keyed["scale"], keyedByAny["scale"]);
+    if (animation.name.rfind(mapped->name + "_LOD", 0) != 0)
+      continue;
+    // the mapped clip: what the mapping leaves out holds the node's rest rotation
+    for (const tinygltf::AnimationChannel& channel : animation.channels) {
+      if (channel.target_path != "rotation" || !unmapped.count(channel.target_node))
+        continue;
+      const tinygltf::AnimationSampler& sampler = animation.samplers[std::size_t(channel.sampler)];
+      const std::vector<float> values = elements<float>(model, sampler.output, 4);
+      EXPECT_LE(values.size(), 8u) << "node " << channel.target_node << ": a held key is at most 2 keys";
+      const tinygltf::Node& node = model.nodes[std::size_t(channel.target_node)];
+      const glm::quat rest = node.rotation.size() == 4 ? glm::quat(float(node.rotation[3]), float(node.rotation[0]),
+                                                                   float(node.rotation[1]), float(node.rotation[2]))
+                                                       : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+      for (std::size_t k = 0; k + 3 < values.size(); k += 4) {
+        const glm::quat q(values[k + 3], values[k], values[k + 1], values[k + 2]);
+        EXPECT_NEAR(std::abs(glm::dot(q, rest)), 1.0f, 1e-6f) << node.name;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, int(unmapped.size() * package->levels.size()));
 }
 
 INSTANTIATE_TEST_SUITE_P(Clips, GltfExporterOnClips, ::testing::ValuesIn(test::fixtureClips()), test::fixtureName);

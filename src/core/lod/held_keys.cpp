@@ -1,6 +1,7 @@
 #include "core/lod/held_keys.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <set>
 #include <string>
@@ -81,57 +82,82 @@ HeldRotationTrack heldRotationTrack(const Clip& clip, int joint, std::span<const
   return held;
 }
 
+std::vector<LevelTrack> levelTracks(const LodPackage& package, const LodPackageLevel& level, std::size_t clipIndex) {
+  const Clip& clip = package.clips[clipIndex];
+  const Skeleton& skeleton = package.skeleton;
+  const int joints = skeleton.jointCount();
+  assert(clip.jointCount == joints);
+  const BoneReduction& bones = level.build.motion.bones;
+  const bool reduced = static_cast<int>(bones.removed.size()) == joints;
+  const ClusterSet* clusters =
+      clipIndex < level.build.motion.clusters.size() ? &level.build.motion.clusters[clipIndex] : nullptr;
+  if (clusters && clusters->jointCount() != joints)
+    clusters = nullptr;
+  // the translations and scales some clip of the package animates: every clip keys them
+  std::vector<std::uint8_t> translated(static_cast<std::size_t>(joints), 0), scaled(translated);
+  for (const Clip& other : package.clips)
+    if (other.jointCount == joints)
+      for (std::size_t j = 0; j < translated.size(); ++j) {
+        translated[j] |= other.hasTranslation[j];
+        scaled[j] |= other.hasScale[j];
+      }
+  const int n = std::max(clip.frameCount, 0);
+  std::vector<int> every(static_cast<std::size_t>(n));
+  for (int f = 0; f < n; ++f)
+    every[static_cast<std::size_t>(f)] = f;
+  const std::vector<int> ends = n > 1 ? std::vector<int>{0, n - 1} : std::vector<int>{0};
+  constexpr float kMetresPerCm = 0.01f; // glTF's unit
+
+  std::vector<LevelTrack> out;
+  for (int j = 0; j < joints; ++j) {
+    const std::size_t jj = static_cast<std::size_t>(j);
+    const Transform& rest = skeleton.joints[jj].rest;
+    const bool removed = reduced && bones.removed[jj];
+    const HeldRotationTrack held =
+        clip.hasRotation[jj]
+            ? heldRotationTrack(clip, j,
+                                clusters ? std::span<const Cluster>(clusters->joints[jj]) : std::span<const Cluster>(),
+                                removed, removed ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f))
+            : heldRotationTrack(clip, j, {}, true, removed ? bones.frozenRotation[jj] : rest.rotation);
+    LevelTrack rotation{j, TrackPath::Rotation, held.frames, {}};
+    rotation.values.reserve(held.values.size() * 4);
+    for (const glm::quat& q : held.values)
+      rotation.values.insert(rotation.values.end(), {q.x, q.y, q.z, q.w});
+    out.push_back(std::move(rotation));
+    for (const TrackPath path : {TrackPath::Translation, TrackPath::Scale}) {
+      const bool isTranslation = path == TrackPath::Translation;
+      const bool animated = isTranslation ? clip.hasTranslation[jj] : clip.hasScale[jj];
+      if (!animated && !(isTranslation ? translated[jj] : scaled[jj]))
+        continue;
+      LevelTrack track{j, path, animated ? every : ends, {}};
+      track.values.reserve(track.frames.size() * 3);
+      for (int f : track.frames) {
+        const glm::vec3 v = isTranslation ? (animated ? clip.translation(j, f) : rest.translation) * kMetresPerCm
+                                          : (animated ? clip.scale(j, f) : rest.scale);
+        track.values.insert(track.values.end(), {v.x, v.y, v.z});
+      }
+      out.push_back(std::move(track));
+    }
+  }
+  return out;
+}
+
 LevelKeyBytes levelKeyBytes(const LodPackage& package, const LodPackageLevel& level) {
   LevelKeyBytes out;
   const int joints = package.skeleton.jointCount();
   if (joints == 0)
     return out;
-  const BoneReduction& bones = level.build.motion.bones;
-  const bool reduced = static_cast<int>(bones.removed.size()) == joints;
   DistinctArrays arrays;
-  constexpr float kMetresPerCm = 0.01f; // glTF's unit
   for (std::size_t c = 0; c < package.clips.size(); ++c) {
     const Clip& clip = package.clips[c];
     if (clip.jointCount != joints)
       continue;
-    const ClusterSet* clusters = c < level.build.motion.clusters.size() ? &level.build.motion.clusters[c] : nullptr;
-    if (clusters && clusters->jointCount() != joints)
-      clusters = nullptr;
-    std::vector<int> every(static_cast<std::size_t>(std::max(clip.frameCount, 0)));
-    for (std::size_t f = 0; f < every.size(); ++f)
-      every[f] = static_cast<int>(f);
-    const auto addRotations = [&](const HeldRotationTrack& held) {
-      std::vector<float> values;
-      for (const glm::quat& q : held.values)
-        values.insert(values.end(), {q.x, q.y, q.z, q.w});
-      arrays.add(values, '4');
-      arrays.times(held.frames, clip.fps);
-      out.rotationKeys += held.frames.size();
-    };
-    bool any = false;
-    for (int j = 0; j < joints; ++j) {
-      const std::size_t jj = static_cast<std::size_t>(j);
-      if (clip.hasRotation[jj]) {
-        addRotations(heldRotationTrack(
-            clip, j, clusters ? std::span<const Cluster>(clusters->joints[jj]) : std::span<const Cluster>(),
-            reduced && bones.removed[jj], reduced ? bones.frozenRotation[jj] : glm::quat(1.0f, 0.0f, 0.0f, 0.0f)));
-        any = true;
-      }
-      for (const bool translation : {true, false}) {
-        if (!(translation ? clip.hasTranslation[jj] : clip.hasScale[jj]))
-          continue;
-        std::vector<float> values;
-        for (int f : every) {
-          const glm::vec3 v = translation ? clip.translation(j, f) * kMetresPerCm : clip.scale(j, f);
-          values.insert(values.end(), {v.x, v.y, v.z});
-        }
-        arrays.add(values, '3');
-        arrays.times(every, clip.fps);
-        any = true;
-      }
+    for (const LevelTrack& track : levelTracks(package, level, c)) {
+      arrays.add(track.values, track.path == TrackPath::Rotation ? '4' : '3');
+      arrays.times(track.frames, clip.fps);
+      if (track.path == TrackPath::Rotation)
+        out.rotationKeys += track.frames.size();
     }
-    if (!any) // a clip without channels: the writer keys the root's rest rotation
-      addRotations(heldRotationTrack(clip, 0, {}, true, package.skeleton.joints[0].rest.rotation));
   }
   out.bytes = arrays.bytes();
   return out;

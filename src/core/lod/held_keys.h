@@ -8,9 +8,16 @@
 //   where a track keyed at every frame shares one time array with every other: when the
 //   held spans save less than a fifth of the frames, the track is keyed at every frame
 //   instead, the held rotation repeated through each span (it plays the same, LINEAR);
-// - translations and scales are keyed at every frame where the clip animates them.
-// levelKeyBytes() is the figure a report states beside the exporter's: the bytes of every
-// distinct time and value array the level's animations use, as 32-bit floats.
+// - translations and scales are keyed at every frame where the clip animates them;
+// - every clip keys every joint of the character it plays on, so that one clip played after
+//   another leaves nothing of the first behind (a clip mapped onto a character drives only
+//   the joints its mapping names): a joint the clip does not rotate holds its rest rotation
+//   (removed by bone reduction: its frozen one) as a held track of two keys (first and last
+//   frame; one for a one-frame clip), and a joint whose translation or scale another clip of
+//   the package animates holds its rest value the same way.
+// levelTracks() lists the tracks of one clip at one level (the glTF writer writes exactly
+// those); levelKeyBytes() is the figure a report states beside the exporter's: the bytes of
+// every distinct time and value array the level's animations use, as 32-bit floats.
 
 #include "core/clip.h"
 #include "core/jpc/cluster_set.h"
@@ -33,6 +40,24 @@ struct HeldRotationTrack {
 // `frozen` throughout). Keyed at every frame where that takes fewer bytes (header comment).
 HeldRotationTrack heldRotationTrack(const Clip& clip, int joint, std::span<const Cluster> clusters, bool removed,
                                     const glm::quat& frozen);
+
+enum class TrackPath { Rotation, Translation, Scale };
+
+// One animated property of one joint, in glTF's units and layout.
+struct LevelTrack {
+  int joint = 0;
+  TrackPath path = TrackPath::Rotation;
+  std::vector<int> frames;   // ascending frame indices of the keys
+  std::vector<float> values; // per key: x, y, z, w (rotation: unit, sign-aligned with the key
+                             // before), or x, y, z (translation in metres, scale)
+  int components() const { return path == TrackPath::Rotation ? 4 : 3; }
+};
+
+// The tracks of `package.clips[clip]` at `level` (header comment), joint by joint, rotation
+// before translation before scale. Every joint has a rotation track. The clip must animate
+// the package's skeleton; cluster sets of another skeleton are ignored (the writer refuses
+// them first).
+std::vector<LevelTrack> levelTracks(const LodPackage& package, const LodPackageLevel& level, std::size_t clip);
 
 struct LevelKeyBytes {
   std::size_t rotationKeys = 0; // rotation keys of every joint and clip

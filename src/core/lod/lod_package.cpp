@@ -231,7 +231,7 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
 }
 
 Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> levels, const LodPackageProgress& progress,
-                                   const std::atomic<bool>* cancel) {
+                                   const std::atomic<bool>* cancel, std::span<const Clip> extraClips) {
   if (!step(progress, cancel, 0.0, "generating the default LOD set"))
     return Error(kLodPackageCancelled);
   // the budget's search is the first half of the work, the levels the second; a cancel
@@ -242,13 +242,14 @@ Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> leve
     return step(progress, cancel, 0.5 * fraction, "generating the default LOD set");
   };
   options.cancel = cancel;
+  options.clips = extraClips;
   Result<LodSet> lods = LodSet::fromPixelBudget(asset, 1.0, 4, options);
   if (!lods)
     return lods.message() == kLodBudgetCancelled ? Error(kLodPackageCancelled) : lods.error();
   return buildLodPackage(
       asset, *lods, options.jpc, levels,
       [&](double fraction, std::string_view message) { return step(progress, cancel, 0.5 + 0.5 * fraction, message); },
-      {}, cancel);
+      extraClips, cancel);
 }
 
 Result<Bundle> packageBundle(const LodPackage& package) {

@@ -8,6 +8,7 @@
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <set>
@@ -396,6 +397,40 @@ Result<Clip> retargetClip(const RestPoseDifferences& differences, const Skeleton
     out.translations[out.index(0, t)] =
         glm::vec3(restRoot + differences.alignment * ((root - rootStart) * differences.scale));
   }
+  return out;
+}
+
+MappingCoverage mappingCoverage(const MotionMapping& mapping, const Skeleton& character) {
+  std::vector<std::uint8_t> parent(character.joints.size(), 0);
+  for (const Joint& joint : character.joints)
+    if (joint.parent >= 0 && std::size_t(joint.parent) < parent.size())
+      parent[std::size_t(joint.parent)] = 1;
+  MappingCoverage out;
+  for (std::size_t j = 0; j < parent.size(); ++j) {
+    if (!parent[j])
+      continue;
+    ++out.joints;
+    out.mapped += mapping.motionFor(character.joints[j].name) ? 1 : 0;
+  }
+  return out;
+}
+
+Result<MappedMotion> mapMotionAutomatically(const Skeleton& motion, std::span<const Clip> clips,
+                                            const Skeleton& character, std::string_view characterName) {
+  if (clips.empty() || motion.empty())
+    return Error("has no animation clip to play");
+  MappedMotion out;
+  out.mapping = MotionMapping::automatic(motion, character);
+  Result<RestPoseDifferences> differences = restPoseDifferences(out.mapping, motion, character);
+  if (!differences)
+    return Error("cannot be mapped onto " + std::string(characterName) + ": " + differences.message());
+  for (const Clip& clip : clips) {
+    Result<Clip> retargeted = retargetClip(*differences, motion, clip, character);
+    if (!retargeted)
+      return retargeted.error();
+    out.clips.push_back(std::move(retargeted).value());
+  }
+  out.coverage = mappingCoverage(out.mapping, character);
   return out;
 }
 

@@ -31,6 +31,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -104,5 +105,34 @@ Result<RestPoseDifferences> restPoseDifferences(const MotionMapping& mapping, co
 // translation channel; unmapped joints hold their rest pose without channels.
 Result<Clip> retargetClip(const RestPoseDifferences& differences, const Skeleton& motion, const Clip& clip,
                           const Skeleton& character);
+
+// How much of a character a mapping drives: of the character's joints that have a child
+// (end effectors, face and finger tips, are what no motion maps), those the mapping names.
+struct MappingCoverage {
+  int mapped = 0; // joints with a child that the mapping drives
+  int joints = 0; // joints with a child
+  double share() const { return joints > 0 ? double(mapped) / double(joints) : 0.0; }
+};
+MappingCoverage mappingCoverage(const MotionMapping& mapping, const Skeleton& character);
+
+// Below this share of MappingCoverage a motion hardly fits the character (a motion of
+// another rig: most of the body would stand in its rest pose). Onto BCN_Epileptic the
+// automatic mapping of CMU 01_01 or 01_03 drives 24 of its 33 joints with a child (73%), the
+// checked table of tests/data/mappings 25 (76%), Boxing_Toes 15 (45%); onto Testwuson, CMU
+// 01_03 drives 7 of 30 (23%). `export --motion` refuses less unless told.
+inline constexpr double kMinMappedShare = 0.5;
+
+// A motion played on a character through the automatic mapping: what
+// `motionlod bench-crowd --scene --motion` and `motionlod export --motion` do.
+struct MappedMotion {
+  MotionMapping mapping;   // MotionMapping::automatic(motion, character)
+  std::vector<Clip> clips; // each of `clips` retargeted onto the character, in order
+  MappingCoverage coverage;
+};
+// Errors, worded to follow the motion's file name ("error: MOTION: reason"): no clip or no
+// skeleton, a mapping that finds no pair or does not fit the skeletons (restPoseDifferences(),
+// naming `characterName`), a clip that is not of `motion` (retargetClip()).
+Result<MappedMotion> mapMotionAutomatically(const Skeleton& motion, std::span<const Clip> clips,
+                                            const Skeleton& character, std::string_view characterName);
 
 } // namespace mlod
