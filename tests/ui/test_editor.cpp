@@ -28,6 +28,7 @@
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
+#include <memory>
 #include <QFont>
 #include <QGraphicsView>
 #include <QHeaderView>
@@ -868,6 +869,38 @@ private slots:
     QVERIFY(next.close());
     QVERIFY(asked);
     QVERIFY(!next.autosave()->hasRecovery());
+  }
+
+  // Two studios at once each hold their own recovery slot: neither writes nor discards the
+  // other's file; a studio started after one crashed takes over the crashed one's slot and
+  // finds its recovery, not a free slot's (before: one recovery.mlod for every studio).
+  void twoStudiosKeepTheirOwnRecovery() {
+    Document first, second, third;
+    auto a = std::make_unique<Autosave>(&first);
+    auto b = std::make_unique<Autosave>(&second);
+    QVERIFY(a->path() != b->path());
+    QVERIFY(!a->hasRecovery() && !b->hasRecovery());
+    const QString crashed = b->path();
+    QFile written(crashed);
+    QVERIFY(written.open(QIODevice::WriteOnly));
+    written.write("the second studio's work");
+    written.close();
+    QVERIFY(b->hasRecovery());
+    QVERIFY(!a->hasRecovery());
+    a->discard(); // the first studio closes cleanly: the second's file stays
+    a.reset();
+    QVERIFY(QFile::exists(crashed));
+    b.reset(); // the second crashes: no discard(), its slot is free again
+    // the first slot is free and empty, the second free with a recovery: the second
+    Autosave c(&third);
+    QCOMPARE(c.path(), crashed);
+    QVERIFY(c.hasRecovery());
+    c.discard();
+    QVERIFY(!QFile::exists(crashed));
+    // and with nothing to recover, the first slot
+    Autosave d(&first);
+    QVERIFY(d.path() != crashed);
+    QVERIFY(!d.hasRecovery());
   }
 
   // A saved project edited and lost in a crash comes back as that project: its file name,
