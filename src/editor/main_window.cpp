@@ -641,12 +641,16 @@ void MainWindow::buildDocks() {
   // timeline drives both.
   auto* viewport = new ViewportPanel(m_document);
   viewport->setObjectName("viewportPanel");
+  m_viewportPanel = viewport;
   // The character view is the window's centre; the Crowd dock shares the right-hand column
   // with the Trajectory, so raising it shows the crowd and the character together.
   setCentralWidget(viewport);
   m_crowdPanel = new CrowdPanel(m_document, viewport->playback());
   m_crowdPanel->setObjectName("crowdPanel");
   connect(viewport, &ViewportPanel::mappingChosen, m_crowdPanel, &CrowdPanel::setMapping);
+  m_ui->menuView->insertAction(m_ui->menuView->actions().value(0), viewport->wireframeAction());
+  m_ui->menuView->insertSeparator(m_ui->menuView->actions().value(1));
+  m_ui->menuView->setToolTipsVisible(true);
   m_crowdDock = addDock("crowdDock", tr("Crowd"), m_crowdPanel, Qt::RightDockWidgetArea);
   tabifyDockWidget(trajectory, m_crowdDock);
   trajectory->raise();

@@ -6,6 +6,7 @@
 // without mesh, a mesh without skeleton, 200 bones, an empty document.
 
 #include "core/crowd/crowd.h"
+#include "core/project_package.h"
 #include "editor/document/document.h"
 #include "editor/document/edits.h"
 #include "editor/main_window.h"
@@ -259,6 +260,96 @@ private slots:
     QVERIFY2(ghost.box.width() < 0.8 * side.box.width(), "the ghost overlays the simplified");
   }
 
+  // The simplified character wears its level's mesh, exactly as the level exports it: at a
+  // level of 10% mesh the triangles that reach the GPU (the view's GL_PRIMITIVES_GENERATED
+  // count) are the exported level's, not the original's, and LOD0 and LOD3 render
+  // differently; Show = Original draws the original at any level; W draws lines. Before, the
+  // viewport drew the character's original meshes whatever the level.
+  void simplifiedWearsTheLevelMesh() {
+    Document document;
+    edit::addAsset(document, load(bcnPath(), 100.0), bcnPath(), 100.0);
+    document.setCurrentAsset(0);
+    QVERIFY(edit::setLevelMeshRatio(document, 3, 0.1));
+    document.setCurrentLevel(0);
+    QVERIFY(waitForFigures(document));
+    auto panel = showPanel(document);
+    QVERIFY(panel);
+    panel->setMode(ViewportPanel::Mode::Simplified);
+    const qint64 original = qint64(document.asset(0)->meshes.front().triangleCount());
+    QCOMPARE(document.asset(0)->meshes.size(), std::size_t(1));
+    const QImage lod0 = render(*panel);
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), original);
+    QCOMPARE(panel->drawn().size(), std::size_t(1));
+    QVERIFY(!panel->drawn().front().levelMesh);
+
+    // what the exporter gets for LOD3
+    const int levels[1] = {3};
+    Result<LodPackage> package = buildLodPackage(document.project(), document.importedAssets(), 0, levels);
+    QVERIFY2(package, package ? "" : package.message().c_str());
+    const SkinnedMesh* levelMesh = package->levels.front().mesh();
+    QVERIFY(levelMesh);
+    const qint64 exported = qint64(levelMesh->triangleCount());
+    QVERIFY2(exported < original / 5, qPrintable(QStringLiteral("%1 of %2").arg(exported).arg(original)));
+
+    document.setCurrentLevel(3);
+    QVERIFY(QTest::qWaitFor([&] { return !document.isAnalysing() && document.analysis(); }, 60000));
+    QVERIFY(QTest::qWaitFor([&] { return !panel->levelMeshPending(); }, 120000));
+    QCOMPARE(panel->source().level, 3);
+    if (const auto built = panel->levelMeshes()->request(0, 3))
+      qInfo("LOD3's mesh built in %.2f s", built->seconds);
+    QVERIFY2(panel->drawn().front().levelMesh, qPrintable(panel->drawnLines().join('\n')));
+    QCOMPARE(panel->drawn().front().triangles, exported);
+    QCOMPARE(panel->drawn().front().joints, package->levels.front().skeleton().jointCount());
+    QVERIFY2(panel->drawnLines().front().startsWith(QStringLiteral("simplified LOD3 %1 triangles").arg(exported)),
+             qPrintable(panel->drawnLines().front()));
+    const QImage lod3 = render(*panel);
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), exported);
+    QCOMPARE(lod3.size(), lod0.size());
+    int differing = 0;
+    for (int y = 0; y < lod3.height(); ++y)
+      for (int x = 0; x < lod3.width(); ++x)
+        differing += lod3.pixel(x, y) != lod0.pixel(x, y);
+    QVERIFY2(differing > 500, qPrintable(QStringLiteral("%1 pixels differ").arg(differing)));
+    // a second look at LOD3 builds nothing again
+    const int builds = panel->levelMeshes()->builds();
+    document.setCurrentLevel(2);
+    document.setCurrentLevel(3);
+    QVERIFY(!panel->levelMeshPending());
+    QCOMPARE(panel->levelMeshes()->builds(), builds);
+
+    // Show = Original at LOD3: the original mesh
+    panel->setMode(ViewportPanel::Mode::Original);
+    render(*panel);
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), original);
+    QVERIFY(panel->drawnLines().front().startsWith(QStringLiteral("original 5,126 triangles")));
+    // side by side: both
+    panel->setMode(ViewportPanel::Mode::SideBySide);
+    render(*panel);
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), original + exported);
+
+    // W: wireframe, the same triangles as lines (far fewer coloured pixels)
+    panel->setMode(ViewportPanel::Mode::Simplified);
+    const QImage filled = render(*panel);
+    panel->activateWindow(); // a window shortcut
+    QVERIFY(QTest::qWaitForWindowActive(panel.get()));
+    QTest::keyClick(panel->sceneView(), Qt::Key_W);
+    QVERIFY(panel->wireframeAction()->isChecked());
+    QVERIFY(panel->sceneView()->wireframe());
+    const QImage lines = keep(panel->sceneView()->grabFramebuffer(), "wireframe");
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), exported);
+    const auto coloured = [](const QImage& image) {
+      int n = 0;
+      for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+          n += saturated(image.pixelColor(x, y));
+      return n;
+    };
+    QVERIFY2(coloured(lines) < coloured(filled),
+             qPrintable(QStringLiteral("%1 vs %2").arg(coloured(lines)).arg(coloured(filled))));
+    QTest::keyClick(panel->sceneView(), Qt::Key_W);
+    QVERIFY(!panel->sceneView()->wireframe());
+  }
+
   // Joints frozen at the current frame are drawn red at their projected positions; the status
   // counts them.
   void frozenJointsAreHighlighted() {
@@ -387,9 +478,15 @@ private slots:
     QApplication::sendEvent(panel->sceneView(), &move);
     QTest::mouseRelease(panel->sceneView(), Qt::LeftButton, {}, QPoint(360, 300));
     QVERIFY(panel->sceneView()->camera().yawRadians != yaw);
+    // the fly keys fly while a mouse button is held (plain W is the wireframe toggle)
     const float distance = panel->sceneView()->camera().distance;
+    const glm::vec3 target = panel->sceneView()->camera().target;
+    QTest::mousePress(panel->sceneView(), Qt::RightButton, {}, QPoint(300, 300));
     QTest::keyClick(panel->sceneView(), Qt::Key_W);
+    QTest::mouseRelease(panel->sceneView(), Qt::RightButton, {}, QPoint(300, 300));
     QCOMPARE(panel->sceneView()->camera().distance, distance); // flying moves the target
+    QVERIFY(panel->sceneView()->camera().target != target);
+    QVERIFY(!panel->sceneView()->wireframe());
     QTest::keyClick(panel->sceneView(), Qt::Key_F);
     glm::vec3 lo, hi;
     QVERIFY(panel->posedBounds(lo, hi));
