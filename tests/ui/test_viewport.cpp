@@ -698,8 +698,11 @@ private slots:
   }
 
   // The Crowd dock's comparison (the paper's Figure 12 on the crowd on screen): Compare runs
-  // none / skeletal / mesh / both on the same agents off the UI thread and shows ms and x;
-  // none and skeletal skin the original mesh on every agent.
+  // none / skeletal / mesh / both on the same agents off the UI thread and shows ms and x,
+  // the median and range of five repetitions; none and skeletal skin the original mesh on
+  // every agent. The comparison is of one character and LOD set: viewing another asset or
+  // editing the levels clears it, and one that lands after such a change is dropped (before,
+  // the dock kept showing the previous character's line).
   void crowdComparesTheFourConfigurations() {
     Document document;
     edit::addAsset(document, load(bcnPath(), 100.0), bcnPath(), 100.0);
@@ -735,6 +738,51 @@ private slots:
     QCOMPARE(comparison.speedup(3), comparison.configurations[0].frameMs / comparison.configurations[3].frameMs);
     QVERIFY(panel.comparisonText().contains(QStringLiteral("×")));
     QVERIFY(panel.findChild<QLabel*>("crowdComparison")->isVisible());
+    // medians and ranges of five repetitions, paired
+    for (int c = 0; c < 4; ++c) {
+      QCOMPARE(comparison.configurations[c].repetitionFrameMs.size(), std::size_t(CrowdPanel::kCompareRepetitions));
+      const CrowdComparison::Spread ms = comparison.frameMsSpread(c);
+      QCOMPARE(ms.median, comparison.configurations[c].frameMs);
+      QVERIFY(ms.min <= ms.median && ms.median <= ms.max);
+      const CrowdComparison::Spread x = comparison.speedupSpread(c);
+      QCOMPARE(x.samples, CrowdPanel::kCompareRepetitions);
+      QVERIFY(x.min <= x.median && x.median <= x.max);
+    }
+    const QString text = panel.comparisonText();
+    qInfo("%s", qPrintable(text));
+    QVERIFY2(text.startsWith(QStringLiteral("BCN_Epileptic.X: Epileptisch, 24 agents")), qPrintable(text));
+    QVERIFY2(text.contains(QStringLiteral("median (range) of 5 repetitions")), qPrintable(text));
+    const CrowdComparison::Spread both = comparison.speedupSpread(3);
+    QVERIFY2(text.contains(QStringLiteral("%1× (%2–%3×)").arg(both.median, 0, 'f', 2).arg(both.min, 0, 'f', 2).arg(both.max, 0, 'f', 2)),
+             qPrintable(text));
+
+    // another asset in view: the comparison is cleared
+    edit::addAsset(document, load(QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0),
+                   QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0);
+    document.setCurrentAsset(1);
+    QVERIFY(panel.comparisonText().isEmpty());
+    QVERIFY(!panel.findChild<QLabel*>("crowdComparison")->isVisible());
+    QVERIFY(panel.comparison().configurations[0].repetitionFrameMs.empty());
+    // back on BCN, compared again; a LOD set edit clears it too
+    document.setCurrentAsset(0);
+    QVERIFY(QTest::qWaitFor([&] { return !panel.isBuilding() && panel.hasLevels(); }, 120000));
+    compared.clear();
+    button->click();
+    QVERIFY(compared.wait(180000));
+    QVERIFY(!panel.comparisonText().isEmpty());
+    QVERIFY(edit::setLevelMeshRatio(document, 2, 0.5));
+    QVERIFY(panel.comparisonText().isEmpty());
+    // one still running when the view changes is dropped when it lands
+    QVERIFY(QTest::qWaitFor([&] { return !panel.isBuilding() && panel.hasLevels(); }, 120000));
+    compared.clear();
+    button->click();
+    QVERIFY(panel.isComparing());
+    document.setCurrentAsset(1);
+    QVERIFY(QTest::qWaitFor([&] { return !panel.isComparing(); }, 180000));
+    QVERIFY(mlod::test::timersOfAtMostHaveFired(0)); // the watcher's finished() delivered
+    QVERIFY(panel.comparisonText().isEmpty());
+    QVERIFY(panel.comparison().configurations[0].repetitionFrameMs.empty());
+    QCOMPARE(compared.count(), 0);
   }
 
   // The character view is the window's central widget and the Crowd dock sits beside it: with

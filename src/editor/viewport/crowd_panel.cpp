@@ -7,6 +7,7 @@
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
+#include <QFileInfo>
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
@@ -134,6 +135,10 @@ CrowdPanel::CrowdPanel(Document* document, Playback* playback, QWidget* parent)
   m_comparisonLabel->setWordWrap(true);
   m_comparisonLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
   m_comparisonLabel->setVisible(false);
+  m_comparisonLabel->setToolTip(tr("Each configuration's frame time, and none's time over it (×), repetition by "
+                                   "repetition (the four run in turn, so a repetition's four share the machine's "
+                                   "load): the median and, in brackets, the range. A wide range says the machine "
+                                   "was busy: compare again."));
   layout->addWidget(m_comparisonLabel);
   connect(compareButton, &QToolButton::clicked, this, [this] { compare(); });
   connect(&m_compareWatcher, &QFutureWatcher<Compared>::finished, this, &CrowdPanel::onCompared);
@@ -167,7 +172,7 @@ CrowdPanel::~CrowdPanel() {
   m_compareWatcher.waitForFinished();
 }
 
-void CrowdPanel::compare(int frames) {
+void CrowdPanel::compare(int frames, int repetitions) {
   if (!hasLevels() || m_compareWatcher.isRunning() || !m_source.skeleton)
     return;
   const Source source = m_source;
@@ -178,14 +183,20 @@ void CrowdPanel::compare(int frames) {
     top = std::max(top, p.y);
   CrowdComparisonSettings settings;
   settings.frames = std::max(frames, 1);
-  settings.repetitions = 1;
+  settings.repetitions = std::max(repetitions, 1);
   settings.startSeconds = m_playback ? m_playback->seconds() : 0.0;
   settings.centreHeightCm = 0.5f * top;
   settings.jpc = source.jpc;
   m_compareCancel = std::make_shared<std::atomic<bool>>(false);
   std::shared_ptr<std::atomic<bool>> cancel = m_compareCancel;
+  m_comparedGeneration = m_compareGeneration;
+  m_comparedCharacter = source.description;
+  m_comparedAgents = static_cast<int>(agents.size());
   m_comparisonLabel->setVisible(true);
-  m_comparisonLabel->setText(tr("Comparing none / skeletal / mesh / both on %1 agents …").arg(agents.size()));
+  m_comparisonLabel->setText(tr("Comparing none / skeletal / mesh / both on %1 agents of %2, %3 repetitions …")
+                                 .arg(agents.size())
+                                 .arg(source.description)
+                                 .arg(settings.repetitions));
   m_compareWatcher.setFuture(QtConcurrent::run([source, agents, camera, settings, cancel]() -> Compared {
     CrowdComparisonSettings withCancel = settings;
     withCancel.cancel = cancel.get();
@@ -198,6 +209,8 @@ QString CrowdPanel::comparisonText() const { return m_comparisonLabel->text(); }
 
 void CrowdPanel::onCompared() {
   const Compared result = m_compareWatcher.result();
+  if (m_comparedGeneration != m_compareGeneration)
+    return; // of a crowd no longer on screen: cleared already
   if (!result || !*result) {
     const QString message = result ? QString::fromStdString(result->message()) : tr("no result");
     m_comparisonLabel->setText(tr("Cannot compare: %1").arg(message));
@@ -205,18 +218,43 @@ void CrowdPanel::onCompared() {
     return;
   }
   m_comparison = **result;
+  m_comparisonLabel->setText(comparisonText(m_comparedCharacter, m_comparedAgents));
+  emit compared(true, {});
+}
+
+QString CrowdPanel::comparisonText(const QString& character, int agents) const {
+  // median (min–max) of the repetitions: the frame time of each, and for the three
+  // simplified ones none's time over theirs, paired repetition by repetition
   QStringList parts;
+  int repetitions = 0;
   for (int c = 0; c < 4; ++c) {
-    const CrowdConfigurationFigures& figures = m_comparison.configurations[c];
-    QString part = tr("%1 %2 ms").arg(QString::fromLatin1(figures.name)).arg(figures.frameMs, 0, 'f', 2);
-    if (c > 0)
-      part += tr(" (%1×)").arg(m_comparison.speedup(c), 0, 'f', 2);
+    const CrowdComparison::Spread ms = m_comparison.frameMsSpread(c);
+    repetitions = std::max(repetitions, ms.samples);
+    QString part = tr("%1 %2 ms (%3–%4)")
+                       .arg(QString::fromLatin1(m_comparison.configurations[c].name))
+                       .arg(ms.median, 0, 'f', 2)
+                       .arg(ms.min, 0, 'f', 2)
+                       .arg(ms.max, 0, 'f', 2);
+    if (c > 0) {
+      const CrowdComparison::Spread x = m_comparison.speedupSpread(c);
+      part += tr(" %1× (%2–%3×)").arg(x.median, 0, 'f', 2).arg(x.min, 0, 'f', 2).arg(x.max, 0, 'f', 2);
+    }
     parts << part;
   }
-  m_comparisonLabel->setText(tr("Per frame, pose + CPU skinning of %1 agents: %2")
-                                 .arg(m_crowd.agentCount())
-                                 .arg(parts.join(QStringLiteral(" · "))));
-  emit compared(true, {});
+  return tr("%1, %2 agents, pose + CPU skinning per frame, median (range) of %3 repetitions: %4")
+      .arg(character)
+      .arg(agents)
+      .arg(repetitions)
+      .arg(parts.join(QStringLiteral(" · ")));
+}
+
+void CrowdPanel::clearComparison() {
+  ++m_compareGeneration;
+  if (m_compareCancel)
+    m_compareCancel->store(true);
+  m_comparison = {};
+  m_comparisonLabel->clear();
+  m_comparisonLabel->setVisible(false);
 }
 
 void CrowdPanel::setAgentCount(int agents) { m_agents->setValue(agents); }
@@ -245,8 +283,11 @@ void CrowdPanel::markDirty() {
                                                      : std::map<std::string, JointSettings>(),
                 m_mapping,
                 d.project().mappings};
-  if (hasLevels() && !m_dirty && inputs == m_inputs)
+  const bool changed = !(inputs == m_inputs);
+  if (hasLevels() && !m_dirty && !changed)
     return;
+  if (changed) // a comparison of other levels, another character or clip says nothing of these
+    clearComparison();
   m_inputs = std::move(inputs);
   m_dirty = true;
   if (isVisible())
@@ -296,7 +337,8 @@ void CrowdPanel::startBuild() {
   m_figures->setText(tr("Building %1 LOD levels of %2 …").arg(lods.levels.size()).arg(source.description));
   if (m_view)
     m_view->setMessage(tr("Building the LOD levels …"));
-  m_pendingSource = {skeleton, clip, asset, mesh, lods, jpc};
+  const QString character = QFileInfo(QString::fromStdString(asset->sourcePath)).fileName();
+  m_pendingSource = {skeleton, clip, asset, mesh, lods, jpc, tr("%1: %2").arg(character, source.description)};
   m_watcher.setFuture(QtConcurrent::run([skeleton, clip, asset, mesh, lods, jpc, cancel]() -> Built {
     return std::make_shared<Result<std::vector<CrowdLevel>>>(
         buildCrowdLevels(*skeleton, mesh, *clip, lods, jpc, cancel.get()));
