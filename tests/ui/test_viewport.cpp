@@ -360,6 +360,18 @@ private slots:
              qPrintable(QStringLiteral("%1 vs %2").arg(coloured(lines)).arg(coloured(filled))));
     QTest::keyClick(panel->sceneView(), Qt::Key_W);
     QVERIFY(!panel->sceneView()->wireframe());
+
+    // the level's mesh ratio edited: the viewport wears the new level (its kept mesh is not
+    // the level any more), as the exporter would write it
+    QVERIFY(edit::setLevelMeshRatio(document, 3, 0.25));
+    QVERIFY(QTest::qWaitFor([&] { return !panel->levelMeshPending() && panel->drawn().front().levelMesh; }, 120000));
+    Result<LodPackage> quarter = buildLodPackage(document.project(), document.importedAssets(), 0, levels);
+    QVERIFY(quarter && quarter->levels.front().mesh());
+    const qint64 quarterTriangles = qint64(quarter->levels.front().mesh()->triangleCount());
+    QVERIFY(quarterTriangles > exported);
+    QCOMPARE(panel->drawn().front().triangles, quarterTriangles);
+    render(*panel);
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), quarterTriangles);
   }
 
   // Joints frozen at the current frame are drawn red at their projected positions; the status

@@ -286,7 +286,9 @@ void ViewportPanel::attachLevelMesh() {
     return;
   // Level 0 is the original; a character drawn as bone capsules has no mesh to simplify.
   std::shared_ptr<const LevelMeshes::Level> level;
-  const bool wanted = m_source.level > 0 && !m_source.meshes.empty() && m_source.characterAsset >= 0;
+  // (A level removed a moment ago is asked for by no one: the analysis's rebuild follows.)
+  const bool wanted = m_source.level > 0 && m_source.level < m_document->project().levelCount() &&
+                      !m_source.meshes.empty() && m_source.characterAsset >= 0;
   if (wanted)
     level = m_levelMeshes->request(m_source.characterAsset, m_source.level);
   m_levelPending = wanted && !level;
