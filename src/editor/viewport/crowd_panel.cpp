@@ -276,7 +276,7 @@ void CrowdPanel::markDirty() {
   const int asset = d.currentAsset();
   Inputs inputs{asset >= 0 && asset < d.assetCount() ? d.asset(asset) : nullptr,
                 d.currentClip(),
-                d.project().lods,
+                d.lods(),
                 d.project().alpha,
                 d.project().mode,
                 asset >= 0 && asset < d.assetCount() ? d.project().assets[std::size_t(asset)].joints
@@ -329,7 +329,7 @@ void CrowdPanel::startBuild() {
       mesh = candidate;
       break;
     }
-  const LodSet lods = m_document->project().lods;
+  const LodSet lods = m_document->lods();
   const JpcSettings jpc = m_document->project().jpcSettings(source.characterAsset, asset->unitScale);
   m_cancel = std::make_shared<std::atomic<bool>>(false);
   std::shared_ptr<std::atomic<bool>> cancel = m_cancel;
@@ -364,8 +364,7 @@ void CrowdPanel::onBuilt() {
   m_error.clear();
   m_source = m_pendingSource;
   m_crowd.setLevels(std::move(**built));
-  m_crowd.setSwitches(lodSwitchesByDistance(m_document->project().lods),
-                      lodSwitchesByScreenSize(m_document->project().lods));
+  m_crowd.setSwitches(lodSwitchesByDistance(m_document->lods()), lodSwitchesByScreenSize(m_document->lods()));
   // the point whose distance picks the level: half the character's height
   const CrowdLevel& original = m_crowd.level(0);
   float top = 0.0f;
@@ -430,10 +429,10 @@ void CrowdPanel::refresh() {
   Crowd::Selection selection;
   selection.mode = LodSelectionJob::Mode(m_selectionMode->currentData().toInt());
   selection.hysteresis = static_cast<float>(m_hysteresis->value());
-  selection.projection.verticalFovRadians = static_cast<float>(m_document->project().lods.projection.verticalFovDegrees *
-                                                               3.14159265358979 / 180.0);
-  selection.projection.viewportHeightPixels = static_cast<float>(m_document->project().lods.projection.viewportHeightPixels);
-  selection.boundingRadiusCm = static_cast<float>(std::max(1.0, m_document->project().lods.boundingRadiusCm));
+  selection.projection.verticalFovRadians =
+      static_cast<float>(m_document->lods().projection.verticalFovDegrees * 3.14159265358979 / 180.0);
+  selection.projection.viewportHeightPixels = static_cast<float>(m_document->lods().projection.viewportHeightPixels);
+  selection.boundingRadiusCm = static_cast<float>(std::max(1.0, m_document->lods().boundingRadiusCm));
   m_crowd.setSelection(selection);
   const glm::vec3 eye = m_view ? m_view->camera().eye() : glm::vec3(0.0f, 170.0f, -1000.0f);
   if (Error error = m_crowd.update(m_playback->seconds(), eye)) {
@@ -445,9 +444,10 @@ void CrowdPanel::refresh() {
   const QLocale locale(QLocale::English);
   QStringList perLevel;
   for (int l = 0; l < m_crowd.levelCount(); ++l)
-    perLevel << tr("%1 %2").arg(QString::fromStdString(m_document->project().lods.levels.size() > std::size_t(l)
-                                                           ? m_document->project().lods.levels[std::size_t(l)].name
-                                                           : "LOD" + std::to_string(l)))
+    perLevel << tr("%1 %2")
+                    .arg(QString::fromStdString(m_document->lods().levels.size() > std::size_t(l)
+                                                    ? m_document->lods().levels[std::size_t(l)].name
+                                                    : "LOD" + std::to_string(l)))
                     .arg(stats.agentsPerLevel[std::size_t(l)]);
   const double jointShare =
       stats.jointsFullDetail > 0 ? 100.0 * double(stats.jointsEvaluated) / double(stats.jointsFullDetail) : 0.0;
@@ -460,7 +460,7 @@ void CrowdPanel::refresh() {
                    .arg(stats.poseCpuMs, 0, 'f', 2)
                    .arg(m_fps > 0.0 ? QString::number(m_fps, 'f', 1) : QStringLiteral("–"))};
   const bool bySize = selection.mode == LodSelectionJob::Mode::ScreenSize;
-  const LodSet& lods = m_document->project().lods;
+  const LodSet& lods = m_document->lods();
   if (lods.levels.size() > 1 && (bySize ? lodSwitchesByScreenSize(lods) : lodSwitchesByDistance(lods)).levels.size() < 2)
     m_overlay << (bySize ? tr("The LOD set has no screen sizes: every agent plays level 0 (generate the levels: LOD "
                               "Levels dock, Budget…)")
@@ -471,8 +471,8 @@ void CrowdPanel::refresh() {
   for (int l = 0; l < m_crowd.levelCount() && m_tint->isChecked(); ++l)
     legend << QStringLiteral("<span style='color:%1'>■</span> %2")
                   .arg(QColor::fromRgbF(crowdLevelTint(l).x, crowdLevelTint(l).y, crowdLevelTint(l).z).name(),
-                       QString::fromStdString(std::size_t(l) < m_document->project().lods.levels.size()
-                                                  ? m_document->project().lods.levels[std::size_t(l)].name
+                       QString::fromStdString(std::size_t(l) < m_document->lods().levels.size()
+                                                  ? m_document->lods().levels[std::size_t(l)].name
                                                   : "LOD" + std::to_string(l))
                            .toHtmlEscaped());
   m_legend->setText(legend.join(QStringLiteral("&nbsp;&nbsp; ")));

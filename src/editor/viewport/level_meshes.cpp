@@ -33,10 +33,11 @@ LevelMeshes::Key LevelMeshes::keyOf(int character, int level) const {
   Key key;
   key.characterIndex = character;
   key.level = level;
-  if (character < 0 || character >= m_document->assetCount() || level <= 0 || level >= project.levelCount())
+  const LodSet& lods = lodSetFor(project, character); // what the character's package is built with
+  if (character < 0 || character >= m_document->assetCount() || level <= 0 || level >= int(lods.levels.size()))
     return key;
   key.character = m_document->asset(character);
-  const LodLevel& spec = project.lods.levels[std::size_t(level)];
+  const LodLevel& spec = lods.levels[std::size_t(level)];
   key.threshold = spec.motionThreshold;
   key.meshRatio = spec.meshRatio;
   key.jpc = project.jpcSettings(character, key.character ? key.character->unitScale : 1.0);

@@ -287,8 +287,8 @@ void ViewportPanel::attachLevelMesh() {
   // Level 0 is the original; a character drawn as bone capsules has no mesh to simplify.
   std::shared_ptr<const LevelMeshes::Level> level;
   // (A level removed a moment ago is asked for by no one: the analysis's rebuild follows.)
-  const bool wanted = m_source.level > 0 && m_source.level < m_document->project().levelCount() &&
-                      !m_source.meshes.empty() && m_source.characterAsset >= 0;
+  const bool wanted = m_source.level > 0 && m_source.level < m_document->levelCount() && !m_source.meshes.empty() &&
+                      m_source.characterAsset >= 0;
   if (wanted)
     level = m_levelMeshes->request(m_source.characterAsset, m_source.level);
   m_levelPending = wanted && !level;
@@ -300,7 +300,7 @@ void ViewportPanel::attachLevelMesh() {
 
 QStringList ViewportPanel::drawnLines() const {
   const QLocale locale(QLocale::English);
-  const auto& levels = m_document->project().lods.levels;
+  const auto& levels = m_document->lods().levels;
   QStringList out;
   for (const Drawn& d : m_drawnNow) {
     const QString name = d.level >= 0 && std::size_t(d.level) < levels.size()
@@ -359,10 +359,12 @@ void ViewportPanel::pose() {
   const int frame = m_playback->frame();
   const std::vector<bool> frozen = m_source.frozenAt(frame);
   const int frozenCount = static_cast<int>(std::count(frozen.begin(), frozen.end(), true));
-  const QString level = m_source.simplifiedReady
-                            ? tr("level %1 (%2)").arg(m_source.level).arg(QString::fromStdString(
-                                  m_document->project().lods.levels[std::size_t(m_source.level)].name))
-                            : tr("level %1 (clustering…)").arg(m_source.level);
+  const QString level =
+      m_source.simplifiedReady
+          ? tr("level %1 (%2)")
+                .arg(m_source.level)
+                .arg(QString::fromStdString(m_document->lods().levels[std::size_t(m_source.level)].name))
+          : tr("level %1 (clustering…)").arg(m_source.level);
   m_status = tr("%1 · %2 · frame %3 · %4 of %5 joints frozen")
                  .arg(m_source.description, level)
                  .arg(frame)
