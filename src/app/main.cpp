@@ -28,7 +28,9 @@ struct StudioOptions {
   QCommandLineOption open{"open", "Import FILE at start.", "FILE"};
   QCommandLineOption sample{"sample", "Import the bundled sample clip (CMU mocap, in its unit) at start."};
   QCommandLineOption unit{"unit-scale", "cm per file unit for the imports, or a preset: cm, m, mm, inch, cmu.", "S"};
-  QCommandLineOption screenshot{"screenshot", "Save the window to PNG once the imports and clustering are done, then quit.",
+  QCommandLineOption screenshot{"screenshot",
+                                "Save the window to PNG once the imports, clustering and the level's mesh are done, "
+                                "print what the viewport drew (per character: level, triangles, joints), then quit.",
                                 "PNG"};
   QCommandLineOption joint{"joint", "Select joint NAME once loaded (for --screenshot).", "NAME"};
   QCommandLineOption level{"level", "Show LOD level N once loaded (for --screenshot).", "N"};

@@ -102,7 +102,7 @@ int describeProject(const std::string& file, bool json, const ImportArguments& i
   }
   std::printf("project:  %s (Motion LOD project)\nsettings: mode %s, alpha %g cm\n", file.c_str(), toString(project.mode),
               project.alpha);
-  std::printf("levels:   %zu (E in cm·degrees)\n", project.lods.levels.size());
+  std::printf("levels:   %zu (E in cm·degrees; of every asset without its own)\n", project.lods.levels.size());
   for (std::size_t i = 0; i < project.lods.levels.size(); ++i) {
     const LodLevel& level = project.lods.levels[i];
     if (i == 0)
@@ -129,6 +129,13 @@ int describeProject(const std::string& file, bool json, const ImportArguments& i
       for (const nlohmann::json& clip : asset["clips"])
         std::printf(" %s (%d frames)", clip.value("name", std::string()).c_str(), clip.value("frames", 0));
     std::printf("; meshes: %zu\n", asset.contains("meshes") ? asset["meshes"].size() : std::size_t(0));
+    if (const std::optional<LodSet>& own = project.assets[a].lods) { // version 4: a character's own levels
+      std::printf("       its own LOD set, %zu levels:", own->levels.size());
+      for (const LodLevel& level : own->levels)
+        std::printf(" %s (E=%g, mesh %.1f%%, from %g m)", level.name.c_str(), level.motionThreshold,
+                    100.0 * level.meshRatio, level.switchDistanceCm / 100.0);
+      std::printf("\n");
+    }
   }
   std::printf("mappings: %zu\n", project.mappings.size());
   for (const ProjectMapping& mapping : project.mappings)

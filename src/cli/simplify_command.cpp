@@ -241,9 +241,11 @@ int SimplifyCommand::run() const {
     // As the editor: the project's alpha, mode and joints (Project::jpcSettings).
     settings = loaded->jpcSettings(assetIndex, asset->unitScale);
     if (levelThresholds.empty()) {
-      // The levels after the original; a joint's override of level i is entry i - 1 here.
-      for (std::size_t i = 1; i < loaded->lods.levels.size(); ++i)
-        levelThresholds.push_back(loaded->lods.levels[i].motionThreshold);
+      // The levels after the original, of the asset's own set (lodSetFor()); a joint's
+      // override of level i is entry i - 1 here.
+      const LodSet& lods = lodSetFor(*loaded, assetIndex);
+      for (std::size_t i = 1; i < lods.levels.size(); ++i)
+        levelThresholds.push_back(lods.levels[i].motionThreshold);
       for (auto& [name, joint] : settings.joints)
         if (!joint.thresholds.empty())
           joint.thresholds.erase(joint.thresholds.begin());

@@ -73,6 +73,10 @@ Error Project::validate() const {
     if (!nonNegative(asset.unitScale))
       return Error(where + ": unit_scale " + std::to_string(asset.unitScale) +
                    " is not a finite number >= 0 (cm per file unit; 0 = the file's own unit)");
+    if (asset.lods && asset.lods->levels.size() > std::size_t(kMaxProjectLevels))
+      return Error(where + ": " + tooManyLevels(asset.lods->levels.size()));
+    if (Error error = asset.lods ? asset.lods->validate() : Error())
+      return Error(where + "'s LOD set: " + error.message());
     for (const auto& [name, joint] : asset.joints) {
       if (name.size() > kMaxJointNameBytes)
         return Error(where + ": a joint name is " + std::to_string(name.size()) +
@@ -98,14 +102,10 @@ Error Project::validate() const {
   return {};
 }
 
-std::string projectToJson(const Project& project, int indent) {
-  json doc;
-  doc["format"] = kProjectFormat;
-  doc["version"] = kProjectVersion;
-  doc["alpha"] = project.alpha;
-  doc["mode"] = toString(project.mode);
+namespace {
+json lodSetToJson(const LodSet& lods) {
   json levels = json::array();
-  for (const LodLevel& level : project.lods.levels)
+  for (const LodLevel& level : lods.levels)
     levels.push_back({{"name", level.name},
                       {"threshold", level.motionThreshold},
                       {"mesh_ratio", level.meshRatio},
@@ -116,11 +116,21 @@ std::string projectToJson(const Project& project, int indent) {
                       {"mesh_error_cm", level.meshErrorCm},
                       {"triangles", level.triangles},
                       {"active_joints", level.activeJoints}});
-  doc["lods"] = {{"projection",
-                  {{"vertical_fov_degrees", project.lods.projection.verticalFovDegrees},
-                   {"viewport_height_pixels", project.lods.projection.viewportHeightPixels}}},
-                 {"bounding_radius_cm", project.lods.boundingRadiusCm},
-                 {"levels", std::move(levels)}};
+  return {{"projection",
+           {{"vertical_fov_degrees", lods.projection.verticalFovDegrees},
+            {"viewport_height_pixels", lods.projection.viewportHeightPixels}}},
+          {"bounding_radius_cm", lods.boundingRadiusCm},
+          {"levels", std::move(levels)}};
+}
+} // namespace
+
+std::string projectToJson(const Project& project, int indent) {
+  json doc;
+  doc["format"] = kProjectFormat;
+  doc["version"] = kProjectVersion;
+  doc["alpha"] = project.alpha;
+  doc["mode"] = toString(project.mode);
+  doc["lods"] = lodSetToJson(project.lods);
   json assets = json::array();
   for (const ProjectAsset& asset : project.assets) {
     json joints = json::object();
@@ -139,6 +149,8 @@ std::string projectToJson(const Project& project, int indent) {
     if (asset.unitScale > 0.0) // absent: the file's own unit
       entry["unit_scale"] = asset.unitScale;
     entry["joints"] = std::move(joints);
+    if (asset.lods) // absent: the project's set
+      entry["lods"] = lodSetToJson(*asset.lods);
     assets.push_back(std::move(entry));
   }
   doc["assets"] = std::move(assets);
@@ -195,9 +207,9 @@ int viewIndex(const json& value, const std::string& what) {
 // the clip count once the asset is imported).
 void clampView(Project& project) {
   ProjectView& view = project.view;
-  view.level = std::clamp(view.level, 0, std::max(0, project.levelCount() - 1));
   if (view.asset < -1 || view.asset >= static_cast<int>(project.assets.size()))
     view.asset = project.assets.empty() ? -1 : 0;
+  view.level = std::clamp(view.level, 0, std::max(0, int(lodSetFor(project, view.asset).levels.size()) - 1));
   view.clip = std::max(0, view.clip);
   if (view.joint.size() > kMaxJointNameBytes) // no joint has such a name
     view.joint.clear();
@@ -206,6 +218,38 @@ std::string text(const json& value, const std::string& what) {
   if (!value.is_string())
     throw std::runtime_error(what + " is not a string");
   return value.get<std::string>();
+}
+// A "lods" object (the project's, or since version 4 an asset's own); `where` names it.
+LodSet lodSetFromJson(const json& lods, const std::string& where) {
+  LodSet out;
+  const json& projection = field(lods, "projection", where);
+  out.projection.verticalFovDegrees =
+      number(field(projection, "vertical_fov_degrees", "the projection"), "vertical_fov_degrees");
+  out.projection.viewportHeightPixels =
+      number(field(projection, "viewport_height_pixels", "the projection"), "viewport_height_pixels");
+  out.boundingRadiusCm = number(field(lods, "bounding_radius_cm", where), "bounding_radius_cm");
+  const json& levels = field(lods, "levels", where);
+  if (!levels.is_array())
+    throw std::runtime_error("\"levels\" is not a list");
+  if (levels.size() > std::size_t(kMaxProjectLevels))
+    throw std::runtime_error(tooManyLevels(levels.size()));
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const std::string at = "level " + std::to_string(i);
+    const json& entry = levels[i];
+    LodLevel level;
+    level.name = text(field(entry, "name", at), at + " name");
+    level.motionThreshold = number(field(entry, "threshold", at), at + " threshold");
+    level.meshRatio = number(field(entry, "mesh_ratio", at), at + " mesh_ratio");
+    level.switchDistanceCm = number(field(entry, "switch_distance_cm", at), at + " switch_distance_cm");
+    level.pixelError = number(field(entry, "pixel_error", at), at + " pixel_error");
+    level.screenSizePixels = number(field(entry, "screen_size_pixels", at), at + " screen_size_pixels");
+    level.motionErrorCm = number(field(entry, "motion_error_cm", at), at + " motion_error_cm");
+    level.meshErrorCm = number(field(entry, "mesh_error_cm", at), at + " mesh_error_cm");
+    level.triangles = integer(field(entry, "triangles", at), at + " triangles");
+    level.activeJoints = integer(field(entry, "active_joints", at), at + " active_joints");
+    out.levels.push_back(std::move(level));
+  }
+  return out;
 }
 } // namespace
 
@@ -252,34 +296,7 @@ Result<Project> projectFromJson(std::string_view textIn) {
         project.lods.levels.push_back(std::move(level));
       }
     } else {
-      const json& lods = field(doc, "lods", "the project");
-      const json& projection = field(lods, "projection", "\"lods\"");
-      project.lods.projection.verticalFovDegrees =
-          number(field(projection, "vertical_fov_degrees", "the projection"), "vertical_fov_degrees");
-      project.lods.projection.viewportHeightPixels =
-          number(field(projection, "viewport_height_pixels", "the projection"), "viewport_height_pixels");
-      project.lods.boundingRadiusCm = number(field(lods, "bounding_radius_cm", "\"lods\""), "bounding_radius_cm");
-      const json& levels = field(lods, "levels", "\"lods\"");
-      if (!levels.is_array())
-        return Error("\"levels\" is not a list");
-      if (levels.size() > std::size_t(kMaxProjectLevels))
-        return Error(tooManyLevels(levels.size()));
-      for (std::size_t i = 0; i < levels.size(); ++i) {
-        const std::string where = "level " + std::to_string(i);
-        const json& entry = levels[i];
-        LodLevel level;
-        level.name = text(field(entry, "name", where), where + " name");
-        level.motionThreshold = number(field(entry, "threshold", where), where + " threshold");
-        level.meshRatio = number(field(entry, "mesh_ratio", where), where + " mesh_ratio");
-        level.switchDistanceCm = number(field(entry, "switch_distance_cm", where), where + " switch_distance_cm");
-        level.pixelError = number(field(entry, "pixel_error", where), where + " pixel_error");
-        level.screenSizePixels = number(field(entry, "screen_size_pixels", where), where + " screen_size_pixels");
-        level.motionErrorCm = number(field(entry, "motion_error_cm", where), where + " motion_error_cm");
-        level.meshErrorCm = number(field(entry, "mesh_error_cm", where), where + " mesh_error_cm");
-        level.triangles = integer(field(entry, "triangles", where), where + " triangles");
-        level.activeJoints = integer(field(entry, "active_joints", where), where + " active_joints");
-        project.lods.levels.push_back(std::move(level));
-      }
+      project.lods = lodSetFromJson(field(doc, "lods", "the project"), "\"lods\"");
     }
     const json& assets = field(doc, "assets", "the project");
     if (!assets.is_array())
@@ -318,6 +335,8 @@ Result<Project> projectFromJson(std::string_view textIn) {
           settings.meshImportance = number(entry["mesh_importance"], jointWhere + " mesh_importance");
         asset.joints[name] = std::move(settings);
       }
+      if (version >= 4 && assets[a].contains("lods")) // a character's own set; before 4 the project's is every asset's
+        asset.lods = lodSetFromJson(assets[a]["lods"], where + " \"lods\"");
       project.assets.push_back(std::move(asset));
     }
     if (doc.contains("mappings")) {
@@ -442,24 +461,56 @@ void insertProjectAsset(Project& project, int index, ProjectAsset asset) {
   }
 }
 
+namespace {
+// Per-joint threshold overrides following their level: new level i takes old level order[i]'s.
+void remapJointThresholds(std::map<std::string, JointSettings>& joints, const std::vector<int>& order) {
+  for (auto& [name, settings] : joints) {
+    std::vector<std::optional<double>> remapped(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i)
+      if (order[i] >= 0 && order[i] < static_cast<int>(settings.thresholds.size()))
+        remapped[i] = settings.thresholds[static_cast<std::size_t>(order[i])];
+    while (!remapped.empty() && !remapped.back())
+      remapped.pop_back();
+    settings.thresholds = std::move(remapped);
+  }
+}
+} // namespace
+
 void remapLevels(Project& project, const std::vector<int>& order, const std::vector<LodLevel>& levels) {
   assert(order.size() == levels.size());
+  // only the assets that play with the project's set: an asset's own set has its own levels
   for (ProjectAsset& asset : project.assets)
-    for (auto& [name, settings] : asset.joints) {
-      std::vector<std::optional<double>> remapped(order.size());
-      for (std::size_t i = 0; i < order.size(); ++i)
-        if (order[i] >= 0 && order[i] < static_cast<int>(settings.thresholds.size()))
-          remapped[i] = settings.thresholds[static_cast<std::size_t>(order[i])];
-      while (!remapped.empty() && !remapped.back())
-        remapped.pop_back();
-      settings.thresholds = std::move(remapped);
-    }
+    if (!asset.lods)
+      remapJointThresholds(asset.joints, order);
   project.lods.levels = levels;
 }
 
 void applyLodSetEdit(Project& project, const LodSetEdit& edit) {
   remapLevels(project, edit.order, edit.lods.levels);
   project.lods = edit.lods;
+}
+
+const LodSet& lodSetFor(const Project& project, int asset) {
+  if (asset >= 0 && asset < static_cast<int>(project.assets.size()) && project.assets[std::size_t(asset)].lods)
+    return *project.assets[std::size_t(asset)].lods;
+  return project.lods;
+}
+
+std::vector<double> levelThresholdsFor(const Project& project, int asset) {
+  std::vector<double> out;
+  for (const LodLevel& level : lodSetFor(project, asset).levels)
+    out.push_back(level.motionThreshold);
+  return out;
+}
+
+void applyLodSetEdit(Project& project, int asset, const LodSetEdit& edit) {
+  if (asset < 0 || asset >= static_cast<int>(project.assets.size())) {
+    applyLodSetEdit(project, edit);
+    return;
+  }
+  ProjectAsset& entry = project.assets[std::size_t(asset)];
+  remapJointThresholds(entry.joints, edit.order);
+  entry.lods = edit.lods;
 }
 
 } // namespace mlod

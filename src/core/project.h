@@ -18,13 +18,17 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace mlod {
 
-// Version 3: {"format":"motionlod-project","version":3,"alpha","mode",
+// Version 4: as version 3, and an asset may carry its own LOD set, "lods" (the same object as
+// the project's): a character's levels, switch distances and mesh ratios are its own
+// (docs/architecture.md section 3). An asset without one plays with the project's "lods".
+// Version 3 (read, never written): {"format":"motionlod-project","version":3,"alpha","mode",
 //             "lods":{"projection":{"vertical_fov_degrees","viewport_height_pixels"},"bounding_radius_cm",
 //                     "levels":[{"name","threshold","mesh_ratio","switch_distance_cm","pixel_error",
 //                                "screen_size_pixels","motion_error_cm","mesh_error_cm","triangles","active_joints"}]},
@@ -32,12 +36,13 @@ namespace mlod {
 //                        "joints":{NAME:{"alpha","thresholds":[E|null],"locked"}}}],
 //             "mappings":[{"motion","character","table":<motion_mapping.h's JSON>}],  (optional)
 //             "current":{"asset","clip","level","joint"}}
+// A version 3 project's one set is every asset's (none has its own).
 // Version 2 (read, never written): as version 3, with "unit_scale" always present and 0 for
 // the file's own unit.
 // Version 1 (read, never written): "levels":[{"threshold"}] with no original level: level i
 // of version 1 becomes LodSet level i + 1 ("LOD<i+1>", mesh ratio 1, distance 0), and with it
 // the per-joint overrides and the current level.
-inline constexpr int kProjectVersion = 3;
+inline constexpr int kProjectVersion = 4;
 // Caps checked when a project is read, before anything is built from it: a file of 70,000
 // levels would otherwise run for minutes (every level is clustered on every export).
 inline constexpr int kMaxProjectLevels = 32;                      // level 0 included
@@ -55,6 +60,10 @@ struct ProjectAsset {
   std::string path;
   double unitScale = 0.0;                      // cm per file unit; 0 = the file's own (ImportOptions)
   std::map<std::string, JointSettings> joints; // per-joint tuning by joint name
+  // Its own LOD set (a character's levels, distances and mesh ratios; the per-joint
+  // threshold overrides in `joints` are per level of it); absent: it plays with
+  // Project::lods. Read it through lodSetFor().
+  std::optional<LodSet> lods = std::nullopt;
   friend bool operator==(const ProjectAsset&, const ProjectAsset&) = default;
 };
 
@@ -96,9 +105,10 @@ struct Project {
   int levelCount() const { return static_cast<int>(lods.levels.size()); }
 
   // Rules: alpha finite and >= 0; at most kMaxProjectLevels levels; the LodSet validates (LodSet::validate(): level 0
-  // the original, names unique ...); no joint overrides level 0's threshold; every asset has a path of at most
-  // kMaxAssetPathBytes and a unit scale finite and >= 0; joint names at most kMaxJointNameBytes; every per-joint alpha
-  // and threshold finite and >= 0; every mapping names two different assets of the project.
+  // the original, names unique ...), and so does every asset's own set, with at most kMaxProjectLevels levels; no joint
+  // overrides level 0's threshold; every asset has a path of at most kMaxAssetPathBytes and a unit scale finite and >=
+  // 0; joint names at most kMaxJointNameBytes; every per-joint alpha and threshold finite and >= 0; every mapping names
+  // two different assets of the project.
   Error validate() const;
 
   friend bool operator==(const Project&, const Project&) = default;
@@ -156,5 +166,16 @@ inline bool isProjectFile(std::string_view file) {
 // A level edit (core/lod/lod_levels.h) applied to the project: its LodSet replaced by
 // edit.lods, the per-joint overrides following their level through edit.order.
 void applyLodSetEdit(Project& project, const LodSetEdit& edit);
+
+// The LOD set asset `asset` plays with (docs/architecture.md section 3: a character owns its
+// set): its own, else the project's (also for an index out of range, -1 included). The one
+// place that rule lives: packages, the studio's level docks, crowd and viewport read it.
+const LodSet& lodSetFor(const Project& project, int asset);
+// Every level's motion threshold of lodSetFor(project, asset) (level 0's is 0), cm·degrees.
+std::vector<double> levelThresholdsFor(const Project& project, int asset);
+// A level edit of asset `asset`'s set: the asset gets its own set (a copy of what it played
+// with, edited), its per-joint overrides follow their level; other assets keep theirs. An
+// asset out of range (-1: none in view) edits the project's set, as applyLodSetEdit().
+void applyLodSetEdit(Project& project, int asset, const LodSetEdit& edit);
 
 } // namespace mlod

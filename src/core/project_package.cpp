@@ -58,8 +58,8 @@ Result<LodPackage> buildLodPackage(const Project& project, std::span<const Asset
   Result<std::vector<Clip>> extra = assignedClips(project, imported, asset);
   if (!extra)
     return extra.error();
-  return buildLodPackage(*character, project.lods, project.jpcSettings(asset, character->unitScale), levels, progress,
-                         *extra, cancel);
+  return buildLodPackage(*character, lodSetFor(project, asset), project.jpcSettings(asset, character->unitScale),
+                         levels, progress, *extra, cancel);
 }
 
 namespace {
@@ -86,9 +86,10 @@ LodPackagePlan packagePlan(const Project& project, std::span<const Asset* const>
     return i >= 0 && std::size_t(i) < imported.size() ? imported[std::size_t(i)] : nullptr;
   };
   const Asset* character = importedAt(asset);
+  const int levelCount = static_cast<int>(lodSetFor(project, asset).levels.size());
   if (!character)
-    return packagePlan(Asset{}, project.levelCount(), levels); // no joints: what exporters refuse
-  LodPackagePlan plan = packagePlan(*character, project.levelCount(), levels);
+    return packagePlan(Asset{}, levelCount, levels); // no joints: what exporters refuse
+  LodPackagePlan plan = packagePlan(*character, levelCount, levels);
   for (const ProjectMapping& mapping : project.mappings)
     if (const Asset* motion = mapping.character == asset ? importedAt(mapping.motion) : nullptr)
       plan.clipFrames += framesOf(*motion);

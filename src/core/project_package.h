@@ -1,5 +1,5 @@
 #pragma once
-// A project's LOD package (docs/architecture.md sections 3 and 8): the project's LodSet and
+// A project's LOD package (docs/architecture.md sections 3 and 8): the asset's LodSet (lodSetFor()) and
 // JPC settings applied to one of its assets, with every motion assigned to that asset through
 // the project's mappings played on it as extra clips (retargeted, mapping/motion_mapping.h).
 // This sits above both project.h and lod/lod_package.h, so the package data (what exporters
@@ -25,7 +25,7 @@ namespace mlod {
 // an assigned motion that was not imported, a mapping that does not fit the skeletons.
 Result<std::vector<Clip>> assignedClips(const Project& project, std::span<const Asset* const> imported, int character);
 
-// A project's package of its asset `asset`: the project's LodSet, its JPC settings for the
+// A project's package of its asset `asset`: its LodSet (lodSetFor()), its JPC settings for the
 // asset, and assignedClips(). Errors: a project that does not validate, a bad asset index,
 // assets not imported, and those of buildLodPackage() and assignedClips(). `cancel` as for
 // buildLodPackage() (core/cancel.h, may be null).

@@ -297,7 +297,7 @@ void MainWindow::refreshAssetUnitMenu() {
 
 void MainWindow::offerToRegenerateDistances() {
   // Switch distances and pixel errors are lengths measured at the old unit: stale now.
-  const std::optional<double> budget = switchDistancePixelBudget(m_document->project().lods);
+  const std::optional<double> budget = switchDistancePixelBudget(m_document->lods());
   if (!budget)
     return; // no distances yet: nothing went stale
   const double pixels = *budget;
@@ -308,12 +308,12 @@ void MainWindow::offerToRegenerateDistances() {
   box->setObjectName("staleDistancesBox");
   box->setInformativeText(tr("Regenerate the levels from the same pixel budget (%1 px, %2 levels)?")
                               .arg(pixels)
-                              .arg(m_document->project().levelCount()));
+                              .arg(m_document->levelCount()));
   QPushButton* regenerate = box->addButton(tr("Regenerate"), QMessageBox::AcceptRole);
   regenerate->setObjectName("regenerateButton");
   box->addButton(tr("Keep"), QMessageBox::RejectRole);
   box->setAttribute(Qt::WA_DeleteOnClose);
-  const int levels = m_document->project().levelCount();
+  const int levels = m_document->levelCount();
   connect(regenerate, &QPushButton::clicked, this, [this, pixels, levels] { generateLevels(pixels, levels); });
   box->open(); // non-modal: scripted sessions and tests are never blocked by it
 }
@@ -641,12 +641,16 @@ void MainWindow::buildDocks() {
   // timeline drives both.
   auto* viewport = new ViewportPanel(m_document);
   viewport->setObjectName("viewportPanel");
+  m_viewportPanel = viewport;
   // The character view is the window's centre; the Crowd dock shares the right-hand column
   // with the Trajectory, so raising it shows the crowd and the character together.
   setCentralWidget(viewport);
   m_crowdPanel = new CrowdPanel(m_document, viewport->playback());
   m_crowdPanel->setObjectName("crowdPanel");
   connect(viewport, &ViewportPanel::mappingChosen, m_crowdPanel, &CrowdPanel::setMapping);
+  m_ui->menuView->insertAction(m_ui->menuView->actions().value(0), viewport->wireframeAction());
+  m_ui->menuView->insertSeparator(m_ui->menuView->actions().value(1));
+  m_ui->menuView->setToolTipsVisible(true);
   m_crowdDock = addDock("crowdDock", tr("Crowd"), m_crowdPanel, Qt::RightDockWidgetArea);
   tabifyDockWidget(trajectory, m_crowdDock);
   trajectory->raise();
@@ -791,7 +795,7 @@ void MainWindow::buildActions() {
   edit->addSeparator();
   action(edit, "actionAddLevel", tr("&Add Level"), QKeySequence("Ctrl+Shift+L"),
          tr("Add a LOD level with twice the last threshold (cm·degrees)"),
-         [this] { edit::addLevel(*m_document, nextLodLevelThreshold(m_document->project().lods)); });
+         [this] { edit::addLevel(*m_document, nextLodLevelThreshold(m_document->lods())); });
   action(edit, "actionRemoveLevel", tr("&Remove Current Level"), QKeySequence(), tr("Remove the current LOD level"),
          [this] { edit::removeLevel(*m_document, m_document->currentLevel()); });
   action(edit, "actionNextLevel", tr("&Next Level"), QKeySequence(Qt::Key_PageDown), tr("Show the next LOD level"),
@@ -899,7 +903,7 @@ void MainWindow::refreshViews() {
   m_clusteringView->setAnalysis(analysis, joint, level);
   m_trajectoryView->setAnalysis(analysis, joint, level);
   QStringList names;
-  for (const LodLevel& lod : m_document->project().lods.levels)
+  for (const LodLevel& lod : m_document->lods().levels)
     names << QString::fromStdString(lod.name);
   m_statisticsView->setAnalysis(analysis, level, names);
   const QModelIndex row = m_levelsModel->index(level, 0);
@@ -929,9 +933,9 @@ BudgetDialog* MainWindow::openBudgetDialog() {
     showError(tr("Cannot generate levels"), tr("The levels were not generated."), tr("no asset in view"));
     return nullptr;
   }
-  const LodSet& lods = m_document->project().lods;
+  const LodSet& lods = m_document->lods();
   BudgetRequest initial;
-  initial.levels = std::max(2, m_document->project().levelCount());
+  initial.levels = std::max(2, m_document->levelCount());
   initial.projection = lods.projection;
   if (const std::optional<double> made = switchDistancePixelBudget(lods)) // the budget the levels were made with
     initial.pixels = *made;
@@ -970,7 +974,7 @@ void MainWindow::refreshStatus() {
   m_clipLabel->setText(clip ? tr("%1 · %2 frames at %3 fps").arg(QString::fromStdString(clip->name)).arg(clip->frameCount).arg(clip->fps)
                             : tr("no clip"));
   const int level = m_document->currentLevel();
-  const LodLevel& shown = m_document->project().lods.levels[std::size_t(level)];
+  const LodLevel& shown = m_document->lods().levels[std::size_t(level)];
   m_levelLabel->setText(level == 0 ? tr("L0 %1 · original").arg(QString::fromStdString(shown.name))
                                    : tr("L%1 %2 · E = %3 cm·°").arg(level).arg(QString::fromStdString(shown.name)).arg(shown.motionThreshold));
   const auto analysis = m_document->analysis();

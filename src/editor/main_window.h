@@ -28,6 +28,7 @@ class AssetTreeModel;
 class Autosave;
 class ClusteringTableView;
 class CrowdPanel;
+class ViewportPanel;
 class Document;
 class ImportJob;
 class JobProgress;
@@ -70,6 +71,7 @@ public:
   QProgressDialog* analysisProgress() const;
   QProgressDialog* importProgress() const;
   CrowdPanel* crowdPanel() const { return m_crowdPanel; }
+  ViewportPanel* viewportPanel() const { return m_viewportPanel; }
   QDockWidget* crowdDock() const { return m_crowdDock; }
   // The character view (ViewportPanel) is the central widget; the Crowd dock sits beside it.
   // Brings a right-hand dock to the front at a height that shows its 3D view well.
@@ -156,6 +158,7 @@ private:
   QDoubleSpinBox* m_alphaBox = nullptr;
   QComboBox* m_modeBox = nullptr;
   CrowdPanel* m_crowdPanel = nullptr;
+  ViewportPanel* m_viewportPanel = nullptr;
   QDockWidget* m_summaryDock = nullptr;
   QLabel* m_summaryLabel = nullptr;
   QDockWidget* m_crowdDock = nullptr;

@@ -294,6 +294,22 @@ TEST(CliExport, ProjectGivesItsLevels) {
   EXPECT_EQ(info["levels"][1]["name"], "L1");
   EXPECT_EQ(info["levels"][2]["threshold"], 50.0);
   EXPECT_EQ(info["levels"][2]["switch_distance_cm"], 200.0);
+
+  // version 4: a character's own set is what it exports (issue 26, item 2), not the project's
+  nlohmann::json version4 = project;
+  version4["version"] = 4;
+  version4["assets"][0]["lods"] = project["lods"];
+  version4["assets"][0]["lods"]["levels"].erase(1);
+  const fs::path file4 = dir / "p4.mlod";
+  std::ofstream(file4) << version4.dump(2);
+  const std::string out4 = (dir / "p4.mlodb").string();
+  const test::CliRun own = runMotionlod({"export", file4.string(), "--plugin", "bundle", "-o", out4, "--json"});
+  ASSERT_EQ(own.status, 0) << own.err;
+  EXPECT_EQ(nlohmann::json::parse(own.out)["levels"], 2);
+  const nlohmann::json ownInfo = nlohmann::json::parse(runMotionlod({"info", out4, "--json"}).out);
+  ASSERT_EQ(ownInfo["levels"].size(), 2u);
+  EXPECT_EQ(ownInfo["levels"][1]["name"], "L2");
+  EXPECT_EQ(ownInfo["levels"][1]["threshold"], 50.0);
 }
 
 // A project whose motion in view (CMU 01_01) is assigned to a character (BCN_Epileptic):

@@ -91,7 +91,7 @@ private slots:
     const QTableWidget* table = dialog->table();
     QCOMPARE(table->rowCount(), int(plan.lods.levels.size()));
     QVERIFY(table->rowCount() >= 2);
-    QCOMPARE(document->project().lods, before.lods); // a preview changes nothing
+    QCOMPARE(document->lods(), lodSetFor(before, document->currentAsset())); // a preview changes nothing
     std::vector<QStringList> rows;                   // what the user read before pressing Apply
     for (int row = 0; row < table->rowCount(); ++row) {
       rows.emplace_back();
@@ -105,7 +105,7 @@ private slots:
     QVERIFY(finished.first()[0].toBool());
     QTRY_VERIFY(!window->findChild<BudgetDialog*>("budgetDialog")); // closed and deleted
     QCOMPARE(document->undoStack()->count(), steps + 1);
-    const LodSet& applied = document->project().lods;
+    const LodSet& applied = document->lods();
     QCOMPARE(applied, plan.lods);
     QCOMPARE(applied.levels.size(), rows.size());
     for (std::size_t i = 0; i < applied.levels.size(); ++i) {
@@ -126,7 +126,7 @@ private slots:
     QVERIFY(rows.back()[BudgetDialog::SimplifiedColumn].toDouble() > 0.0);
 
     document->undoStack()->undo();
-    QCOMPARE(document->project().lods, before.lods);
+    QCOMPARE(document->lods(), lodSetFor(before, document->currentAsset()));
     QCOMPARE(document->project(), before);
   }
 

@@ -4,6 +4,7 @@
 // Every figure compared is the document's own (no timed assertions).
 
 #include "core/project.h"
+#include "core/project_package.h"
 #include "editor/charts/statistics_view.h"
 #include "editor/document/autosave.h"
 #include "editor/document/document.h"
@@ -48,7 +49,6 @@
 #include <QStatusBar>
 #include <QStyle>
 #include <QTabWidget>
-#include <QWheelEvent>
 #include <QTableView>
 #include <QTableWidget>
 #include <QTemporaryDir>
@@ -57,6 +57,7 @@
 #include <QToolButton>
 #include <QTreeView>
 #include <QUndoStack>
+#include <QWheelEvent>
 
 using namespace mlod;
 
@@ -456,8 +457,8 @@ private slots:
     QVERIFY(add && remove);
     QTest::mouseClick(add, Qt::LeftButton);
     QVERIFY(waitForFigures(document));
-    QCOMPARE(document->project().lods.levels.back().motionThreshold, 600.0);
-    QCOMPARE(document->project().lods.levels.back().name, std::string("LOD5"));
+    QCOMPARE(document->lods().levels.back().motionThreshold, 600.0);
+    QCOMPARE(document->lods().levels.back().name, std::string("LOD5"));
     QCOMPARE(document->analysis()->levelCount(), 6);
     QCOMPARE(window->statisticsView()->table()->columnCount(), 6);
     QCOMPARE(window->levelsView()->model()->rowCount(), 6);
@@ -465,16 +466,76 @@ private slots:
     // Remove level 1 (current), then undo both.
     QTest::mouseClick(remove, Qt::LeftButton);
     QVERIFY(waitForFigures(document));
-    QCOMPARE(document->project().levelThresholds(), (std::vector<double>{0, 50, 100, 300, 600}));
+    QCOMPARE(levelThresholdsFor(document->project(), document->currentAsset()),
+             (std::vector<double>{0, 50, 100, 300, 600}));
     // The original cannot go.
     document->setCurrentLevel(0);
     QTest::mouseClick(remove, Qt::LeftButton);
-    QCOMPARE(document->project().levelCount(), 5);
+    QCOMPARE(document->levelCount(), 5);
     QCOMPARE(document->undoStack()->count(), 3);
     document->undoStack()->undo();
     document->undoStack()->undo();
     QVERIFY(waitForFigures(document));
     QVERIFY(figuresOf(*document) == before);
+  }
+
+  // Each character owns its LOD set (issue 26, item 2: levels made for one character were
+  // offered for another): level edits with one asset in view change that asset's levels
+  // alone, the other keeps the project's; the Levels dock, the figures and the package follow
+  // the asset in view; saved and reopened each keeps its own; undo gives the shared set back.
+  void eachCharacterOwnsItsLevels() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QSignalSpy imported(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 100.0);
+    QVERIFY(imported.wait(60000));
+    document->setCurrentAsset(1);
+    QVERIFY(waitForFigures(document));
+    const LodSet shared = document->project().lods;
+    QCOMPARE(int(shared.levels.size()), 5);
+    QVERIFY(edit::setLevelMeshRatio(*document, 3, 0.1));
+    QVERIFY(edit::removeLevel(*document, 4));
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->levelCount(), 4);
+    QCOMPARE(document->lods().levels[3].meshRatio, 0.1);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 4);
+    QCOMPARE(document->analysis()->levelCount(), 4);
+    QVERIFY(document->project().assets[1].lods);
+    QVERIFY(document->project().lods == shared);
+    const std::vector<const Asset*> imports = document->importedAssets();
+    QCOMPARE(packagePlan(document->project(), imports, 1).levels, 4);
+    QCOMPARE(packagePlan(document->project(), imports, 0).levels, 5);
+    // the sample keeps the project's set
+    document->setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    QVERIFY(!document->project().assets[0].lods);
+    QCOMPARE(document->levelCount(), 5);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 5);
+    QCOMPARE(document->analysis()->levelCount(), 5);
+    document->setCurrentLevel(4);
+    QCOMPARE(document->currentLevel(), 4);
+    // back on BCN: its level 4 is gone, the view shows one it has
+    document->setCurrentAsset(1);
+    QCOMPARE(document->currentLevel(), 3);
+    // saved and reopened: each its own
+    QTemporaryDir dir;
+    const QString path = dir.filePath("two.mlod");
+    QVERIFY(window->saveProject(path));
+    {
+      MainWindow reopened;
+      reopened.show();
+      QSignalSpy opened(reopened.document(), &Document::projectOpened);
+      QVERIFY(reopened.openProject(path));
+      QVERIFY(opened.wait(60000));
+      QVERIFY(lodSetFor(reopened.document()->project(), 1) == *document->project().assets[1].lods);
+      QVERIFY(lodSetFor(reopened.document()->project(), 0) == shared);
+    }
+    // undo both: BCN plays with the project's set again
+    document->undoStack()->undo();
+    document->undoStack()->undo();
+    QVERIFY(!document->project().assets[1].lods);
+    QCOMPARE(document->levelCount(), 5);
   }
 
   // Moving a level carries the joints' overrides for it along.
@@ -486,7 +547,8 @@ private slots:
     QVERIFY(editThreshold(*window, jointIndex(*window, "Neck"), "11"));
     QTest::mouseClick(window->findChild<QToolButton*>("levelDownButton"), Qt::LeftButton);
     QVERIFY(waitForFigures(document));
-    QCOMPARE(document->project().levelThresholds(), (std::vector<double>{0, 5, 100, 50, 300}));
+    QCOMPARE(levelThresholdsFor(document->project(), document->currentAsset()),
+             (std::vector<double>{0, 5, 100, 50, 300}));
     QVERIFY(document->project().assets[0].joints.count("Neck"));
     const auto& neck = document->project().assets[0].joints.at("Neck").thresholds;
     QCOMPARE(neck.size(), std::size_t(4));
@@ -495,7 +557,8 @@ private slots:
     // The original stays first: level 1 cannot move up.
     document->setCurrentLevel(1);
     QTest::mouseClick(window->findChild<QToolButton*>("levelUpButton"), Qt::LeftButton);
-    QCOMPARE(document->project().levelThresholds(), (std::vector<double>{0, 5, 100, 50, 300}));
+    QCOMPARE(levelThresholdsFor(document->project(), document->currentAsset()),
+             (std::vector<double>{0, 5, 100, 50, 300}));
   }
 
   // The LOD Levels dock edits name, threshold, mesh ratio and switch distance in place;
@@ -513,39 +576,39 @@ private slots:
       QAbstractItemModel* model = window->levelsView()->model();
       QCOMPARE(model->columnCount(), int(LevelsModel::ColumnCount));
       QVERIFY(editLevelCell(*window, 2, LevelsModel::NameColumn, "Crowd"));
-      QCOMPARE(document->project().lods.levels[2].name, std::string("Crowd"));
+      QCOMPARE(document->lods().levels[2].name, std::string("Crowd"));
       QCOMPARE(model->index(2, LevelsModel::NameColumn).data().toString(), QString("Crowd"));
       QVERIFY(editLevelCell(*window, 2, LevelsModel::MeshRatioColumn, "0.4"));
-      QCOMPARE(document->project().lods.levels[2].meshRatio, 0.4);
+      QCOMPARE(document->lods().levels[2].meshRatio, 0.4);
       QVERIFY(editLevelCell(*window, 1, LevelsModel::SwitchDistanceColumn, "800"));
       QVERIFY(editLevelCell(*window, 2, LevelsModel::SwitchDistanceColumn, "1500"));
-      QCOMPARE(document->project().lods.levels[2].switchDistanceCm, 1500.0);
-      QCOMPARE(document->project().lods.levels[4].switchDistanceCm, 1500.0); // kept in order
-      QCOMPARE(document->project().lods.levels[1].switchDistanceCm, 800.0);
+      QCOMPARE(document->lods().levels[2].switchDistanceCm, 1500.0);
+      QCOMPARE(document->lods().levels[4].switchDistanceCm, 1500.0); // kept in order
+      QCOMPARE(document->lods().levels[1].switchDistanceCm, 800.0);
       QVERIFY(editLevelCell(*window, 2, LevelsModel::ThresholdColumn, "70"));
       QVERIFY(waitForFigures(document));
-      QCOMPARE(document->project().lods.levels[2].motionThreshold, 70.0);
+      QCOMPARE(document->lods().levels[2].motionThreshold, 70.0);
       QCOMPARE(document->analysis()->levels[2].threshold, 70.0);
       QCOMPARE(document->undoStack()->count(), steps + 5);
       // Refused: a name in use, a distance nearer than the previous level's; nothing pushed.
       QVERIFY(editLevelCell(*window, 3, LevelsModel::NameColumn, "Crowd"));
       QVERIFY(editLevelCell(*window, 3, LevelsModel::SwitchDistanceColumn, "100"));
       QCOMPARE(document->undoStack()->count(), steps + 5);
-      QCOMPARE(document->project().lods.levels[3].name, std::string("LOD3"));
+      QCOMPARE(document->lods().levels[3].name, std::string("LOD3"));
       QVERIFY(window->logText().contains("already named"));
       QVERIFY(window->logText().contains("at least the previous level's"));
       // The original: only its name is editable.
       QVERIFY(!(model->flags(model->index(0, LevelsModel::ThresholdColumn)) & Qt::ItemIsEditable));
       QVERIFY(!(model->flags(model->index(0, LevelsModel::MeshRatioColumn)) & Qt::ItemIsEditable));
       QVERIFY(model->flags(model->index(0, LevelsModel::NameColumn)) & Qt::ItemIsEditable);
-      QVERIFY(!document->project().lods.validate()); // no error
+      QVERIFY(!document->lods().validate()); // no error
       // Undo the threshold: the figures come back.
       document->undoStack()->undo();
       QVERIFY(waitForFigures(document));
       QCOMPARE(document->analysis()->levels[2].threshold, 50.0);
       document->undoStack()->redo();
       QVERIFY(waitForFigures(document));
-      edited = document->project().lods;
+      edited = document->lods();
       QVERIFY(window->saveProject(path));
       window->close();
     }
@@ -554,7 +617,7 @@ private slots:
     QSignalSpy opened(reopened.document(), &Document::projectOpened);
     QVERIFY(reopened.openProject(path));
     QVERIFY(opened.wait(60000));
-    QVERIFY(reopened.document()->project().lods == edited);
+    QVERIFY(reopened.document()->lods() == edited);
     QCOMPARE(reopened.levelsView()->model()->index(2, LevelsModel::NameColumn).data().toString(), QString("Crowd"));
   }
 
@@ -855,7 +918,7 @@ private slots:
     QVERIFY(waitForFigures(next.document()));
     QVERIFY(next.document()->project().assets.size() == 1 && next.document()->project().assets[0].joints.count("RightArm"));
     QCOMPARE(*next.document()->project().assets[0].joints.at("RightArm").thresholds[1], 250.0);
-    QVERIFY(next.document()->project().lods == lost.lods);
+    QVERIFY(next.document()->lods() == lodSetFor(lost, lost.view.asset));
     QVERIFY(next.document()->isModified());
     QVERIFY(next.document()->fileName().isEmpty());
     // Closing asks about the unsaved changes; Discard closes cleanly and removes the recovery file.
@@ -991,7 +1054,7 @@ private slots:
     QVERIFY(opened.wait(60000));
     QVERIFY(waitForFigures(next.document()));
     QCOMPARE(*next.document()->project().assets[0].joints.at("RightArm").thresholds[1], 260.0);
-    QVERIFY(next.document()->project().lods == lost.lods);
+    QVERIFY(next.document()->lods() == lodSetFor(lost, lost.view.asset));
     next.autosave()->discard();
     QVERIFY(!next.autosave()->hasRecovery());
   }
@@ -1055,7 +1118,7 @@ private slots:
     QVERIFY(finished.wait(120000));
     QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
     QCOMPARE(document->undoStack()->count(), steps + 1);
-    const LodSet& lods = document->project().lods;
+    const LodSet& lods = document->lods();
     QCOMPARE(lods.levels.size(), std::size_t(4));
     QVERIFY(!lods.validate());
     QCOMPARE(lods.levels[0].motionThreshold, 0.0);
@@ -1065,7 +1128,7 @@ private slots:
     QVERIFY(waitForFigures(document));
     QCOMPARE(document->analysis()->levelCount(), 4);
     document->undoStack()->undo();
-    QVERIFY(document->project().lods == project.lods);
+    QVERIFY(document->lods() == lodSetFor(project, document->currentAsset()));
   }
 
   // On a character (a skinned mesh) with a motion assigned, the generated levels reduce the
@@ -1093,7 +1156,7 @@ private slots:
     QTest::mouseClick(dialog->applyButton(), Qt::LeftButton);
     QCOMPARE(finished.count(), 1);
     QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
-    const LodSet& lods = document->project().lods;
+    const LodSet& lods = document->lods();
     QCOMPARE(lods.levels.size(), std::size_t(3));
     QVERIFY(!lods.validate());
     QVERIFY(lods.levels[0].triangles > 0);
@@ -1270,7 +1333,7 @@ private slots:
     QVERIFY(finished.wait(120000));
     QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
     QVERIFY(waitForFigures(document));
-    const double distance = document->project().lods.levels[2].switchDistanceCm;
+    const double distance = document->lods().levels[2].switchDistanceCm;
     QVERIFY(distance > 0.0);
     QSignalSpy changed(document, &Document::unitScaleChanged);
     document->setAssetUnitScale(0, 1.0); // the sample is in CMU units (5.6444 cm): 5.6 x smaller
@@ -1284,7 +1347,7 @@ private slots:
     QTest::mouseClick(box->findChild<QPushButton*>("regenerateButton"), Qt::LeftButton);
     QVERIFY(finished.wait(120000));
     QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
-    const double regenerated = document->project().lods.levels[2].switchDistanceCm;
+    const double regenerated = document->lods().levels[2].switchDistanceCm;
     QVERIFY2(regenerated > 0.0 && regenerated < 0.5 * distance,
              qPrintable(QStringLiteral("%1 cm at 5.6444 cm per unit, %2 cm at 1").arg(distance).arg(regenerated)));
     QVERIFY(waitForFigures(document));

@@ -88,7 +88,7 @@ private slots:
     QVERIFY(dialog.optionWidget("meshes"));
     QVERIFY(dialog.outputEdit()->text().endsWith(".mlodb"));
     // the project's levels (a new project: the original and four thresholds), all ticked; untick level 1
-    QCOMPARE(dialog.levelsList()->count(), document->project().levelCount());
+    QCOMPARE(dialog.levelsList()->count(), document->levelCount());
     dialog.levelsList()->item(1)->setCheckState(Qt::Unchecked);
 
     QTemporaryDir dir;
@@ -114,7 +114,7 @@ private slots:
     std::string error;
     std::optional<Bundle> bundle = readBundleFile(path.toStdString(), &error);
     QVERIFY2(bundle, error.c_str());
-    QCOMPARE(int(bundle->levels.size()), document->project().levelCount() - 1);
+    QCOMPARE(int(bundle->levels.size()), document->levelCount() - 1);
     QCOMPARE(bundle->levels[0].index, 0);
     QCOMPARE(bundle->levels[1].index, 2);
     QCOMPARE(bundle->name, std::string("cmu_01_01_excerpt"));

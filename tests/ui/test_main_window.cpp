@@ -312,7 +312,7 @@ private slots:
       QVERIFY(opened.wait(60000));
       const mlod::Document* document = window.document();
       QTRY_VERIFY_WITH_TIMEOUT(!document->isLoading() && !document->isAnalysing(), 60000); // the views refresh
-      QVERIFY(document->currentLevel() >= 0 && document->currentLevel() < document->project().levelCount());
+      QVERIFY(document->currentLevel() >= 0 && document->currentLevel() < document->levelCount());
       QVERIFY(document->currentAsset() >= -1 && document->currentAsset() < document->assetCount());
       QVERIFY(!window.statusText().isEmpty());
       window.grab(); // paints every view

@@ -4,6 +4,8 @@
 // figures first; a file that cannot be imported gives status 2 and still a picture; an
 // unwritable PNG gives status 1.
 
+#include "core/project.h"
+#include "core/project_package.h"
 #include "editor/document/document.h"
 #include "editor/main_window.h"
 #include "editor/studio/scripted_run.h"
@@ -12,6 +14,7 @@
 
 #include <QApplication>
 #include <QDockWidget>
+#include <QFile>
 #include <QImage>
 #include <QRegularExpression>
 #include <QSet>
@@ -100,7 +103,14 @@ private slots:
     const Outcome outcome = runScript(window, options);
     QCOMPARE(outcome.status, 0);
     QVERIFY2(outcome.errors.isEmpty(), qPrintable(outcome.errors.join('\n')));
-    QCOMPARE(outcome.lines, QStringList{"screenshot: " + options.screenshot});
+    // what the character view drew (the sample has no mesh: bone capsules), then the picture
+    QCOMPARE(outcome.lines.size(), 4);
+    QVERIFY2(figuresOf(outcome.lines, "viewport: original ([\\d,]+) triangles, 38 joints").size() == 1,
+             qPrintable(outcome.lines.join('\n')));
+    QVERIFY2(figuresOf(outcome.lines, "viewport: simplified LOD2 ([\\d,]+) triangles, 38 joints").size() == 1,
+             qPrintable(outcome.lines.join('\n')));
+    QVERIFY(figuresOf(outcome.lines, "viewport: (\\d+) triangles reached the GPU in the last frame").size() == 1);
+    QCOMPARE(outcome.lines.last(), "screenshot: " + options.screenshot);
     Document* document = window.document();
     QCOMPARE(document->currentLevel(), 2);
     QVERIFY(document->currentAssetPtr());
@@ -129,6 +139,49 @@ private slots:
     // the skeleton's capsules at this size cover a few percent of the view: 0.5% is far
     // below them and far above rendering noise (none: the same view rendered twice)
     QVERIFY2(drawn > area / 200, qPrintable(QString("%1 of %2 pixels drawn").arg(drawn).arg(area)));
+  }
+
+  // A project whose LOD3 keeps 10% of BCN_Epileptic's triangles, shown at LOD3: the run
+  // waits for the level's mesh and reports what the viewport drew, the original beside the
+  // level, as the exporter writes it (core's package of that level), and the GPU's count
+  // is their sum. Before, both wore the original mesh.
+  void screenshotReportsTheLevelMeshDrawn() {
+    QTemporaryDir dir;
+    Project project;
+    project.assets.push_back({QString(MLOD_ASSIMP_MODELS "/X/BCN_Epileptic.X").toStdString(), 100.0, {}});
+    project.lods.levels[3].meshRatio = 0.1;
+    const QString file = dir.filePath("bcn.mlod");
+    {
+      QFile out(file);
+      QVERIFY(out.open(QIODevice::WriteOnly));
+      out.write(QByteArray::fromStdString(projectToJson(project)));
+    }
+    MainWindow window;
+    window.resize(1600, 1000);
+    window.show();
+    ScriptedRunOptions options;
+    options.files = {{file, 0.0}};
+    options.screenshot = dir.filePath("level.png");
+    options.level = 3;
+    const Outcome outcome = runScript(window, options);
+    QCOMPARE(outcome.status, 0);
+    QVERIFY2(outcome.errors.isEmpty(), qPrintable(outcome.errors.join('\n')));
+    const QString all = outcome.lines.join('\n');
+    const int levels[1] = {3};
+    Document* document = window.document();
+    Result<LodPackage> package = buildLodPackage(document->project(), document->importedAssets(), 0, levels);
+    QVERIFY(package && package->levels.front().mesh());
+    const int exported = int(package->levels.front().mesh()->triangleCount());
+    const QStringList original = figuresOf(outcome.lines, "viewport: original ([\\d,]+) triangles, 54 joints");
+    const QStringList simplified =
+        figuresOf(outcome.lines, "viewport: simplified LOD3 ([\\d,]+) triangles, (\\d+) joints");
+    const QStringList gpu = figuresOf(outcome.lines, "viewport: (\\d+) triangles reached the GPU in the last frame");
+    QVERIFY2(original.size() == 1 && simplified.size() == 2 && gpu.size() == 1, qPrintable(all));
+    QCOMPARE(QString(original[0]).remove(',').toInt(), 5126);
+    QCOMPARE(QString(simplified[0]).remove(',').toInt(), exported);
+    QCOMPARE(simplified[1].toInt(), package->levels.front().skeleton().jointCount());
+    QCOMPARE(gpu[0].toInt(), 5126 + exported);
+    QCOMPARE(outcome.lines.last(), "screenshot: " + options.screenshot);
   }
 
   // --crowd N: the Crowd dock in front with N agents, its figures reported, then the picture.

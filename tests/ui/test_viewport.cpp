@@ -6,6 +6,7 @@
 // without mesh, a mesh without skeleton, 200 bones, an empty document.
 
 #include "core/crowd/crowd.h"
+#include "core/project_package.h"
 #include "editor/document/document.h"
 #include "editor/document/edits.h"
 #include "editor/main_window.h"
@@ -24,6 +25,7 @@
 #include <QTreeView>
 #include <QImage>
 #include <QLabel>
+#include <QLocale>
 #include <QSignalSpy>
 #include <QSlider>
 #include <QSpinBox>
@@ -259,6 +261,119 @@ private slots:
     QVERIFY2(ghost.box.width() < 0.8 * side.box.width(), "the ghost overlays the simplified");
   }
 
+  // The simplified character wears its level's mesh, exactly as the level exports it: at a
+  // level of 10% mesh the triangles that reach the GPU (the view's GL_PRIMITIVES_GENERATED
+  // count) are the exported level's, not the original's, and LOD0 and LOD3 render
+  // differently; Show = Original draws the original at any level; W draws lines. Before, the
+  // viewport drew the character's original meshes whatever the level.
+  void simplifiedWearsTheLevelMesh_data() {
+    QTest::addColumn<QString>("path");
+    QTest::addColumn<double>("unitScale"); // cm per file unit, 0: the file's own
+    QTest::newRow("BCN_Epileptic") << bcnPath() << 100.0;
+    QTest::newRow("Testwuson (a quadruped)") << QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X" << 0.0;
+  }
+  void simplifiedWearsTheLevelMesh() {
+    QFETCH(QString, path);
+    QFETCH(double, unitScale);
+    Document document;
+    edit::addAsset(document, load(path, unitScale), path, unitScale);
+    QVERIFY(document.asset(0));
+    document.setCurrentAsset(0);
+    QVERIFY(edit::setLevelMeshRatio(document, 3, 0.1));
+    document.setCurrentLevel(0);
+    QVERIFY(waitForFigures(document));
+    auto panel = showPanel(document);
+    QVERIFY(panel);
+    panel->setMode(ViewportPanel::Mode::Simplified);
+    const qint64 original = qint64(document.asset(0)->meshes.front().triangleCount());
+    QCOMPARE(document.asset(0)->meshes.size(), std::size_t(1));
+    const QImage lod0 = render(*panel);
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), original);
+    QCOMPARE(panel->drawn().size(), std::size_t(1));
+    QVERIFY(!panel->drawn().front().levelMesh);
+
+    // what the exporter gets for LOD3
+    const int levels[1] = {3};
+    Result<LodPackage> package = buildLodPackage(document.project(), document.importedAssets(), 0, levels);
+    QVERIFY2(package, package ? "" : package.message().c_str());
+    const SkinnedMesh* levelMesh = package->levels.front().mesh();
+    QVERIFY(levelMesh);
+    const qint64 exported = qint64(levelMesh->triangleCount());
+    QVERIFY2(exported < original / 5, qPrintable(QStringLiteral("%1 of %2").arg(exported).arg(original)));
+
+    document.setCurrentLevel(3);
+    QVERIFY(QTest::qWaitFor([&] { return !document.isAnalysing() && document.analysis(); }, 60000));
+    QVERIFY(QTest::qWaitFor([&] { return !panel->levelMeshPending(); }, 120000));
+    QCOMPARE(panel->source().level, 3);
+    if (const auto built = panel->levelMeshes()->request(0, 3))
+      qInfo("LOD3's mesh built in %.2f s", built->seconds);
+    QVERIFY2(panel->drawn().front().levelMesh, qPrintable(panel->drawnLines().join('\n')));
+    QCOMPARE(panel->drawn().front().triangles, exported);
+    QCOMPARE(panel->drawn().front().joints, package->levels.front().skeleton().jointCount());
+    QVERIFY2(panel->drawnLines().front().startsWith(QStringLiteral("simplified LOD3 %1 triangles").arg(exported)),
+             qPrintable(panel->drawnLines().front()));
+    const QImage lod3 = render(*panel);
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), exported);
+    QCOMPARE(lod3.size(), lod0.size());
+    int differing = 0;
+    for (int y = 0; y < lod3.height(); ++y)
+      for (int x = 0; x < lod3.width(); ++x)
+        differing += lod3.pixel(x, y) != lod0.pixel(x, y);
+    QVERIFY2(differing > 500, qPrintable(QStringLiteral("%1 pixels differ").arg(differing)));
+    // a second look at LOD3 builds nothing again
+    const int builds = panel->levelMeshes()->builds();
+    document.setCurrentLevel(2);
+    document.setCurrentLevel(3);
+    QVERIFY(!panel->levelMeshPending());
+    QCOMPARE(panel->levelMeshes()->builds(), builds);
+
+    // Show = Original at LOD3: the original mesh
+    panel->setMode(ViewportPanel::Mode::Original);
+    render(*panel);
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), original);
+    QVERIFY2(panel->drawnLines().front().startsWith(
+                 QStringLiteral("original %1 triangles").arg(QLocale(QLocale::English).toString(original))),
+             qPrintable(panel->drawnLines().front()));
+    // side by side: both
+    panel->setMode(ViewportPanel::Mode::SideBySide);
+    render(*panel);
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), original + exported);
+
+    // W: wireframe, the same triangles as lines (far fewer coloured pixels)
+    panel->setMode(ViewportPanel::Mode::Simplified);
+    const QImage filled = render(*panel);
+    panel->activateWindow(); // a window shortcut
+    QVERIFY(QTest::qWaitForWindowActive(panel.get()));
+    QTest::keyClick(panel->sceneView(), Qt::Key_W);
+    QVERIFY(panel->wireframeAction()->isChecked());
+    QVERIFY(panel->sceneView()->wireframe());
+    const QImage lines = keep(panel->sceneView()->grabFramebuffer(), "wireframe");
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), exported);
+    const auto coloured = [](const QImage& image) {
+      int n = 0;
+      for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+          n += saturated(image.pixelColor(x, y));
+      return n;
+    };
+    QVERIFY2(coloured(lines) < coloured(filled),
+             qPrintable(QStringLiteral("%1 vs %2").arg(coloured(lines)).arg(coloured(filled))));
+    QTest::keyClick(panel->sceneView(), Qt::Key_W);
+    QVERIFY(!panel->sceneView()->wireframe());
+
+    // the level's mesh ratio edited: the viewport wears the new level (its kept mesh is not
+    // the level any more), as the exporter would write it
+    QVERIFY(edit::setLevelMeshRatio(document, 3, 0.25));
+    QVERIFY(QTest::qWaitFor([&] { return !panel->levelMeshPending() && panel->drawn().front().levelMesh; }, 120000));
+    Result<LodPackage> quarter = buildLodPackage(document.project(), document.importedAssets(), 0, levels);
+    QVERIFY(quarter && quarter->levels.front().mesh());
+    const qint64 quarterTriangles = qint64(quarter->levels.front().mesh()->triangleCount());
+    QVERIFY(quarterTriangles > exported);
+    QCOMPARE(panel->drawn().front().triangles, quarterTriangles);
+    render(*panel);
+    QCOMPARE(panel->sceneView()->trianglesGenerated(), quarterTriangles);
+  }
+
   // Joints frozen at the current frame are drawn red at their projected positions; the status
   // counts them.
   void frozenJointsAreHighlighted() {
@@ -387,9 +502,15 @@ private slots:
     QApplication::sendEvent(panel->sceneView(), &move);
     QTest::mouseRelease(panel->sceneView(), Qt::LeftButton, {}, QPoint(360, 300));
     QVERIFY(panel->sceneView()->camera().yawRadians != yaw);
+    // the fly keys fly while a mouse button is held (plain W is the wireframe toggle)
     const float distance = panel->sceneView()->camera().distance;
+    const glm::vec3 target = panel->sceneView()->camera().target;
+    QTest::mousePress(panel->sceneView(), Qt::RightButton, {}, QPoint(300, 300));
     QTest::keyClick(panel->sceneView(), Qt::Key_W);
+    QTest::mouseRelease(panel->sceneView(), Qt::RightButton, {}, QPoint(300, 300));
     QCOMPARE(panel->sceneView()->camera().distance, distance); // flying moves the target
+    QVERIFY(panel->sceneView()->camera().target != target);
+    QVERIFY(!panel->sceneView()->wireframe());
     QTest::keyClick(panel->sceneView(), Qt::Key_F);
     glm::vec3 lo, hi;
     QVERIFY(panel->posedBounds(lo, hi));
@@ -601,8 +722,11 @@ private slots:
   }
 
   // The Crowd dock's comparison (the paper's Figure 12 on the crowd on screen): Compare runs
-  // none / skeletal / mesh / both on the same agents off the UI thread and shows ms and x;
-  // none and skeletal skin the original mesh on every agent.
+  // none / skeletal / mesh / both on the same agents off the UI thread and shows ms and x,
+  // the median and range of five repetitions; none and skeletal skin the original mesh on
+  // every agent. The comparison is of one character and LOD set: viewing another asset or
+  // editing the levels clears it, and one that lands after such a change is dropped (before,
+  // the dock kept showing the previous character's line).
   void crowdComparesTheFourConfigurations() {
     Document document;
     edit::addAsset(document, load(bcnPath(), 100.0), bcnPath(), 100.0);
@@ -638,6 +762,51 @@ private slots:
     QCOMPARE(comparison.speedup(3), comparison.configurations[0].frameMs / comparison.configurations[3].frameMs);
     QVERIFY(panel.comparisonText().contains(QStringLiteral("×")));
     QVERIFY(panel.findChild<QLabel*>("crowdComparison")->isVisible());
+    // medians and ranges of five repetitions, paired
+    for (int c = 0; c < 4; ++c) {
+      QCOMPARE(comparison.configurations[c].repetitionFrameMs.size(), std::size_t(CrowdPanel::kCompareRepetitions));
+      const CrowdComparison::Spread ms = comparison.frameMsSpread(c);
+      QCOMPARE(ms.median, comparison.configurations[c].frameMs);
+      QVERIFY(ms.min <= ms.median && ms.median <= ms.max);
+      const CrowdComparison::Spread x = comparison.speedupSpread(c);
+      QCOMPARE(x.samples, CrowdPanel::kCompareRepetitions);
+      QVERIFY(x.min <= x.median && x.median <= x.max);
+    }
+    const QString text = panel.comparisonText();
+    qInfo("%s", qPrintable(text));
+    QVERIFY2(text.startsWith(QStringLiteral("BCN_Epileptic.X: Epileptisch, 24 agents")), qPrintable(text));
+    QVERIFY2(text.contains(QStringLiteral("median (range) of 5 repetitions")), qPrintable(text));
+    const CrowdComparison::Spread both = comparison.speedupSpread(3);
+    QVERIFY2(text.contains(QStringLiteral("%1× (%2–%3×)").arg(both.median, 0, 'f', 2).arg(both.min, 0, 'f', 2).arg(both.max, 0, 'f', 2)),
+             qPrintable(text));
+
+    // another asset in view: the comparison is cleared
+    edit::addAsset(document, load(QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0),
+                   QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0);
+    document.setCurrentAsset(1);
+    QVERIFY(panel.comparisonText().isEmpty());
+    QVERIFY(!panel.findChild<QLabel*>("crowdComparison")->isVisible());
+    QVERIFY(panel.comparison().configurations[0].repetitionFrameMs.empty());
+    // back on BCN, compared again; a LOD set edit clears it too
+    document.setCurrentAsset(0);
+    QVERIFY(QTest::qWaitFor([&] { return !panel.isBuilding() && panel.hasLevels(); }, 120000));
+    compared.clear();
+    button->click();
+    QVERIFY(compared.wait(180000));
+    QVERIFY(!panel.comparisonText().isEmpty());
+    QVERIFY(edit::setLevelMeshRatio(document, 2, 0.5));
+    QVERIFY(panel.comparisonText().isEmpty());
+    // one still running when the view changes is dropped when it lands
+    QVERIFY(QTest::qWaitFor([&] { return !panel.isBuilding() && panel.hasLevels(); }, 120000));
+    compared.clear();
+    button->click();
+    QVERIFY(panel.isComparing());
+    document.setCurrentAsset(1);
+    QVERIFY(QTest::qWaitFor([&] { return !panel.isComparing(); }, 180000));
+    QVERIFY(mlod::test::timersOfAtMostHaveFired(0)); // the watcher's finished() delivered
+    QVERIFY(panel.comparisonText().isEmpty());
+    QVERIFY(panel.comparison().configurations[0].repetitionFrameMs.empty());
+    QCOMPARE(compared.count(), 0);
   }
 
   // The character view is the window's central widget and the Crowd dock sits beside it: with

@@ -411,6 +411,39 @@ glm::vec3 crowdFrontCamera(std::span<const CrowdAgent> agents) {
   return target - distance * forward;
 }
 
+namespace {
+
+CrowdComparison::Spread spreadOf(std::vector<double> values) {
+  CrowdComparison::Spread out;
+  if (values.empty())
+    return out;
+  std::sort(values.begin(), values.end());
+  const std::size_t mid = values.size() / 2;
+  out.median = values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
+  out.min = values.front();
+  out.max = values.back();
+  out.samples = static_cast<int>(values.size());
+  return out;
+}
+
+double median(std::vector<double> values) { return spreadOf(std::move(values)).median; }
+
+} // namespace
+
+CrowdComparison::Spread CrowdComparison::frameMsSpread(int i) const {
+  return spreadOf(configurations[i].repetitionFrameMs);
+}
+
+CrowdComparison::Spread CrowdComparison::speedupSpread(int i) const {
+  const std::vector<double>& none = configurations[0].repetitionFrameMs;
+  const std::vector<double>& other = configurations[i].repetitionFrameMs;
+  std::vector<double> ratios;
+  for (std::size_t r = 0; r < none.size() && r < other.size(); ++r)
+    if (other[r] > 0.0)
+      ratios.push_back(none[r] / other[r]);
+  return spreadOf(std::move(ratios));
+}
+
 Result<CrowdComparison> compareCrowdConfigurations(const Skeleton& skeleton, const SkinnedMesh* mesh, const Clip& clip,
                                                    const LodSet& lods, std::span<const CrowdAgent> agents,
                                                    const glm::vec3& camera, const CrowdComparisonSettings& settings) {
@@ -477,11 +510,6 @@ Result<CrowdComparison> compareCrowdConfigurations(const Skeleton& skeleton, con
       figures.verticesSkinned = vertices / frames;
       figures.agentsPerLevel = crowd.stats().agentsPerLevel;
     }
-  const auto median = [](std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    const std::size_t mid = values.size() / 2;
-    return values.empty() ? 0.0 : (values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]));
-  };
   for (int c = 0; c < 4; ++c) {
     CrowdConfigurationFigures& figures = out.configurations[c];
     figures.poseMs = median(poseMs[c]);

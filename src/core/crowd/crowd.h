@@ -241,6 +241,17 @@ struct CrowdComparison {
   double speedup(int i) const {
     return configurations[i].frameMs > 0.0 ? configurations[0].frameMs / configurations[i].frameMs : 0.0;
   }
+  // The median and range of a figure over the repetitions.
+  struct Spread {
+    double median = 0.0, min = 0.0, max = 0.0;
+    int samples = 0;
+  };
+  // Configuration i's frame time (ms) over the repetitions.
+  Spread frameMsSpread(int i) const;
+  // Per repetition, none's frame time over configuration i's in that same repetition (the
+  // configurations alternate, so a repetition's four share the machine's load): their
+  // median and range. A spread much wider than the median says the machine was busy.
+  Spread speedupSpread(int i) const;
 };
 // Errors: what buildCrowdLevels() and Crowd::update() report; "cancelled".
 Result<CrowdComparison> compareCrowdConfigurations(const Skeleton& skeleton, const SkinnedMesh* mesh, const Clip& clip,

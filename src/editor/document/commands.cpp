@@ -21,6 +21,20 @@ bool SetJointSettings::mergeWith(const QUndoCommand* other) {
   return true;
 }
 
+namespace {
+// Two states with the same number of levels in every set (a spin box's steps merge; an added
+// or removed level does not).
+bool sameLevelCounts(const SetLevels::State& a, const SetLevels::State& b) {
+  if (a.lods.levels.size() != b.lods.levels.size() || a.own.size() != b.own.size())
+    return false;
+  for (std::size_t i = 0; i < a.own.size(); ++i)
+    if (a.own[i].has_value() != b.own[i].has_value() ||
+        (a.own[i] && a.own[i]->levels.size() != b.own[i]->levels.size()))
+      return false;
+  return true;
+}
+} // namespace
+
 SetLevels::SetLevels(Document* document, State before, State after, const QString& text, int id, int level)
     : QUndoCommand(text), m_document(document), m_before(std::move(before)), m_after(std::move(after)), m_id(id),
       m_level(level) {}
@@ -28,20 +42,26 @@ SetLevels::SetLevels(Document* document, State before, State after, const QStrin
 SetLevels::State SetLevels::stateOf(const Project& project) {
   State state;
   state.lods = project.lods;
-  for (const ProjectAsset& asset : project.assets)
+  for (const ProjectAsset& asset : project.assets) {
+    state.own.push_back(asset.lods);
     state.joints.push_back(asset.joints);
+  }
   return state;
 }
 
-void SetLevels::undo() { m_document->applyLevels(m_before.lods, m_before.joints); }
-void SetLevels::redo() { m_document->applyLevels(m_after.lods, m_after.joints); }
+void SetLevels::undo() {
+  m_document->applyLevels(m_before.lods, m_before.own, m_before.joints);
+}
+void SetLevels::redo() {
+  m_document->applyLevels(m_after.lods, m_after.own, m_after.joints);
+}
 
 bool SetLevels::mergeWith(const QUndoCommand* other) {
   const auto* next = static_cast<const SetLevels*>(other);
-  if (next->m_level != m_level || next->m_after.lods.levels.size() != m_after.lods.levels.size())
+  if (next->m_level != m_level || !sameLevelCounts(next->m_after, m_after))
     return false;
   m_after = next->m_after;
-  setObsolete(m_after.lods == m_before.lods && m_after.joints == m_before.joints);
+  setObsolete(m_after == m_before);
   return true;
 }
 

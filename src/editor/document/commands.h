@@ -47,14 +47,17 @@ private:
   std::vector<int> m_mergeKey;
 };
 
-// The level list and, with it, every asset's per-joint overrides (which follow their level).
+// The level lists (the project's and each asset's own: core/project.h's lodSetFor()) and,
+// with them, every asset's per-joint overrides (which follow their level).
 class SetLevels : public QUndoCommand {
 public:
   struct State {
     LodSet lods;                                              // the project's LOD set
+    std::vector<std::optional<LodSet>> own;                   // per asset: its own set, if any
     std::vector<std::map<std::string, JointSettings>> joints; // per asset
+    friend bool operator==(const State&, const State&) = default;
   };
-  static State stateOf(const Project& project); // its LOD set and every asset's joint settings
+  static State stateOf(const Project& project); // its LOD sets and every asset's joint settings
   // Merges with the previous command of the same id and `level` (a spin box's steps).
   SetLevels(Document* document, State before, State after, const QString& text, int id = -1, int level = -1);
   void undo() override;

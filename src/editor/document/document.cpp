@@ -129,6 +129,8 @@ void Document::setCurrentAsset(int asset, int clip) {
     return;
   m_project.view.asset = asset;
   m_project.view.clip = clip;
+  // each character has its own levels: the level in view is one of the new asset's
+  m_project.view.level = std::clamp(m_project.view.level, 0, levelCount() - 1);
   m_currentJoint = -1;
   m_project.view.joint.clear();
   m_analysis->reset();
@@ -137,7 +139,7 @@ void Document::setCurrentAsset(int asset, int clip) {
 }
 
 void Document::setCurrentLevel(int level) {
-  level = std::clamp(level, 0, m_project.levelCount() - 1);
+  level = std::clamp(level, 0, levelCount() - 1);
   if (level == currentLevel())
     return;
   m_project.view.level = level;
@@ -166,7 +168,7 @@ std::optional<JpcAnalysisRequest> Document::analysisRequest() const {
   request.asset = m_assets[static_cast<std::size_t>(currentAsset())];
   request.clip = currentClip();
   request.settings = m_project.jpcSettings(currentAsset(), a->unitScale);
-  request.levelThresholds = m_project.levelThresholds();
+  request.levelThresholds = levelThresholdsFor(m_project, currentAsset());
   return request;
 }
 
@@ -220,11 +222,14 @@ void Document::applyJointSettings(int asset, const std::map<std::string, JointSe
     m_analysis->request(true);
 }
 
-void Document::applyLevels(const LodSet& lods, const std::vector<std::map<std::string, JointSettings>>& joints) {
+void Document::applyLevels(const LodSet& lods, const std::vector<std::optional<LodSet>>& own,
+                           const std::vector<std::map<std::string, JointSettings>>& joints) {
   m_project.lods = lods;
+  for (std::size_t a = 0; a < own.size() && a < m_project.assets.size(); ++a)
+    m_project.assets[a].lods = own[a];
   for (std::size_t a = 0; a < joints.size() && a < m_project.assets.size(); ++a)
     m_project.assets[a].joints = joints[a];
-  m_project.view.level = std::clamp(m_project.view.level, 0, static_cast<int>(lods.levels.size()) - 1);
+  m_project.view.level = std::clamp(m_project.view.level, 0, levelCount() - 1);
   emit settingsChanged();
   emit currentChanged();
   m_analysis->request(true);

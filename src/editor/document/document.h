@@ -52,6 +52,10 @@ public:
   int currentAsset() const { return m_project.view.asset; }
   int currentClip() const { return m_project.view.clip; }
   int currentLevel() const { return m_project.view.level; }
+  // The LOD set of the asset in view (core/project.h's lodSetFor(): a character owns its
+  // set), and its level count: what the level docks show and the level edits change.
+  const LodSet& lods() const { return lodSetFor(m_project, currentAsset()); }
+  int levelCount() const { return static_cast<int>(lods().levels.size()); }
   int currentJoint() const { return m_currentJoint; }
   const Asset* currentAssetPtr() const;
   const Clip* currentClipPtr() const;
@@ -115,7 +119,8 @@ private:
   void applyAlpha(double alpha);
   void applyMode(JpcMode mode);
   void applyJointSettings(int asset, const std::map<std::string, JointSettings>& joints);
-  void applyLevels(const LodSet& lods, const std::vector<std::map<std::string, JointSettings>>& joints);
+  void applyLevels(const LodSet& lods, const std::vector<std::optional<LodSet>>& own,
+                   const std::vector<std::map<std::string, JointSettings>>& joints);
   void insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);
   void eraseAsset(int index);
   void replaceAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset);

@@ -99,7 +99,7 @@ void setJointAlpha(Document& document, const std::vector<int>& joints, std::opti
 }
 
 void setJointThreshold(Document& document, const std::vector<int>& joints, int level, std::optional<double> threshold) {
-  if (!document.currentAssetPtr() || joints.empty() || level >= document.project().levelCount())
+  if (!document.currentAssetPtr() || joints.empty() || level >= document.levelCount())
     return;
   std::vector<int> key = joints;
   key.push_back(-1 - level);
@@ -139,56 +139,56 @@ bool applyLevelEdit(Document& document, const Result<LodSetEdit>& edit, const QS
   if (!edit)
     return refuse(out_error, QString::fromStdString(edit.message()));
   Project after = document.project();
-  applyLodSetEdit(after, *edit);
+  applyLodSetEdit(after, document.currentAsset(), *edit); // the set of the asset in view
   SetLevels::State before = SetLevels::stateOf(document.project()), state = SetLevels::stateOf(after);
-  if (state.lods != before.lods || state.joints != before.joints)
+  if (!(state == before))
     document.undoStack()->push(new SetLevels(&document, std::move(before), std::move(state), text, id, level));
   return true;
 }
 
 namespace {
 QString levelName(const Document& document, int level) {
-  const auto& levels = document.project().lods.levels;
+  const auto& levels = document.lods().levels;
   return level >= 0 && level < int(levels.size()) ? QString::fromStdString(levels[std::size_t(level)].name) : QString();
 }
 } // namespace
 
 bool addLevel(Document& document, double threshold, QString* out_error) {
-  const LodSet& lods = document.project().lods;
+  const LodSet& lods = document.lods();
   return applyLevelEdit(document, addLodLevel(lods, threshold),
                         tr("Add level %1 (E = %2)").arg(QString::fromStdString(nextLodLevelName(lods))).arg(threshold),
                         out_error);
 }
 
 bool removeLevel(Document& document, int level, QString* out_error) {
-  return applyLevelEdit(document, removeLodLevel(document.project().lods, level),
+  return applyLevelEdit(document, removeLodLevel(document.lods(), level),
                         tr("Remove level %1").arg(levelName(document, level)), out_error);
 }
 
 bool moveLevel(Document& document, int from, int to, QString* out_error) {
-  return applyLevelEdit(document, moveLodLevel(document.project().lods, from, to),
+  return applyLevelEdit(document, moveLodLevel(document.lods(), from, to),
                         tr("Move level %1 to position %2").arg(levelName(document, from)).arg(to), out_error);
 }
 
 bool setLevelThreshold(Document& document, int level, double threshold, QString* out_error) {
-  return applyLevelEdit(document, setLodLevelThreshold(document.project().lods, level, threshold),
+  return applyLevelEdit(document, setLodLevelThreshold(document.lods(), level, threshold),
                         tr("Set level %1 threshold to %2").arg(level).arg(threshold), out_error,
                         kCommandSetLevelThreshold, level);
 }
 
 bool renameLevel(Document& document, int level, const QString& name, QString* out_error) {
-  return applyLevelEdit(document, renameLodLevel(document.project().lods, level, name.toStdString()),
+  return applyLevelEdit(document, renameLodLevel(document.lods(), level, name.toStdString()),
                         tr("Rename level %1 to %2").arg(level).arg(name.trimmed()), out_error);
 }
 
 bool setLevelMeshRatio(Document& document, int level, double ratio, QString* out_error) {
-  return applyLevelEdit(document, setLodLevelMeshRatio(document.project().lods, level, ratio),
+  return applyLevelEdit(document, setLodLevelMeshRatio(document.lods(), level, ratio),
                         tr("Set level %1 mesh ratio to %2").arg(level).arg(ratio), out_error, kCommandSetLevelMeshRatio,
                         level);
 }
 
 bool setLevelSwitchDistance(Document& document, int level, double cm, QString* out_error) {
-  return applyLevelEdit(document, setLodLevelSwitchDistance(document.project().lods, level, cm),
+  return applyLevelEdit(document, setLodLevelSwitchDistance(document.lods(), level, cm),
                         tr("Set level %1 switch distance to %2 cm").arg(level).arg(cm), out_error,
                         kCommandSetLevelSwitchDistance, level);
 }

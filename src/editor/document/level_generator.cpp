@@ -21,7 +21,7 @@ LevelGenerator::~LevelGenerator() {
 }
 
 bool LevelGenerator::start(double pixels, int levels, QString* out_error) {
-  return launch(pixels, levels, m_document->project().lods.projection, true, out_error);
+  return launch(pixels, levels, m_document->lods().projection, true, out_error);
 }
 
 bool LevelGenerator::preview(double pixels, int levels, const LodProjection& projection, QString* out_error) {
@@ -128,7 +128,7 @@ void LevelGenerator::onDone() {
     return;
   }
   if (m_land) {
-    land(result->lods.value(), m_pending.pixels);
+    land(result->lods.value(), m_pending.pixels, m_pending.asset);
     return;
   }
   m_plan = std::move(m_pending);
@@ -152,13 +152,19 @@ bool LevelGenerator::apply(QString* out_error) {
     return refuse(tr("a generation is running"));
   if (m_plan.asset != m_document->currentAsset())
     return refuse(tr("the preview was made for another asset"));
-  land(m_plan.lods, m_plan.pixels);
+  land(m_plan.lods, m_plan.pixels, m_plan.asset);
   return true;
 }
 
-void LevelGenerator::land(const LodSet& lods, double pixels) {
+void LevelGenerator::land(const LodSet& lods, double pixels, int asset) {
+  if (asset != m_document->currentAsset()) { // the levels are that character's: never another's
+    const QString why = tr("the levels were generated for another asset than the one in view; not applied");
+    emit m_document->message(tr("warning: level generation: %1").arg(why));
+    emit finished(false, why);
+    return;
+  }
   const QString text = tr("Generate %1 levels within %2 px").arg(lods.levels.size()).arg(pixels);
-  edit::applyLevelEdit(*m_document, replaceLodLevels(m_document->project().lods, lods), text);
+  edit::applyLevelEdit(*m_document, replaceLodLevels(m_document->lods(), lods), text);
   emit m_document->message(text);
   emit finished(true, text);
 }

@@ -77,7 +77,7 @@ private:
   };
   bool launch(double pixels, int levels, const LodProjection& projection, bool land, QString* out_error);
   void onDone();
-  void land(const LodSet& lods, double pixels);
+  void land(const LodSet& lods, double pixels, int asset);
 
   Document* m_document;
   QFutureWatcher<std::shared_ptr<Outcome>> m_watcher;

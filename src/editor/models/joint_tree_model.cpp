@@ -91,7 +91,7 @@ QVariant JointTreeModel::data(const QModelIndex& index, int role) const {
   const Clip* clip = m_document->currentClipPtr();
   const bool clusterable = clip && clip->hasRotation[static_cast<std::size_t>(joint)] != 0;
   const int level = m_document->currentLevel();
-  const double levelThreshold = project.lods.levels[static_cast<std::size_t>(level)].motionThreshold;
+  const double levelThreshold = m_document->lods().levels[static_cast<std::size_t>(level)].motionThreshold;
   const bool ownThreshold = level < static_cast<int>(settings.thresholds.size()) &&
                             settings.thresholds[static_cast<std::size_t>(level)].has_value();
   const double threshold = ownThreshold ? *settings.thresholds[static_cast<std::size_t>(level)] : levelThreshold;

@@ -19,7 +19,7 @@ LevelsModel::LevelsModel(Document* document, QObject* parent) : DocumentTableMod
 }
 
 int LevelsModel::rowCount(const QModelIndex& parent) const {
-  return parent.isValid() ? 0 : m_document->project().levelCount();
+  return parent.isValid() ? 0 : m_document->levelCount();
 }
 
 int LevelsModel::columnCount(const QModelIndex& parent) const { return parent.isValid() ? 0 : ColumnCount; }
@@ -28,7 +28,7 @@ QVariant LevelsModel::data(const QModelIndex& index, int role) const {
   if (!index.isValid() || index.row() >= rowCount())
     return {};
   const int row = index.row();
-  const LodLevel& level = m_document->project().lods.levels[static_cast<std::size_t>(row)];
+  const LodLevel& level = m_document->lods().levels[static_cast<std::size_t>(row)];
   const auto analysis = m_document->analysis();
   switch (role) {
   case Qt::DisplayRole:

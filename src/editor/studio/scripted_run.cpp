@@ -4,6 +4,8 @@
 #include "editor/document/document.h"
 #include "editor/main_window.h"
 #include "editor/viewport/crowd_panel.h"
+#include "editor/viewport/scene_view.h"
+#include "editor/viewport/viewport_panel.h"
 
 #include <QDockWidget>
 #include <QFileInfo>
@@ -27,6 +29,11 @@ ScriptedRun::ScriptedRun(MainWindow* window, ScriptedRunOptions options, QObject
     if (m_options.files.isEmpty())
       later();
   });
+  if (ViewportPanel* viewport = m_window->viewportPanel())
+    connect(viewport, &ViewportPanel::levelMeshReady, this, [this, later] {
+      if (m_options.files.isEmpty())
+        later();
+    });
 }
 
 void ScriptedRun::start() {
@@ -71,6 +78,8 @@ void ScriptedRun::next() {
     document->setCurrentLevel(m_options.level);
   if (document->isAnalysing() || document->isLoading())
     return; // analysisFinished() or projectOpened() calls next
+  if (m_window->viewportPanel() && m_window->viewportPanel()->levelMeshPending())
+    return; // levelMeshReady() calls next
   if (m_options.screenshot.isEmpty() || m_shotStarted)
     return;
   m_shotStarted = true;
@@ -104,6 +113,16 @@ void ScriptedRun::next() {
 
 void ScriptedRun::shoot() {
   const bool saved = grabWindow(*m_window).save(m_options.screenshot, "PNG");
+  // what the character view drew, one line per character, and what reached the GPU
+  if (ViewportPanel* viewport = m_window->viewportPanel()) {
+    for (const QString& line : viewport->drawnLines())
+      emit report(tr("viewport: %1").arg(line), false);
+    if (SceneView* view = viewport->sceneView(); view && view->isVisible() && view->trianglesGenerated() >= 0)
+      emit report(tr("viewport: %1 triangles reached the GPU in the last frame%2")
+                      .arg(view->trianglesGenerated())
+                      .arg(view->wireframe() ? tr(" (wireframe)") : QString()),
+                  false);
+  }
   if (saved)
     emit report(tr("screenshot: %1").arg(m_options.screenshot), false);
   else {

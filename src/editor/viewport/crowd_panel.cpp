@@ -7,6 +7,7 @@
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
+#include <QFileInfo>
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
@@ -134,6 +135,10 @@ CrowdPanel::CrowdPanel(Document* document, Playback* playback, QWidget* parent)
   m_comparisonLabel->setWordWrap(true);
   m_comparisonLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
   m_comparisonLabel->setVisible(false);
+  m_comparisonLabel->setToolTip(tr("Each configuration's frame time, and none's time over it (×), repetition by "
+                                   "repetition (the four run in turn, so a repetition's four share the machine's "
+                                   "load): the median and, in brackets, the range. A wide range says the machine "
+                                   "was busy: compare again."));
   layout->addWidget(m_comparisonLabel);
   connect(compareButton, &QToolButton::clicked, this, [this] { compare(); });
   connect(&m_compareWatcher, &QFutureWatcher<Compared>::finished, this, &CrowdPanel::onCompared);
@@ -167,7 +172,7 @@ CrowdPanel::~CrowdPanel() {
   m_compareWatcher.waitForFinished();
 }
 
-void CrowdPanel::compare(int frames) {
+void CrowdPanel::compare(int frames, int repetitions) {
   if (!hasLevels() || m_compareWatcher.isRunning() || !m_source.skeleton)
     return;
   const Source source = m_source;
@@ -178,14 +183,20 @@ void CrowdPanel::compare(int frames) {
     top = std::max(top, p.y);
   CrowdComparisonSettings settings;
   settings.frames = std::max(frames, 1);
-  settings.repetitions = 1;
+  settings.repetitions = std::max(repetitions, 1);
   settings.startSeconds = m_playback ? m_playback->seconds() : 0.0;
   settings.centreHeightCm = 0.5f * top;
   settings.jpc = source.jpc;
   m_compareCancel = std::make_shared<std::atomic<bool>>(false);
   std::shared_ptr<std::atomic<bool>> cancel = m_compareCancel;
+  m_comparedGeneration = m_compareGeneration;
+  m_comparedCharacter = source.description;
+  m_comparedAgents = static_cast<int>(agents.size());
   m_comparisonLabel->setVisible(true);
-  m_comparisonLabel->setText(tr("Comparing none / skeletal / mesh / both on %1 agents …").arg(agents.size()));
+  m_comparisonLabel->setText(tr("Comparing none / skeletal / mesh / both on %1 agents of %2, %3 repetitions …")
+                                 .arg(agents.size())
+                                 .arg(source.description)
+                                 .arg(settings.repetitions));
   m_compareWatcher.setFuture(QtConcurrent::run([source, agents, camera, settings, cancel]() -> Compared {
     CrowdComparisonSettings withCancel = settings;
     withCancel.cancel = cancel.get();
@@ -198,6 +209,8 @@ QString CrowdPanel::comparisonText() const { return m_comparisonLabel->text(); }
 
 void CrowdPanel::onCompared() {
   const Compared result = m_compareWatcher.result();
+  if (m_comparedGeneration != m_compareGeneration)
+    return; // of a crowd no longer on screen: cleared already
   if (!result || !*result) {
     const QString message = result ? QString::fromStdString(result->message()) : tr("no result");
     m_comparisonLabel->setText(tr("Cannot compare: %1").arg(message));
@@ -205,18 +218,43 @@ void CrowdPanel::onCompared() {
     return;
   }
   m_comparison = **result;
+  m_comparisonLabel->setText(comparisonText(m_comparedCharacter, m_comparedAgents));
+  emit compared(true, {});
+}
+
+QString CrowdPanel::comparisonText(const QString& character, int agents) const {
+  // median (min–max) of the repetitions: the frame time of each, and for the three
+  // simplified ones none's time over theirs, paired repetition by repetition
   QStringList parts;
+  int repetitions = 0;
   for (int c = 0; c < 4; ++c) {
-    const CrowdConfigurationFigures& figures = m_comparison.configurations[c];
-    QString part = tr("%1 %2 ms").arg(QString::fromLatin1(figures.name)).arg(figures.frameMs, 0, 'f', 2);
-    if (c > 0)
-      part += tr(" (%1×)").arg(m_comparison.speedup(c), 0, 'f', 2);
+    const CrowdComparison::Spread ms = m_comparison.frameMsSpread(c);
+    repetitions = std::max(repetitions, ms.samples);
+    QString part = tr("%1 %2 ms (%3–%4)")
+                       .arg(QString::fromLatin1(m_comparison.configurations[c].name))
+                       .arg(ms.median, 0, 'f', 2)
+                       .arg(ms.min, 0, 'f', 2)
+                       .arg(ms.max, 0, 'f', 2);
+    if (c > 0) {
+      const CrowdComparison::Spread x = m_comparison.speedupSpread(c);
+      part += tr(" %1× (%2–%3×)").arg(x.median, 0, 'f', 2).arg(x.min, 0, 'f', 2).arg(x.max, 0, 'f', 2);
+    }
     parts << part;
   }
-  m_comparisonLabel->setText(tr("Per frame, pose + CPU skinning of %1 agents: %2")
-                                 .arg(m_crowd.agentCount())
-                                 .arg(parts.join(QStringLiteral(" · "))));
-  emit compared(true, {});
+  return tr("%1, %2 agents, pose + CPU skinning per frame, median (range) of %3 repetitions: %4")
+      .arg(character)
+      .arg(agents)
+      .arg(repetitions)
+      .arg(parts.join(QStringLiteral(" · ")));
+}
+
+void CrowdPanel::clearComparison() {
+  ++m_compareGeneration;
+  if (m_compareCancel)
+    m_compareCancel->store(true);
+  m_comparison = {};
+  m_comparisonLabel->clear();
+  m_comparisonLabel->setVisible(false);
 }
 
 void CrowdPanel::setAgentCount(int agents) { m_agents->setValue(agents); }
@@ -238,15 +276,18 @@ void CrowdPanel::markDirty() {
   const int asset = d.currentAsset();
   Inputs inputs{asset >= 0 && asset < d.assetCount() ? d.asset(asset) : nullptr,
                 d.currentClip(),
-                d.project().lods,
+                d.lods(),
                 d.project().alpha,
                 d.project().mode,
                 asset >= 0 && asset < d.assetCount() ? d.project().assets[std::size_t(asset)].joints
                                                      : std::map<std::string, JointSettings>(),
                 m_mapping,
                 d.project().mappings};
-  if (hasLevels() && !m_dirty && inputs == m_inputs)
+  const bool changed = !(inputs == m_inputs);
+  if (hasLevels() && !m_dirty && !changed)
     return;
+  if (changed) // a comparison of other levels, another character or clip says nothing of these
+    clearComparison();
   m_inputs = std::move(inputs);
   m_dirty = true;
   if (isVisible())
@@ -288,7 +329,7 @@ void CrowdPanel::startBuild() {
       mesh = candidate;
       break;
     }
-  const LodSet lods = m_document->project().lods;
+  const LodSet lods = m_document->lods();
   const JpcSettings jpc = m_document->project().jpcSettings(source.characterAsset, asset->unitScale);
   m_cancel = std::make_shared<std::atomic<bool>>(false);
   std::shared_ptr<std::atomic<bool>> cancel = m_cancel;
@@ -296,7 +337,8 @@ void CrowdPanel::startBuild() {
   m_figures->setText(tr("Building %1 LOD levels of %2 …").arg(lods.levels.size()).arg(source.description));
   if (m_view)
     m_view->setMessage(tr("Building the LOD levels …"));
-  m_pendingSource = {skeleton, clip, asset, mesh, lods, jpc};
+  const QString character = QFileInfo(QString::fromStdString(asset->sourcePath)).fileName();
+  m_pendingSource = {skeleton, clip, asset, mesh, lods, jpc, tr("%1: %2").arg(character, source.description)};
   m_watcher.setFuture(QtConcurrent::run([skeleton, clip, asset, mesh, lods, jpc, cancel]() -> Built {
     return std::make_shared<Result<std::vector<CrowdLevel>>>(
         buildCrowdLevels(*skeleton, mesh, *clip, lods, jpc, cancel.get()));
@@ -322,8 +364,7 @@ void CrowdPanel::onBuilt() {
   m_error.clear();
   m_source = m_pendingSource;
   m_crowd.setLevels(std::move(**built));
-  m_crowd.setSwitches(lodSwitchesByDistance(m_document->project().lods),
-                      lodSwitchesByScreenSize(m_document->project().lods));
+  m_crowd.setSwitches(lodSwitchesByDistance(m_document->lods()), lodSwitchesByScreenSize(m_document->lods()));
   // the point whose distance picks the level: half the character's height
   const CrowdLevel& original = m_crowd.level(0);
   float top = 0.0f;
@@ -388,10 +429,10 @@ void CrowdPanel::refresh() {
   Crowd::Selection selection;
   selection.mode = LodSelectionJob::Mode(m_selectionMode->currentData().toInt());
   selection.hysteresis = static_cast<float>(m_hysteresis->value());
-  selection.projection.verticalFovRadians = static_cast<float>(m_document->project().lods.projection.verticalFovDegrees *
-                                                               3.14159265358979 / 180.0);
-  selection.projection.viewportHeightPixels = static_cast<float>(m_document->project().lods.projection.viewportHeightPixels);
-  selection.boundingRadiusCm = static_cast<float>(std::max(1.0, m_document->project().lods.boundingRadiusCm));
+  selection.projection.verticalFovRadians =
+      static_cast<float>(m_document->lods().projection.verticalFovDegrees * 3.14159265358979 / 180.0);
+  selection.projection.viewportHeightPixels = static_cast<float>(m_document->lods().projection.viewportHeightPixels);
+  selection.boundingRadiusCm = static_cast<float>(std::max(1.0, m_document->lods().boundingRadiusCm));
   m_crowd.setSelection(selection);
   const glm::vec3 eye = m_view ? m_view->camera().eye() : glm::vec3(0.0f, 170.0f, -1000.0f);
   if (Error error = m_crowd.update(m_playback->seconds(), eye)) {
@@ -403,9 +444,10 @@ void CrowdPanel::refresh() {
   const QLocale locale(QLocale::English);
   QStringList perLevel;
   for (int l = 0; l < m_crowd.levelCount(); ++l)
-    perLevel << tr("%1 %2").arg(QString::fromStdString(m_document->project().lods.levels.size() > std::size_t(l)
-                                                           ? m_document->project().lods.levels[std::size_t(l)].name
-                                                           : "LOD" + std::to_string(l)))
+    perLevel << tr("%1 %2")
+                    .arg(QString::fromStdString(m_document->lods().levels.size() > std::size_t(l)
+                                                    ? m_document->lods().levels[std::size_t(l)].name
+                                                    : "LOD" + std::to_string(l)))
                     .arg(stats.agentsPerLevel[std::size_t(l)]);
   const double jointShare =
       stats.jointsFullDetail > 0 ? 100.0 * double(stats.jointsEvaluated) / double(stats.jointsFullDetail) : 0.0;
@@ -418,7 +460,7 @@ void CrowdPanel::refresh() {
                    .arg(stats.poseCpuMs, 0, 'f', 2)
                    .arg(m_fps > 0.0 ? QString::number(m_fps, 'f', 1) : QStringLiteral("–"))};
   const bool bySize = selection.mode == LodSelectionJob::Mode::ScreenSize;
-  const LodSet& lods = m_document->project().lods;
+  const LodSet& lods = m_document->lods();
   if (lods.levels.size() > 1 && (bySize ? lodSwitchesByScreenSize(lods) : lodSwitchesByDistance(lods)).levels.size() < 2)
     m_overlay << (bySize ? tr("The LOD set has no screen sizes: every agent plays level 0 (generate the levels: LOD "
                               "Levels dock, Budget…)")
@@ -429,8 +471,8 @@ void CrowdPanel::refresh() {
   for (int l = 0; l < m_crowd.levelCount() && m_tint->isChecked(); ++l)
     legend << QStringLiteral("<span style='color:%1'>■</span> %2")
                   .arg(QColor::fromRgbF(crowdLevelTint(l).x, crowdLevelTint(l).y, crowdLevelTint(l).z).name(),
-                       QString::fromStdString(std::size_t(l) < m_document->project().lods.levels.size()
-                                                  ? m_document->project().lods.levels[std::size_t(l)].name
+                       QString::fromStdString(std::size_t(l) < m_document->lods().levels.size()
+                                                  ? m_document->lods().levels[std::size_t(l)].name
                                                   : "LOD" + std::to_string(l))
                            .toHtmlEscaped());
   m_legend->setText(legend.join(QStringLiteral("&nbsp;&nbsp; ")));

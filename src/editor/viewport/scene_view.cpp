@@ -62,7 +62,8 @@ SceneView::SceneView(QWidget* parent) : QOpenGLWidget(parent) {
   setFocusPolicy(Qt::StrongFocus);
   setMinimumSize(160, 120);
   setToolTip(tr("Orbit: drag (or Alt + left drag) · Pan: middle drag (Alt + middle) · Dolly: wheel or right drag "
-                "(Alt + right) · Fly: W A S D Q E · Frame: F · Play/pause: Space · Click a joint to select it"));
+                "(Alt + right) · Fly: W A S D Q E with a mouse button held · Frame: F · Play/pause: Space · Click a "
+                "joint to select it"));
   setGrid(500.0f, 50.0f);
 }
 
@@ -78,7 +79,8 @@ void SceneView::releaseGL() {
   glDeleteBuffers(1, &m_lineVbo);
   glDeleteVertexArrays(1, &m_lineVao);
   glDeleteTextures(1, &m_paletteTexture);
-  m_lineVbo = m_lineVao = m_paletteTexture = 0;
+  glDeleteQueries(1, &m_primitivesQuery);
+  m_lineVbo = m_lineVao = m_paletteTexture = m_primitivesQuery = 0;
   m_skinned.reset();
   m_lineProgram.reset();
   doneCurrent();
@@ -200,6 +202,7 @@ void SceneView::initializeGL() {
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(LineVertex), reinterpret_cast<void*>(offsetof(LineVertex, color)));
   glBindVertexArray(0);
+  glGenQueries(1, &m_primitivesQuery);
   m_texelsDirty = true;
   m_ready = true;
 }
@@ -264,7 +267,13 @@ void SceneView::releaseMeshes(bool all) {
   m_deadArrays.clear();
 }
 
-void SceneView::drawBatches(const glm::mat4& viewProjection, bool transparent) {
+void SceneView::setWireframe(bool on) {
+  m_wireframe = on;
+  update();
+}
+
+qint64 SceneView::drawBatches(const glm::mat4& viewProjection, bool transparent) {
+  qint64 triangles = 0;
   m_skinned->bind();
   glUniformMatrix4fv(m_skinned->uniformLocation("uViewProjection"), 1, GL_FALSE, glm::value_ptr(viewProjection));
   glActiveTexture(GL_TEXTURE0);
@@ -289,9 +298,11 @@ void SceneView::drawBatches(const glm::mat4& viewProjection, bool transparent) {
     glVertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, sizeof(Instance), reinterpret_cast<void*>(offsetof(Instance, position)));
     glVertexAttribPointer(5, 4, GL_FLOAT, GL_FALSE, sizeof(Instance), reinterpret_cast<void*>(offsetof(Instance, tint)));
     glDrawElementsInstanced(GL_TRIANGLES, mesh.indexCount, GL_UNSIGNED_INT, nullptr, batch.instanceCount);
+    triangles += qint64(mesh.indexCount / 3) * batch.instanceCount;
   }
   glBindVertexArray(0);
   m_skinned->release();
+  return triangles;
 }
 
 void SceneView::drawLines(const glm::mat4& viewProjection, bool grid) {
@@ -345,17 +356,29 @@ void SceneView::paintGL() {
     const float ratio = static_cast<float>(devicePixelRatioF());
     glViewport(0, 0, static_cast<GLsizei>(width() * ratio), static_cast<GLsizei>(height() * ratio));
     drawLines(viewProjection, true); // the grid, then the characters, then the overlay lines
+    m_trianglesSubmitted = 0;
+    m_trianglesGenerated = -1;
     if (!m_batches.empty()) {
-      drawBatches(viewProjection, false);
+      if (m_wireframe)
+        glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+      glBeginQuery(GL_PRIMITIVES_GENERATED, m_primitivesQuery);
+      m_trianglesSubmitted += drawBatches(viewProjection, false);
       // A ghost lies over everything drawn so far (it would hide behind the character it
       // overlays), hiding only its own far side: a depth buffer of its own.
       if (std::any_of(m_batches.begin(), m_batches.end(), [](const BatchInfo& b) { return b.alpha < 1.0f; })) {
         glClear(GL_DEPTH_BUFFER_BIT);
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        drawBatches(viewProjection, true);
+        m_trianglesSubmitted += drawBatches(viewProjection, true);
         glDisable(GL_BLEND);
       }
+      glEndQuery(GL_PRIMITIVES_GENERATED);
+      glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+      // note: waits for the GPU to finish these draws; the viewport draws a few characters,
+      // and the count is what tests and --screenshot report as drawn
+      GLuint generated = 0;
+      glGetQueryObjectuiv(m_primitivesQuery, GL_QUERY_RESULT, &generated);
+      m_trianglesGenerated = qint64(generated);
     }
     if (!m_lines.empty() || !m_points.empty())
       drawLines(viewProjection, false);
@@ -426,7 +449,29 @@ void SceneView::wheelEvent(QWheelEvent* event) {
   update();
 }
 
+namespace {
+bool isFlyKey(int key) {
+  return key == Qt::Key_W || key == Qt::Key_A || key == Qt::Key_S || key == Qt::Key_D || key == Qt::Key_Q ||
+         key == Qt::Key_E;
+}
+} // namespace
+
+bool SceneView::event(QEvent* event) {
+  // While a mouse button is held the fly keys are the camera's, not a window shortcut's
+  // (plain W is the Viewport's wireframe toggle).
+  if (event->type() == QEvent::ShortcutOverride && m_dragButton != Qt::NoButton &&
+      isFlyKey(static_cast<QKeyEvent*>(event)->key())) {
+    event->accept();
+    return true;
+  }
+  return QOpenGLWidget::event(event);
+}
+
 void SceneView::keyPressEvent(QKeyEvent* event) {
+  if (isFlyKey(event->key()) && m_dragButton == Qt::NoButton) {
+    QOpenGLWidget::keyPressEvent(event);
+    return;
+  }
   const float step = std::max(5.0f, 0.05f * m_camera.distance) * (event->modifiers() & Qt::ShiftModifier ? 5.0f : 1.0f);
   glm::vec3 move(0.0f);
   switch (event->key()) {

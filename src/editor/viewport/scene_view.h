@@ -4,8 +4,10 @@
 // ground grid, coloured lines and points (the skeleton overlay) and overlay text. It holds
 // no animation logic: the panels pose characters with the runtime and hand the palettes
 // over. Camera: orbit, pan and dolly with Alt + left / middle / right drag (Maya) or the
-// plain buttons, wheel to dolly, W A S D Q E to fly, F to frame. A click without a drag
-// emits clicked() (joint picking).
+// plain buttons, wheel to dolly, W A S D Q E to fly while a mouse button is held (as in
+// Unreal and Unity: plain W toggles the Viewport's wireframe), F to frame. A click without a
+// drag emits clicked() (joint picking). Each paint counts the triangles that reached the GPU
+// (an OpenGL GL_PRIMITIVES_GENERATED query over the characters' draws).
 
 #include "core/skinned_mesh.h"
 #include "editor/viewport/orbit_camera.h"
@@ -70,6 +72,14 @@ public:
   // The view-projection of the current size (what the shaders use).
   glm::mat4 viewProjection() const;
 
+  // Meshes drawn as lines (glPolygonMode), or filled.
+  void setWireframe(bool on);
+  bool wireframe() const { return m_wireframe; }
+  // Triangles the last paint drew for the batches: as submitted (index counts x instances)
+  // and as the GPU counted them (the query's result; -1 where the context has none).
+  qint64 trianglesSubmitted() const { return m_trianglesSubmitted; }
+  qint64 trianglesGenerated() const { return m_trianglesGenerated; }
+
   // GL_RENDERER and GL_VERSION of the context, once initialised.
   QString rendererInfo() const { return m_renderer; }
   bool glReady() const { return m_ready; }
@@ -89,6 +99,7 @@ protected:
   void mouseReleaseEvent(QMouseEvent* event) override;
   void wheelEvent(QWheelEvent* event) override;
   void keyPressEvent(QKeyEvent* event) override;
+  bool event(QEvent* event) override;
 
 private:
   struct GpuMesh {
@@ -104,7 +115,8 @@ private:
   // moves to another window, or is destroyed); initializeGL() builds them anew.
   void releaseGL();
   void releaseMeshes(bool all); // all: every mesh (the context goes); else what clearMeshes() left
-  void drawBatches(const glm::mat4& viewProjection, bool transparent);
+  // Returns the triangles submitted.
+  qint64 drawBatches(const glm::mat4& viewProjection, bool transparent);
   void drawLines(const glm::mat4& viewProjection, bool grid);
 
   OrbitCamera m_camera;
@@ -131,6 +143,9 @@ private:
   int m_textureWidth = 4096;
   int m_textureRows = 0;
   unsigned m_lineVao = 0, m_lineVbo = 0;
+  unsigned m_primitivesQuery = 0;
+  bool m_wireframe = false;
+  qint64 m_trianglesSubmitted = 0, m_trianglesGenerated = -1;
   bool m_ready = false;
   QString m_renderer;
   QString m_glError;

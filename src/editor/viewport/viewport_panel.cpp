@@ -5,10 +5,12 @@
 #include "editor/document/document.h"
 #include "editor/viewport/playback.h"
 
+#include <QAction>
 #include <QCheckBox>
 #include <QComboBox>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QLocale>
 #include <QShortcut>
 #include <QToolButton>
 #include <QVBoxLayout>
@@ -31,7 +33,8 @@ const glm::vec4 kSelectedJoint(0.2f, 0.9f, 1.0f, 1.0f);
 } // namespace
 
 ViewportPanel::ViewportPanel(Document* document, QWidget* parent)
-    : QWidget(parent), m_document(document), m_playback(new Playback(this)) {
+    : QWidget(parent), m_document(document), m_levelMeshes(new LevelMeshes(document, this)),
+      m_playback(new Playback(this)) {
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
   layout->setSpacing(2);
@@ -56,11 +59,22 @@ ViewportPanel::ViewportPanel(Document* document, QWidget* parent)
   auto* frame = new QToolButton;
   frame->setText(tr("Frame"));
   frame->setToolTip(tr("Frame the characters (F)"));
+  m_wireframe = new QAction(tr("&Wireframe"), this);
+  m_wireframe->setObjectName("actionWireframe");
+  m_wireframe->setCheckable(true);
+  m_wireframe->setShortcut(QKeySequence(Qt::Key_W));
+  m_wireframe->setShortcutContext(Qt::WindowShortcut);
+  m_wireframe->setToolTip(tr("Draw the characters' meshes as lines, to judge a level's triangles (W)"));
+  addAction(m_wireframe); // the shortcut works where the panel stands alone too
+  auto* wireframe = new QToolButton;
+  wireframe->setObjectName("viewportWireframeButton");
+  wireframe->setDefaultAction(m_wireframe);
   bar->addWidget(new QLabel(tr("Show")));
   bar->addWidget(m_modeBox);
   bar->addWidget(new QLabel(tr("on")));
   bar->addWidget(m_characterBox, 1);
   bar->addWidget(m_skeletonBox);
+  bar->addWidget(wireframe);
   bar->addWidget(frame);
   layout->addLayout(bar);
 
@@ -99,6 +113,22 @@ ViewportPanel::ViewportPanel(Document* document, QWidget* parent)
   connect(document, &Document::assetsChanged, this, &ViewportPanel::rebuild);
   connect(document, &Document::mappingsChanged, this, &ViewportPanel::rebuild);
   connect(document, &Document::analysisFinished, this, &ViewportPanel::rebuild);
+  // a mesh ratio edited leaves the clusters as they are: only the level's mesh changes
+  connect(document, &Document::settingsChanged, this, [this] {
+    attachLevelMesh();
+    pose();
+  });
+  connect(m_levelMeshes, &LevelMeshes::ready, this, [this](int character, int level) {
+    if (!m_valid || character != m_source.characterAsset || level != m_source.level)
+      return;
+    attachLevelMesh();
+    pose();
+    emit levelMeshReady();
+  });
+  connect(m_wireframe, &QAction::toggled, this, [this](bool on) {
+    if (m_view)
+      m_view->setWireframe(on);
+  });
   rebuild();
 }
 
@@ -146,6 +176,10 @@ void ViewportPanel::rebuild() {
   if (m_view)
     m_view->clearMeshes();
   m_meshIds.clear();
+  m_levelMeshIds.clear();
+  m_level.reset();
+  m_levelPending = false;
+  m_drawnNow.clear();
   m_skinning.clear();
   m_drawn.clear();
   if (!m_source.valid()) {
@@ -206,9 +240,8 @@ void ViewportPanel::rebuild() {
                             mesh.skinned() ? std::span<const glm::vec4>(mesh.weights) : rigidWeights, joints);
     if (skinning)
       m_skinning.push_back(std::move(*skinning));
-    if (m_view)
-      m_meshIds.push_back(m_view->addMesh(mesh));
   }
+  uploadMeshes();
   const glm::vec3 extent = m_drawn.front().positions.empty() ? glm::vec3(100.0f) : hi - lo;
   m_sideOffset = 0.5f * std::max(extent.x, extent.z) + 0.15f * std::max({extent.x, extent.y, extent.z}) + 10.0f;
   if (m_view) {
@@ -220,6 +253,7 @@ void ViewportPanel::rebuild() {
     m_view->setMessage({});
   }
   m_valid = true;
+  attachLevelMesh();
   // the timeline follows the clip in view; a new clip starts at frame 0
   const Clip* clip = m_source.motion && m_document->currentClipPtr() ? m_document->currentClipPtr() : nullptr;
   if (clip != m_lastClip || m_playback->frameCount() != m_source.original.frameCount) {
@@ -233,6 +267,53 @@ void ViewportPanel::rebuild() {
     frameCharacters();
     m_framed = true;
   }
+}
+
+void ViewportPanel::uploadMeshes() {
+  m_meshIds.clear();
+  m_levelMeshIds.clear();
+  if (!m_view)
+    return;
+  m_view->clearMeshes();
+  for (const SkinnedMesh& mesh : m_drawn)
+    m_meshIds.push_back(m_view->addMesh(mesh));
+  if (m_level && m_level->error.isEmpty())
+    m_levelMeshIds.push_back(m_view->addMesh(m_level->mesh));
+}
+
+void ViewportPanel::attachLevelMesh() {
+  if (!m_valid)
+    return;
+  // Level 0 is the original; a character drawn as bone capsules has no mesh to simplify.
+  std::shared_ptr<const LevelMeshes::Level> level;
+  // (A level removed a moment ago is asked for by no one: the analysis's rebuild follows.)
+  const bool wanted = m_source.level > 0 && m_source.level < m_document->levelCount() && !m_source.meshes.empty() &&
+                      m_source.characterAsset >= 0;
+  if (wanted)
+    level = m_levelMeshes->request(m_source.characterAsset, m_source.level);
+  m_levelPending = wanted && !level;
+  if (level == m_level)
+    return;
+  m_level = std::move(level);
+  uploadMeshes();
+}
+
+QStringList ViewportPanel::drawnLines() const {
+  const QLocale locale(QLocale::English);
+  const auto& levels = m_document->lods().levels;
+  QStringList out;
+  for (const Drawn& d : m_drawnNow) {
+    const QString name = d.level >= 0 && std::size_t(d.level) < levels.size()
+                             ? QString::fromStdString(levels[std::size_t(d.level)].name)
+                             : tr("level %1").arg(d.level);
+    QString line = d.simplified ? tr("simplified %1").arg(name) : tr("original");
+    line += tr(" %1 triangles, %2 joints").arg(locale.toString(d.triangles)).arg(d.joints);
+    if (d.simplified && d.level > 0 && !d.levelMesh && !m_source.meshes.empty())
+      line += m_levelPending ? tr(" (the original mesh: the level's mesh is being built)")
+                             : tr(" (the original mesh: %1)").arg(m_level ? m_level->error : tr("no level mesh"));
+    out << line;
+  }
+  return out;
 }
 
 void ViewportPanel::pose() {
@@ -278,15 +359,32 @@ void ViewportPanel::pose() {
   const int frame = m_playback->frame();
   const std::vector<bool> frozen = m_source.frozenAt(frame);
   const int frozenCount = static_cast<int>(std::count(frozen.begin(), frozen.end(), true));
-  const QString level = m_source.simplifiedReady
-                            ? tr("level %1 (%2)").arg(m_source.level).arg(QString::fromStdString(
-                                  m_document->project().lods.levels[std::size_t(m_source.level)].name))
-                            : tr("level %1 (clustering…)").arg(m_source.level);
+  const QString level =
+      m_source.simplifiedReady
+          ? tr("level %1 (%2)")
+                .arg(m_source.level)
+                .arg(QString::fromStdString(m_document->lods().levels[std::size_t(m_source.level)].name))
+          : tr("level %1 (clustering…)").arg(m_source.level);
   m_status = tr("%1 · %2 · frame %3 · %4 of %5 joints frozen")
                  .arg(m_source.description, level)
                  .arg(frame)
                  .arg(frozenCount)
                  .arg(joints);
+  // what each character drawn wears
+  qint64 originalTriangles = 0;
+  for (const SkinnedMesh& mesh : m_drawn)
+    originalTriangles += qint64(mesh.triangleCount());
+  const bool levelMesh = m_level && m_level->error.isEmpty();
+  m_drawnNow.clear();
+  for (const Placed& placed : m_instances) {
+    Drawn d;
+    d.simplified = placed.clip == 1;
+    d.level = d.simplified ? m_source.level : 0;
+    d.levelMesh = d.simplified && levelMesh;
+    d.triangles = d.levelMesh ? qint64(m_level->mesh.triangleCount()) : originalTriangles;
+    d.joints = d.levelMesh ? m_level->joints : joints;
+    m_drawnNow.push_back(d);
+  }
   if (!m_view)
     return;
 
@@ -296,7 +394,8 @@ void ViewportPanel::pose() {
   for (std::size_t i = 0; i < m_instances.size(); ++i) {
     placed[i].position = m_instances[i].offset;
     placed[i].tint = m_instances[i].tint;
-    for (int mesh : m_meshIds) {
+    const bool wearsLevel = m_drawnNow[i].levelMesh && !m_levelMeshIds.empty();
+    for (int mesh : wearsLevel ? m_levelMeshIds : m_meshIds) {
       SceneView::Batch batch;
       batch.mesh = mesh;
       batch.joints = joints;
@@ -328,7 +427,10 @@ void ViewportPanel::pose() {
     }
   }
   m_view->setLines(std::move(lines), std::move(points));
-  m_view->setOverlay({m_status, tr("blue: original · orange: simplified · red joints: frozen at this frame")});
+  QStringList overlay{m_status};
+  overlay << drawnLines();
+  overlay << tr("blue: original · orange: simplified · red joints: frozen at this frame");
+  m_view->setOverlay(overlay);
 }
 
 std::vector<glm::vec3> ViewportPanel::jointPositions(int instance) const {

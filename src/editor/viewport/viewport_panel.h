@@ -5,9 +5,16 @@
 // joints frozen at the current frame highlighted and joint picking, a motion played on the
 // character it is mapped to, and the timeline every 3D view follows. Poses come from the
 // runtime's PoseEvaluatorJob; SceneView skins them on the GPU.
+//
+// The simplified character wears its level's mesh, exactly as the level exports it
+// (LevelMeshes: built off the UI thread, kept per level); the original wears the
+// character's meshes. Until a level's mesh has landed the simplified one wears the original
+// and the overlay says so. The overlay gives the triangles and joints each character drawn
+// has; W (View > Wireframe) draws the meshes as lines.
 
 #include "core/project.h"
 #include "core/jpc/jpc_analysis.h"
+#include "editor/viewport/level_meshes.h"
 #include "editor/viewport/scene_view.h"
 #include "editor/viewport/view_source.h"
 #include "runtime/lod_clip.h"
@@ -20,6 +27,7 @@
 
 #include <vector>
 
+class QAction;
 class QCheckBox;
 class QComboBox;
 class QLabel;
@@ -47,6 +55,23 @@ public:
   void setMode(Mode mode);
   const ViewSource& source() const { return m_source; }
   QString statusText() const; // what the overlay says (also without OpenGL)
+  QAction* wireframeAction() const { return m_wireframe; } // checkable, W
+  LevelMeshes* levelMeshes() const { return m_levelMeshes; }
+
+  // What each character drawn wears, in drawing order (also without OpenGL).
+  struct Drawn {
+    bool simplified = false;
+    int level = 0;          // the level the simplified one shows (0 for the original)
+    bool levelMesh = false; // wears the level's own mesh (else the character's meshes)
+    qint64 triangles = 0;   // of the meshes it wears
+    int joints = 0;         // of the skeleton that moves them (the level's, after bone reduction)
+  };
+  const std::vector<Drawn>& drawn() const { return m_drawnNow; }
+  // One line per character drawn: "simplified LOD3 372 triangles, 26 joints" (what
+  // motionlod-studio --screenshot prints).
+  QStringList drawnLines() const;
+  // The level in view wants its own mesh and it is still being built.
+  bool levelMeshPending() const { return m_levelPending; }
 
   // The world-space box (cm) that holds the drawn characters in the current pose.
   bool posedBounds(glm::vec3& out_lo, glm::vec3& out_hi) const;
@@ -61,13 +86,25 @@ public:
 signals:
   // The character the asset in view plays on: an index of project().mappings, or -1.
   void mappingChosen(int mapping);
+  // The level in view now wears its own mesh (or failed to get one: the overlay says why).
+  void levelMeshReady();
 
 public slots:
   void rebuild(); // the document changed: new source, clips and meshes
   void pose();    // the time changed: evaluate and hand the palettes to the view
 
 private:
+  // Asks for the mesh of the level in view and, when it changed, hands the view its meshes.
+  void attachLevelMesh();
+  void uploadMeshes();
+
   Document* m_document = nullptr;
+  LevelMeshes* m_levelMeshes = nullptr;
+  std::shared_ptr<const LevelMeshes::Level> m_level; // the mesh the simplified one wears, or null
+  bool m_levelPending = false;
+  std::vector<int> m_levelMeshIds;
+  std::vector<Drawn> m_drawnNow;
+  QAction* m_wireframe = nullptr;
   Playback* m_playback = nullptr;
   TimelineWidget* m_timeline = nullptr;
   SceneView* m_view = nullptr;

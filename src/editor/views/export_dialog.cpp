@@ -99,8 +99,9 @@ ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* 
   m_levels = new QListWidget(this);
   m_levels->setObjectName("levelsList");
   m_levels->setToolTip(tr("The LOD levels to include; level 0 is the original"));
-  for (std::size_t i = 0; i < project.lods.levels.size(); ++i) {
-    const LodLevel& level = project.lods.levels[i];
+  const LodSet& lods = lodSetFor(project, m_asset); // the character's own levels
+  for (std::size_t i = 0; i < lods.levels.size(); ++i) {
+    const LodLevel& level = lods.levels[i];
     auto* item = new QListWidgetItem(
         i == 0 ? tr("%1 — original").arg(QString::fromStdString(level.name))
                : tr("%1 — E %2, mesh %3%, %4")

@@ -138,6 +138,30 @@ TEST(CrowdSwitches, ScreenSizesDescend) {
   EXPECT_EQ(s.boundaries, (std::vector<float>{300, 150}));
 }
 
+// The comparison's spread pairs each repetition's configurations (they ran one after
+// another, under the same load): a busy repetition slows all four and leaves its ratio
+// alone, where a ratio of medians from different repetitions would mix loads.
+TEST(CrowdComparisonSpread, PairsTheRepetitions) {
+  CrowdComparison comparison;
+  comparison.configurations[0].repetitionFrameMs = {10.0, 40.0, 12.0, 11.0, 10.0};
+  comparison.configurations[3].repetitionFrameMs = {5.0, 20.0, 4.0, 5.5, 4.0};
+  const CrowdComparison::Spread speedup = comparison.speedupSpread(3);
+  EXPECT_EQ(speedup.samples, 5);
+  EXPECT_DOUBLE_EQ(speedup.median, 2.0); // ratios 2, 2, 3, 2, 2.5
+  EXPECT_DOUBLE_EQ(speedup.min, 2.0);
+  EXPECT_DOUBLE_EQ(speedup.max, 3.0);
+  const CrowdComparison::Spread none = comparison.frameMsSpread(0);
+  EXPECT_DOUBLE_EQ(none.median, 11.0);
+  EXPECT_DOUBLE_EQ(none.min, 10.0);
+  EXPECT_DOUBLE_EQ(none.max, 40.0);
+  EXPECT_DOUBLE_EQ(comparison.speedupSpread(0).median, 1.0);
+  // an even count: the mean of the middle two; nothing measured: zeros
+  comparison.configurations[1].repetitionFrameMs = {10.0, 20.0, 12.0, 44.0};
+  EXPECT_DOUBLE_EQ(comparison.frameMsSpread(1).median, 16.0);
+  EXPECT_EQ(comparison.frameMsSpread(2).samples, 0);
+  EXPECT_EQ(comparison.speedupSpread(2).median, 0.0);
+}
+
 TEST(BoneCapsules, OneCapsulePerBoneBoundToItsParent) {
   const Skeleton chain = test::makeChain(4, 10.0f);
   const SkinnedMesh mesh = boneCapsuleMesh(chain, 1.0f);

@@ -3,6 +3,8 @@
 
 #include "core/project.h"
 
+#include "core/lod/lod_levels.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -64,6 +66,80 @@ TEST(Project, JsonRoundTripIsExact) {
   EXPECT_EQ(read->assets[0].unitScale, 2.54 / 0.45);
 }
 
+// Guards per-character LOD sets (issue 26, item 2; version 4): a character's own set is written
+// with it and reads back exactly; an asset without one plays with the project's; a version 3
+// file (one set) gives its set to every asset; a bad own set is refused naming its asset.
+TEST(Project, EachCharacterOwnsItsLodSet) {
+  Project project = sampleProject();
+  LodSet own;
+  own.levels = {level("LOD0", 0.0), level("Close", 2.0, 0.5, 898.0), level("Away", 5.0, 0.1, 4774.0)};
+  own.boundingRadiusCm = 31.25;
+  project.assets[1].lods = own;
+  EXPECT_EQ(&lodSetFor(project, 1), &*project.assets[1].lods);
+  EXPECT_EQ(&lodSetFor(project, 0), &project.lods);
+  EXPECT_EQ(&lodSetFor(project, -1), &project.lods);
+  EXPECT_EQ(&lodSetFor(project, 7), &project.lods);
+  EXPECT_EQ(levelThresholdsFor(project, 1), (std::vector<double>{0.0, 2.0, 5.0}));
+  EXPECT_EQ(levelThresholdsFor(project, 0), project.levelThresholds());
+  ASSERT_FALSE(project.validate());
+  const nlohmann::json written = nlohmann::json::parse(projectToJson(project));
+  EXPECT_EQ(written["version"], 4);
+  EXPECT_FALSE(written["assets"][0].contains("lods"));
+  ASSERT_TRUE(written["assets"][1].contains("lods"));
+  EXPECT_EQ(written["assets"][1]["lods"]["levels"].size(), 3u);
+  const Result<Project> read = projectFromJson(written.dump());
+  ASSERT_TRUE(read) << read.message();
+  EXPECT_TRUE(*read == project);
+
+  // version 3: one set, every asset's (an asset's "lods" there is not read)
+  nlohmann::json version3 = written;
+  version3["version"] = 3;
+  const Result<Project> old = projectFromJson(version3.dump());
+  ASSERT_TRUE(old) << old.message();
+  for (const ProjectAsset& asset : old->assets)
+    EXPECT_FALSE(asset.lods);
+  EXPECT_EQ(&lodSetFor(*old, 1), &old->lods);
+  EXPECT_EQ(old->lods, project.lods);
+
+  // a bad own set names its asset
+  nlohmann::json bad = written;
+  bad["assets"][1]["lods"]["levels"][1]["mesh_ratio"] = 0.0;
+  const Result<Project> refused = projectFromJson(bad.dump());
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.message().find("asset 1's LOD set"), std::string::npos) << refused.message();
+  nlohmann::json noLevels = written;
+  noLevels["assets"][1]["lods"].erase("levels");
+  EXPECT_NE(projectFromJson(noLevels.dump()).message().find("asset 1 \"lods\" has no \"levels\""), std::string::npos)
+      << projectFromJson(noLevels.dump()).message();
+}
+
+// Guards level edits of one character (issue 26: levels generated for one character were
+// offered for another): the edited asset gets its own set, copied from what it played with,
+// and its per-joint overrides follow their level; the other assets and the project's set
+// are untouched. With no asset (-1) the project's set is edited, as before.
+TEST(Project, ALevelEditChangesOneCharactersSet) {
+  Project project = sampleProject(); // asset 0 overrides LeftUpLeg at level 2
+  const LodSet shared = project.lods;
+  Result<LodSetEdit> removed = removeLodLevel(lodSetFor(project, 0), 1);
+  ASSERT_TRUE(removed) << removed.message();
+  applyLodSetEdit(project, 0, *removed);
+  ASSERT_TRUE(project.assets[0].lods);
+  EXPECT_EQ(project.assets[0].lods->levels.size(), shared.levels.size() - 1);
+  EXPECT_EQ(project.lods, shared);
+  EXPECT_FALSE(project.assets[1].lods);
+  EXPECT_EQ(&lodSetFor(project, 1), &project.lods);
+  // LeftUpLeg's override of old level 2 is now at level 1
+  EXPECT_EQ(project.assets[0].joints["LeftUpLeg"].thresholds, (std::vector<std::optional<double>>{std::nullopt, 12.5}));
+  EXPECT_FALSE(project.validate());
+  // an edit of the project's set leaves the asset with its own set, overrides and all
+  Result<LodSetEdit> renamed = renameLodLevel(project.lods, 1, "Nearby");
+  ASSERT_TRUE(renamed);
+  applyLodSetEdit(project, -1, *renamed);
+  EXPECT_EQ(project.lods.levels[1].name, "Nearby");
+  EXPECT_EQ(project.assets[0].lods->levels[1].name, "Mid");
+  EXPECT_EQ(project.assets[0].joints["LeftUpLeg"].thresholds, (std::vector<std::optional<double>>{std::nullopt, 12.5}));
+}
+
 // Guards JpcSettings from a project: alpha, mode, joints, and the zero-length rule in file units.
 TEST(Project, JpcSettingsComeFromTheProject) {
   const Project project = sampleProject();
@@ -91,7 +167,7 @@ TEST(Project, BadDocumentsAreRefusedWithAReason) {
       {"[1, 2]", "not a Motion LOD project"},
       {"{\"format\": \"something-else\", \"version\": 1}", "not a Motion LOD project"},
       {"{\"format\": \"motionlod-project\"}", "no version"},
-      {"{\"format\": \"motionlod-project\", \"version\": 4}", "newer Motion LOD Studio"},
+      {"{\"format\": \"motionlod-project\", \"version\": 5}", "newer Motion LOD Studio"},
       // 2^63 and -2^63 read whole (narrowed to int, 2^63 read as "version 0": issue 29)
       {"{\"format\": \"motionlod-project\", \"version\": 9223372036854775808}",
        "the project is version 9223372036854775808, made by a newer"},
