@@ -5,11 +5,13 @@
 #include "core/lod_clip_builder.h"
 
 #include <algorithm>
+#include <cassert>
 #include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <glm/gtc/quaternion.hpp>
+#include <meshoptimizer.h>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -189,8 +191,30 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
   return animation;
 }
 
-// One primitive: the triangles `indices` (into `mesh`) with the vertices they use, in order
-// of first use, bound to the one skin of the full skeleton.
+// Orders the triangles `inout_local` (indices into `inout_vertices`, every one used) for the
+// GPU's post-transform vertex cache, then the vertices in the order those triangles first use
+// them (meshoptimizer 0.18: meshopt_optimizeVertexCache, meshopt_optimizeVertexFetchRemap).
+// `inout_vertices` (the source vertex of each) is permuted with the indices, so every
+// attribute written from it, skin joints and weights included, follows. The triangles stay
+// the same, each with its corners in the same order (winding kept).
+void optimizeForGpu(std::vector<std::uint32_t>& inout_local, std::vector<std::uint32_t>& inout_vertices) {
+  static_assert(sizeof(unsigned int) == sizeof(std::uint32_t));
+  const std::size_t n = inout_vertices.size();
+  unsigned int* indices = reinterpret_cast<unsigned int*>(inout_local.data());
+  meshopt_optimizeVertexCache(indices, indices, inout_local.size(), n);
+  std::vector<unsigned int> fetch(n);
+  const std::size_t used = meshopt_optimizeVertexFetchRemap(fetch.data(), indices, inout_local.size(), n);
+  assert(used == n); // the primitive holds only the vertices its triangles use
+  (void)used;
+  meshopt_remapIndexBuffer(indices, indices, inout_local.size(), fetch.data());
+  std::vector<std::uint32_t> reordered(n);
+  for (std::size_t i = 0; i < n; ++i)
+    reordered[fetch[i]] = inout_vertices[i];
+  inout_vertices = std::move(reordered);
+}
+
+// One primitive: the triangles `indices` (into `mesh`) with the vertices they use, ordered
+// for the GPU (optimizeForGpu()), bound to the one skin of the full skeleton.
 Result<tinygltf::Primitive> primitiveOf(Builder& builder, const SkinnedMesh& mesh,
                                         std::span<const std::uint32_t> indices, int jointCount,
                                         const std::string& name) {
@@ -209,6 +233,7 @@ Result<tinygltf::Primitive> primitiveOf(Builder& builder, const SkinnedMesh& mes
     local.push_back(remap[i]);
   }
   const std::size_t n = vertices.size();
+  optimizeForGpu(local, vertices);
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
 

@@ -22,7 +22,8 @@
 //   same at every frame, within a hair between frames);
 //   animation data that repeats (key times; a track a coarser level leaves as it was) is
 //   stored once and its accessor shared;
-// - a level's mesh: one primitive per part (source mesh), named in the mesh's extras.parts;
+// - a level's mesh: one primitive per part (source mesh), named in the mesh's extras.parts,
+//   its triangles ordered for the vertex cache and its vertices for fetch (meshoptimizer);
 // - mesh levels: one node per level with a mesh; the first written level's node is in the
 //   scene and carries MSFT_lod {"ids": [the other levels' nodes]} and
 //   extras.MSFT_screencoverage (per level, the fraction of the viewport height the
