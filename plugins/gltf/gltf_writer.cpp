@@ -609,19 +609,17 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
                                              animation->samplers[static_cast<std::size_t>(channel.sampler)].input)]
                                          .count;
       model.animations.push_back(std::move(animation).value());
-      json jointsJson = json::array();
-      if (c < level.build.motion.clusters.size()) {
-        const ClusterSet& set = level.build.motion.clusters[c];
-        for (int j = 0; j < set.jointCount(); ++j) {
-          const std::vector<Cluster>& list = set.joints[static_cast<std::size_t>(j)];
-          if (list.empty())
-            continue;
-          json clusters = json::array();
-          for (const Cluster& cluster : list)
-            clusters.push_back({cluster.first, cluster.last, cluster.key});
-          jointsJson.push_back({{"node", j},
-                                {"name", skeleton.joints[static_cast<std::size_t>(j)].name},
-                                {"clusters", std::move(clusters)}});
+      // the clusters as one binary table (version 2): 8 bytes a cluster where JSON took ~12
+      int table = -1;
+      if (c < level.build.motion.clusters.size() && level.build.motion.clusters[c].jointCount() == jointCount) {
+        const ClusterTable rows = clusterTable(level.build.motion.clusters[c]);
+        if (!rows.rows.empty()) {
+          if (rows.wide)
+            table = builder.integers(rows.rows, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 4, TINYGLTF_TYPE_VEC4, kNoTarget);
+          else
+            table = builder.integers(std::vector<std::uint16_t>(rows.rows.begin(), rows.rows.end()),
+                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 4, TINYGLTF_TYPE_VEC4, kNoTarget);
+          accessors.insert(table);
         }
       }
       animations.push_back({{"animation", static_cast<int>(model.animations.size()) - 1},
@@ -629,8 +627,9 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
                             {"clip", clip.name},
                             {"frameCount", clip.frameCount},
                             {"fps", clip.fps},
-                            {"looping", clip.looping},
-                            {"joints", std::move(jointsJson)}});
+                            {"looping", clip.looping}});
+      if (table >= 0)
+        animations.back()["clusters"] = table;
     }
     for (int accessor : accessors)
       levelStats.animationBytes += builder.bytesOf(accessor);
@@ -649,9 +648,13 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
   }
   json extension;
   if (jointCount > 0) {
+    json jointNames = json::array();
+    for (const Joint& joint : skeleton.joints)
+      jointNames.push_back(joint.name);
     extension = {{"version", kClusterExtensionVersion},
                  {"mode", toString(package.jpc.mode)},
                  {"alpha", package.jpc.alpha},
+                 {"jointNames", std::move(jointNames)},
                  {"levels", std::move(levelsJson)}};
     model.extensionsUsed.push_back(kClusterExtension);
   }
