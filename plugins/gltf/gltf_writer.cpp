@@ -5,11 +5,13 @@
 #include "core/lod_clip_builder.h"
 
 #include <algorithm>
+#include <cassert>
 #include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <glm/gtc/quaternion.hpp>
+#include <meshoptimizer.h>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -189,8 +191,30 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
   return animation;
 }
 
-// One primitive: the triangles `indices` (into `mesh`) with the vertices they use, in order
-// of first use, bound to the one skin of the full skeleton.
+// Orders the triangles `inout_local` (indices into `inout_vertices`, every one used) for the
+// GPU's post-transform vertex cache, then the vertices in the order those triangles first use
+// them (meshoptimizer 0.18: meshopt_optimizeVertexCache, meshopt_optimizeVertexFetchRemap).
+// `inout_vertices` (the source vertex of each) is permuted with the indices, so every
+// attribute written from it, skin joints and weights included, follows. The triangles stay
+// the same, each with its corners in the same order (winding kept).
+void optimizeForGpu(std::vector<std::uint32_t>& inout_local, std::vector<std::uint32_t>& inout_vertices) {
+  static_assert(sizeof(unsigned int) == sizeof(std::uint32_t));
+  const std::size_t n = inout_vertices.size();
+  unsigned int* indices = reinterpret_cast<unsigned int*>(inout_local.data());
+  meshopt_optimizeVertexCache(indices, indices, inout_local.size(), n);
+  std::vector<unsigned int> fetch(n);
+  const std::size_t used = meshopt_optimizeVertexFetchRemap(fetch.data(), indices, inout_local.size(), n);
+  assert(used == n); // the primitive holds only the vertices its triangles use
+  (void)used;
+  meshopt_remapIndexBuffer(indices, indices, inout_local.size(), fetch.data());
+  std::vector<std::uint32_t> reordered(n);
+  for (std::size_t i = 0; i < n; ++i)
+    reordered[fetch[i]] = inout_vertices[i];
+  inout_vertices = std::move(reordered);
+}
+
+// One primitive: the triangles `indices` (into `mesh`) with the vertices they use, ordered
+// for the GPU (optimizeForGpu()), bound to the one skin of the full skeleton.
 Result<tinygltf::Primitive> primitiveOf(Builder& builder, const SkinnedMesh& mesh,
                                         std::span<const std::uint32_t> indices, int jointCount,
                                         const std::string& name) {
@@ -209,6 +233,7 @@ Result<tinygltf::Primitive> primitiveOf(Builder& builder, const SkinnedMesh& mes
     local.push_back(remap[i]);
   }
   const std::size_t n = vertices.size();
+  optimizeForGpu(local, vertices);
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
 
@@ -584,19 +609,17 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
                                              animation->samplers[static_cast<std::size_t>(channel.sampler)].input)]
                                          .count;
       model.animations.push_back(std::move(animation).value());
-      json jointsJson = json::array();
-      if (c < level.build.motion.clusters.size()) {
-        const ClusterSet& set = level.build.motion.clusters[c];
-        for (int j = 0; j < set.jointCount(); ++j) {
-          const std::vector<Cluster>& list = set.joints[static_cast<std::size_t>(j)];
-          if (list.empty())
-            continue;
-          json clusters = json::array();
-          for (const Cluster& cluster : list)
-            clusters.push_back({cluster.first, cluster.last, cluster.key});
-          jointsJson.push_back({{"node", j},
-                                {"name", skeleton.joints[static_cast<std::size_t>(j)].name},
-                                {"clusters", std::move(clusters)}});
+      // the clusters as one binary table (version 2): 8 bytes a cluster where JSON took ~12
+      int table = -1;
+      if (c < level.build.motion.clusters.size() && level.build.motion.clusters[c].jointCount() == jointCount) {
+        const ClusterTable rows = clusterTable(level.build.motion.clusters[c]);
+        if (!rows.rows.empty()) {
+          if (rows.wide)
+            table = builder.integers(rows.rows, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 4, TINYGLTF_TYPE_VEC4, kNoTarget);
+          else
+            table = builder.integers(std::vector<std::uint16_t>(rows.rows.begin(), rows.rows.end()),
+                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 4, TINYGLTF_TYPE_VEC4, kNoTarget);
+          accessors.insert(table);
         }
       }
       animations.push_back({{"animation", static_cast<int>(model.animations.size()) - 1},
@@ -604,8 +627,9 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
                             {"clip", clip.name},
                             {"frameCount", clip.frameCount},
                             {"fps", clip.fps},
-                            {"looping", clip.looping},
-                            {"joints", std::move(jointsJson)}});
+                            {"looping", clip.looping}});
+      if (table >= 0)
+        animations.back()["clusters"] = table;
     }
     for (int accessor : accessors)
       levelStats.animationBytes += builder.bytesOf(accessor);
@@ -624,9 +648,13 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
   }
   json extension;
   if (jointCount > 0) {
+    json jointNames = json::array();
+    for (const Joint& joint : skeleton.joints)
+      jointNames.push_back(joint.name);
     extension = {{"version", kClusterExtensionVersion},
                  {"mode", toString(package.jpc.mode)},
                  {"alpha", package.jpc.alpha},
+                 {"jointNames", std::move(jointNames)},
                  {"levels", std::move(levelsJson)}};
     model.extensionsUsed.push_back(kClusterExtension);
   }

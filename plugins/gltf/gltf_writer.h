@@ -22,7 +22,8 @@
 //   same at every frame, within a hair between frames);
 //   animation data that repeats (key times; a track a coarser level leaves as it was) is
 //   stored once and its accessor shared;
-// - a level's mesh: one primitive per part (source mesh), named in the mesh's extras.parts;
+// - a level's mesh: one primitive per part (source mesh), named in the mesh's extras.parts,
+//   its triangles ordered for the vertex cache and its vertices for fetch (meshoptimizer);
 // - mesh levels: one node per level with a mesh; the first written level's node is in the
 //   scene and carries MSFT_lod {"ids": [the other levels' nodes]} and
 //   extras.MSFT_screencoverage (per level, the fraction of the viewport height the
@@ -32,7 +33,9 @@
 //   WriteStats::warnings says so (a made-up 1 would show the coarsest level at any size);
 // - the cluster tables and bone reduction of every level in the vendor extension
 //   MLOD_joint_clusters at the asset's top level (docs/gltf-extension.md), never required;
-//   nodes and animations named there by index and by name.
+//   nodes and animations named there by index and by name; each clip's clusters at a level
+//   one binary table (clusterTable(), core/lod/held_keys.h) behind an accessor, counted in
+//   the level's animation bytes.
 // A skeleton without a mesh (BVH) gives the joint nodes, their skin and the animations.
 
 #include "core/error.h"
@@ -46,7 +49,7 @@
 namespace mlod::gltf {
 
 inline constexpr const char* kClusterExtension = "MLOD_joint_clusters";
-inline constexpr int kClusterExtensionVersion = 1;
+inline constexpr int kClusterExtensionVersion = 2; // 1: cluster tables as JSON arrays (still read)
 inline constexpr double kMetresPerCm = 0.01;
 
 struct WriteOptions {
@@ -61,7 +64,7 @@ struct WriteOptions {
 // What the animations of one written level hold.
 struct LevelStats {
   std::string name;               // <name>_LOD<n>
-  std::size_t animationBytes = 0; // bytes of key times and values the level's animations use (shared data counted once)
+  std::size_t animationBytes = 0; // bytes of key times, values and cluster tables of its animations (shared: once)
   std::size_t rotationKeys = 0;   // rotation keys, all joints and clips
   std::size_t heldTracks = 0;     // tracks keyed at fewer than every frame (frozen spans held by their ends)
 };

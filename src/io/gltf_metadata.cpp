@@ -1,5 +1,8 @@
 #include "io/gltf_metadata.h"
 
+#include "core/error.h"
+
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -24,6 +27,10 @@ std::string_view jsonText(std::string_view bytes) {
   const std::size_t start = bytes.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
   return start != std::string_view::npos && bytes[start] == '{' ? bytes : std::string_view();
 }
+
+// The binary buffer 0 of a .glb (its BIN chunk) or of a .gltf whose buffer is embedded as a
+// base64 data URI; empty for anything else (an external .bin is not at hand).
+std::string bufferZero(std::string_view bytes, const json& document);
 
 const json* member(const json& object, const char* key) {
   if (!object.is_object())
@@ -81,6 +88,113 @@ std::string levelSign(const json& document) {
   return {};
 }
 
+std::string base64(std::string_view text) {
+  std::string out;
+  out.reserve(text.size() / 4 * 3);
+  std::uint32_t bits = 0;
+  int count = 0;
+  for (char ch : text) {
+    int v = -1;
+    if (ch >= 'A' && ch <= 'Z')
+      v = ch - 'A';
+    else if (ch >= 'a' && ch <= 'z')
+      v = ch - 'a' + 26;
+    else if (ch >= '0' && ch <= '9')
+      v = ch - '0' + 52;
+    else if (ch == '+')
+      v = 62;
+    else if (ch == '/')
+      v = 63;
+    else if (ch == '=')
+      break;
+    else
+      return {};
+    bits = (bits << 6) | std::uint32_t(v);
+    if (++count == 4) {
+      out += char((bits >> 16) & 0xFF);
+      out += char((bits >> 8) & 0xFF);
+      out += char(bits & 0xFF);
+      bits = 0;
+      count = 0;
+    }
+  }
+  if (count == 3) {
+    out += char((bits >> 10) & 0xFF);
+    out += char((bits >> 2) & 0xFF);
+  } else if (count == 2) {
+    out += char((bits >> 4) & 0xFF);
+  }
+  return out;
+}
+
+std::string bufferZero(std::string_view bytes, const json& document) {
+  if (bytes.size() >= 20 && bytes.substr(0, 4) == "glTF") {
+    std::uint32_t jsonLength = 0;
+    std::memcpy(&jsonLength, bytes.data() + 12, 4);
+    const std::size_t at = 20 + std::size_t(jsonLength);
+    if (at + 8 > bytes.size())
+      return {};
+    std::uint32_t length = 0, type = 0;
+    std::memcpy(&length, bytes.data() + at, 4);
+    std::memcpy(&type, bytes.data() + at + 4, 4);
+    if (type != 0x004E4942u || length > bytes.size() - at - 8) // "BIN\0"
+      return {};
+    return std::string(bytes.substr(at + 8, length));
+  }
+  const json* buffers = member(document, "buffers");
+  if (!buffers || !buffers->is_array() || buffers->empty())
+    return {};
+  const std::string uri = stringOf(member((*buffers)[0], "uri"));
+  const std::size_t comma = uri.find(";base64,");
+  if (uri.rfind("data:", 0) != 0 || comma == std::string::npos)
+    return {};
+  return base64(std::string_view(uri).substr(comma + 8));
+}
+
+// The rows (joint, first, last, key) of the cluster table `accessor` (MLOD_joint_clusters
+// version 2: VEC4 of unsigned 16- or 32-bit integers, tightly packed, in buffer 0), or an
+// error saying what does not fit.
+Result<std::vector<std::uint32_t>> clusterRows(const json& document, const std::string& buffer, const json& accessor) {
+  const json* accessors = member(document, "accessors");
+  const json* views = member(document, "bufferViews");
+  if (!accessor.is_number_integer() || !accessors || !accessors->is_array() || accessor.get<std::int64_t>() < 0 ||
+      accessor.get<std::size_t>() >= accessors->size())
+    return Error("no accessor " + accessor.dump());
+  const json& a = (*accessors)[accessor.get<std::size_t>()];
+  const json* component = member(a, "componentType");
+  const int type = component && component->is_number_integer() ? component->get<int>() : 0;
+  const std::size_t size = type == 5123 ? 2 : type == 5125 ? 4 : 0;
+  const json* view = member(a, "bufferView");
+  const json* count = member(a, "count");
+  if (size == 0 || stringOf(member(a, "type")) != "VEC4" || !view || !view->is_number_integer() || !views ||
+      !views->is_array() || view->get<std::int64_t>() < 0 || view->get<std::size_t>() >= views->size() || !count ||
+      !count->is_number_integer() || count->get<std::int64_t>() < 0)
+    return Error("accessor " + accessor.dump() + " is not a VEC4 of unsigned integers");
+  const json& v = (*views)[view->get<std::size_t>()];
+  const auto offsetOf = [](const json* value) {
+    return value && value->is_number_integer() && value->get<std::int64_t>() >= 0 ? value->get<std::size_t>() : 0;
+  };
+  const json* stride = member(v, "byteStride");
+  const json* bufferIndex = member(v, "buffer");
+  const std::size_t n = count->get<std::size_t>();
+  const std::size_t begin = offsetOf(member(v, "byteOffset")) + offsetOf(member(a, "byteOffset"));
+  if ((stride && offsetOf(stride) != 4 * size) || (bufferIndex && offsetOf(bufferIndex) != 0) || buffer.empty() ||
+      n > buffer.size() / (4 * size) || begin > buffer.size() - n * 4 * size ||
+      offsetOf(member(a, "byteOffset")) + n * 4 * size > offsetOf(member(v, "byteLength")))
+    return Error("accessor " + accessor.dump() + " lies outside its buffer");
+  std::vector<std::uint32_t> rows(n * 4);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (size == 2) {
+      std::uint16_t x = 0;
+      std::memcpy(&x, buffer.data() + begin + 2 * i, 2);
+      rows[i] = x;
+    } else {
+      std::memcpy(&rows[i], buffer.data() + begin + 4 * i, 4);
+    }
+  }
+  return rows;
+}
+
 } // namespace
 
 std::vector<GltfAnimationInfo> readGltfAnimationInfo(std::string_view bytes, std::vector<std::string>& out_warnings) {
@@ -114,12 +228,15 @@ std::vector<GltfAnimationInfo> readGltfAnimationInfo(std::string_view bytes, std
                              "prune, drops vendor extensions; export it again to have them)");
     return out;
   }
-  if (const json* version = member(*clusters, "version");
-      !version || !version->is_number_integer() || version->get<int>() != 1) {
-    out_warnings.push_back("MLOD_joint_clusters: not version 1; its cluster tables are ignored");
+  const json* versionValue = member(*clusters, "version");
+  const int version = versionValue && versionValue->is_number_integer() ? versionValue->get<int>() : 0;
+  if (version != 1 && version != 2) {
+    out_warnings.push_back("MLOD_joint_clusters: not version 1 or 2; its cluster tables are ignored");
     return out;
   }
   const json* nodes = member(document, "nodes");
+  const json* jointNames = member(*clusters, "jointNames");
+  const std::string buffer = version == 2 ? bufferZero(bytes, document) : std::string();
   for (const json& level : *levels) {
     const json* entries = member(level, "animations");
     if (!entries || !entries->is_array())
@@ -142,6 +259,42 @@ std::vector<GltfAnimationInfo> readGltfAnimationInfo(std::string_view bytes, std
         info.frameCount = frameCount(member(entry, "frameCount"));
       if (const json* looping = member(entry, "looping"); !info.looping && looping && looping->is_boolean())
         info.looping = looping->get<bool>();
+      if (version == 2) { // one binary table: rows (joint, first, last, key), a joint's rows together
+        const json* table = member(entry, "clusters");
+        if (!table)
+          continue; // no clusters
+        Result<std::vector<std::uint32_t>> rows = clusterRows(document, buffer, *table);
+        if (!rows) {
+          out_warnings.push_back("MLOD_joint_clusters: the cluster table of animation '" + info.name +
+                                 "' cannot be read (" + rows.message() + "); its clusters are ignored");
+          continue;
+        }
+        for (std::size_t r = 0; r < rows->size(); r += 4) {
+          const std::uint32_t joint = (*rows)[r];
+          const std::string name = jointNames && jointNames->is_array() && joint < jointNames->size()
+                                       ? stringOf(&(*jointNames)[joint])
+                                       : std::string();
+          const json index = joint;
+          const int node = resolve(nodes, &index, name);
+          const std::string nodeName =
+              node >= 0 ? stringOf(member((*nodes)[std::size_t(node)], "name")) : std::string();
+          if (nodeName.empty()) {
+            out_warnings.push_back(
+                "MLOD_joint_clusters: animation '" + info.name + "' names a joint that is not in the file (" +
+                (name.empty() ? "joint " + std::to_string(joint) : "'" + name + "'") + "); its clusters are ignored");
+            while (r + 4 < rows->size() && (*rows)[r + 4] == joint)
+              r += 4;
+            continue;
+          }
+          if (r == 0 || (*rows)[r - 4] != joint)
+            info.clusters.emplace_back(nodeName, std::vector<Cluster>());
+          const auto value = [&](std::size_t k) {
+            return static_cast<int>(std::min<std::uint32_t>((*rows)[r + k], 0x7FFFFFFF));
+          };
+          info.clusters.back().second.push_back({value(1), value(2), value(3)});
+        }
+        continue;
+      }
       const json* joints = member(entry, "joints");
       if (!joints || !joints->is_array())
         continue;

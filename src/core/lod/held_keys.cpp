@@ -142,6 +142,19 @@ std::vector<LevelTrack> levelTracks(const LodPackage& package, const LodPackageL
   return out;
 }
 
+ClusterTable clusterTable(const ClusterSet& clusters) {
+  ClusterTable out;
+  for (int j = 0; j < clusters.jointCount(); ++j)
+    for (const Cluster& cluster : clusters.joints[static_cast<std::size_t>(j)]) {
+      assert(cluster.first >= 0 && cluster.first <= cluster.key && cluster.key <= cluster.last);
+      out.rows.insert(out.rows.end(),
+                      {static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(cluster.first),
+                       static_cast<std::uint32_t>(cluster.last), static_cast<std::uint32_t>(cluster.key)});
+    }
+  out.wide = std::any_of(out.rows.begin(), out.rows.end(), [](std::uint32_t v) { return v > 0xFFFFu; });
+  return out;
+}
+
 LevelKeyBytes levelKeyBytes(const LodPackage& package, const LodPackageLevel& level) {
   LevelKeyBytes out;
   const int joints = package.skeleton.jointCount();
@@ -158,8 +171,10 @@ LevelKeyBytes levelKeyBytes(const LodPackage& package, const LodPackageLevel& le
       if (track.path == TrackPath::Rotation)
         out.rotationKeys += track.frames.size();
     }
+    if (c < level.build.motion.clusters.size() && level.build.motion.clusters[c].jointCount() == joints)
+      out.clusterBytes += clusterTable(level.build.motion.clusters[c]).bytes();
   }
-  out.bytes = arrays.bytes();
+  out.bytes = arrays.bytes() + out.clusterBytes;
   return out;
 }
 

@@ -16,14 +16,17 @@
 //   frame; one for a one-frame clip), and a joint whose translation or scale another clip of
 //   the package animates holds its rest value the same way.
 // levelTracks() lists the tracks of one clip at one level (the glTF writer writes exactly
-// those); levelKeyBytes() is the figure a report states beside the exporter's: the bytes of
-// every distinct time and value array the level's animations use, as 32-bit floats.
+// those); clusterTable() is a clip's cluster table at a level as the writer stores it
+// (MLOD_joint_clusters version 2, binary); levelKeyBytes() is the figure a report states
+// beside the exporter's: the bytes of every distinct time and value array the level's
+// animations use, as 32-bit floats, plus the bytes of their cluster tables.
 
 #include "core/clip.h"
 #include "core/jpc/cluster_set.h"
 #include "core/lod/lod_package.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <glm/gtc/quaternion.hpp>
 #include <span>
 #include <vector>
@@ -59,9 +62,23 @@ struct LevelTrack {
 // them first).
 std::vector<LevelTrack> levelTracks(const LodPackage& package, const LodPackageLevel& level, std::size_t clip);
 
+// A clip's clusters at a level as one table (docs/gltf-extension.md, MLOD_joint_clusters
+// version 2): a row (joint, first, last, key) per cluster, joints ascending, each joint's
+// clusters in their order, stored as unsigned 16-bit integers where every value fits (joint
+// and frame indices below 65,536), else 32-bit. Empty when the clip has no cluster.
+struct ClusterTable {
+  std::vector<std::uint32_t> rows; // 4 values per cluster
+  bool wide = false;               // 32-bit integers rather than 16-bit
+  std::size_t clusters() const { return rows.size() / 4; }
+  std::size_t bytes() const { return rows.size() * (wide ? 4 : 2); }
+};
+ClusterTable clusterTable(const ClusterSet& clusters);
+
 struct LevelKeyBytes {
   std::size_t rotationKeys = 0; // rotation keys of every joint and clip
-  std::size_t bytes = 0;        // bytes of the distinct float arrays (key times and values) of its animations
+  std::size_t clusterBytes = 0; // bytes of its clips' cluster tables (clusterTable())
+  std::size_t bytes = 0;        // bytes of the distinct float arrays (key times and values) of its
+                                // animations, plus clusterBytes
 };
 
 // What the level's animations of every clip of `package` hold (header comment).
