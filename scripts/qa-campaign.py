@@ -119,7 +119,11 @@ def classify(command: str, mutant: Path, out: Path, run, timed_out: bool, motion
         if command == "export-gltf" and not valid_glb(out / expected):
             return "other", "exit 0 with an invalid GLB"
         if command == "export-bundle":
-            check = subprocess.run([motionlod, "info", str(out / expected)], capture_output=True, timeout=timeout)
+            try:
+                check = subprocess.run([motionlod, "info", str(out / expected)], capture_output=True,
+                                       timeout=timeout)
+            except subprocess.TimeoutExpired:  # recorded, not fatal: the campaign goes on
+                return "hang", f"info on the exported bundle did not answer within {timeout:.0f} s"
             if check.returncode != 0:
                 return "other", "exit 0 but the bundle does not read back: " + check.stderr.decode()[-200:]
         return "ok", ""
