@@ -132,8 +132,11 @@ TEST_P(ReportOnRealData, JsonHoldsThePackagesFigures) {
     EXPECT_EQ(l.at("deviation_cm").get<double>(), level.build.deviationCm());
     EXPECT_EQ(l.at("animation_bytes").get<std::size_t>(), levelKeyBytes(p, level).bytes);
     EXPECT_EQ(l.at("animation_keys").get<std::size_t>(), levelKeyBytes(p, level).rotationKeys);
-    if (i > 0 && !p.clips.empty()) { // frozen spans held by their ends: each level takes fewer bytes
-      EXPECT_LT(l["animation_bytes"].get<std::size_t>(), doc["levels"][i - 1]["animation_bytes"].get<std::size_t>());
+    if (i > 0 && !p.clips.empty()) { // frozen spans held by their ends: each level's keys take fewer bytes
+      // (the cluster tables, counted in animation_bytes, grow with the clusters: on BCN_Epileptic
+      // the totals of LOD1-3 rise by 8 to 36 bytes while the keys fall)
+      const LevelKeyBytes now = levelKeyBytes(p, level), before = levelKeyBytes(p, p.levels[i - 1]);
+      EXPECT_LT(now.bytes - now.clusterBytes, before.bytes - before.clusterBytes);
     }
     ASSERT_EQ(l.at("clips").size(), level.metrics.size());
     for (std::size_t c = 0; c < level.metrics.size(); ++c) {

@@ -13,7 +13,8 @@ namespace {
 constexpr int kRecoverySlots = 16;
 
 QString slotPath(const QString& folder, int slot) {
-  return QDir(folder).filePath(QString(slot == 1 ? "recovery" : "recovery-%1").arg(slot) + kProjectSuffix);
+  const QString name = slot == 1 ? QStringLiteral("recovery") : QStringLiteral("recovery-%1").arg(slot);
+  return QDir(folder).filePath(name + kProjectSuffix);
 }
 
 } // namespace
