@@ -7,6 +7,7 @@
 #include "core/crowd/crowd.h"
 #include "io/importer.h"
 #include "unit/real_files.h"
+#include "unit/runtime/runtime_fixtures.h" // runtimeAsset(): fixture files imported once
 
 #include <gtest/gtest.h>
 
@@ -99,29 +100,13 @@ Crowd makeCrowd(const Asset& asset, const LodSet& set, int agents, float spacing
   return crowd;
 }
 
-// A fixture file (real_files.h): BVH at the CMU unit, characters at their own.
-const Asset& fixtureAsset(const std::string& relative) {
-  static std::map<std::string, Asset> cache;
-  auto found = cache.find(relative);
-  if (found == cache.end()) {
-    ImportOptions options;
-    if (relative.rfind("BVH/", 0) == 0)
-      options.unitScale = *parseUnitScale("cmu");
-    Result<Asset> asset = importAsset(std::string(MLOD_ASSIMP_MODELS) + "/" + relative, options);
-    if (!asset)
-      throw std::runtime_error(relative + ": " + asset.message());
-    found = cache.emplace(relative, std::move(asset).value()).first;
-  }
-  return found->second;
-}
-
 // Guards the Crowd dock's "joints evaluated" figure: it is, agent by agent, what the level's
 // clusters leave moving at the agent's frame, and "full detail" is what level 0 computes; on
 // the bundled sample, every fixture clip and every character with a joint a level freezes.
 class JointsEvaluated : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(JointsEvaluated, AreWhatTheClustersLeaveMoving) {
-  const Asset& asset = GetParam() == "sample" ? sample() : fixtureAsset(GetParam());
+  const Asset& asset = GetParam() == "sample" ? sample() : test::runtimeAsset(GetParam());
   const LodSet set = levelsAt({5.0, 50.0, 300.0}, {600.0, 1200.0, 2400.0});
   Crowd crowd = makeCrowd(asset, set, 300, 150.0f);
   std::vector<JointMotion> motion;
