@@ -76,13 +76,12 @@ MainWindow::MainWindow(QWidget* parent, PluginHost* plugins)
   guide->setShortcut(QKeySequence::HelpContents);
   guide->setToolTip(tr("The user guide, with pictures"));
   connect(guide, &QAction::triggered, this, [this] {
-    auto* help = findChild<HelpBrowser*>("helpBrowser");
-    if (!help) {
-      help = new HelpBrowser(this);
-      help->setAttribute(Qt::WA_DeleteOnClose);
+    if (!m_help) {
+      m_help = new HelpBrowser(this);
+      m_help->setAttribute(Qt::WA_DeleteOnClose);
     }
-    help->show();
-    help->raise();
+    m_help->show();
+    m_help->raise();
   });
   m_ui->menuHelp->insertAction(m_ui->actionAbout, guide);
   addAction(guide);
@@ -179,11 +178,10 @@ MainWindow::MainWindow(QWidget* parent, PluginHost* plugins)
   // Log and Summary share a tab (after the split: a dock split off a tabbed one becomes a tab).
   tabifyDockWidget(m_ui->logDock, m_summaryDock);
   m_summaryDock->raise(); // the first thing to read; the Log is one tab away
-  resizeDocks({m_ui->assetsDock, findChild<QDockWidget*>("clusteringDock")}, {470, 520}, Qt::Horizontal);
+  resizeDocks({m_ui->assetsDock, m_clusteringDock}, {470, 520}, Qt::Horizontal);
   resizeDocks({m_ui->logDock}, {320}, Qt::Vertical);
-  resizeDocks({m_ui->logDock, findChild<QDockWidget*>("statisticsDock")}, {360, 1240}, Qt::Horizontal);
-  resizeDocks({m_ui->assetsDock, findChild<QDockWidget*>("skeletonDock"), findChild<QDockWidget*>("levelsDock")},
-              {160, 420, 200}, Qt::Vertical);
+  resizeDocks({m_ui->logDock, m_statisticsDock}, {360, 1240}, Qt::Horizontal);
+  resizeDocks({m_ui->assetsDock, m_skeletonDock, m_levelsDock}, {160, 420, 200}, Qt::Vertical);
   buildResetLayout();
   QSettings settings;
   restoreGeometry(settings.value("mainWindow/geometry").toByteArray());
@@ -448,7 +446,7 @@ void MainWindow::closeEvent(QCloseEvent* event) {
       return;
     }
     if (answer == QMessageBox::Save) {
-      findChild<QAction*>("actionSave")->trigger();
+      m_saveAction->trigger();
       if (m_document->isModified()) { // not saved (cancelled or failed): keep the window
         event->ignore();
         return;
@@ -505,6 +503,15 @@ void MainWindow::buildResetLayout() {
 }
 
 void MainWindow::buildDocks() {
+  buildSkeletonDock();
+  buildLevelsDock();
+  buildAnalysisDocks();
+  buildViewports();
+  buildStatusLabels();
+  connectDocument();
+}
+
+void MainWindow::buildSkeletonDock() {
   // Skeleton: the joint tree with its delegates; multi-select edits every selected joint.
   m_jointModel = new JointTreeModel(m_document, this);
   m_skeletonView = new QTreeView;
@@ -534,8 +541,10 @@ void MainWindow::buildDocks() {
   connect(m_jointModel, &QAbstractItemModel::modelReset, this, [this] { m_skeletonView->expandAll(); });
   connect(m_skeletonView->selectionModel(), &QItemSelectionModel::currentChanged, this,
           [this](const QModelIndex& current) { m_document->setCurrentJoint(m_jointModel->jointAt(current)); });
-  addDock("skeletonDock", tr("Skeleton"), m_skeletonView, Qt::LeftDockWidgetArea);
+  m_skeletonDock = addDock("skeletonDock", tr("Skeleton"), m_skeletonView, Qt::LeftDockWidgetArea);
+}
 
+void MainWindow::buildLevelsDock() {
   // LOD levels, with the project's alpha beside them.
   auto* levelsPanel = new QWidget;
   auto* levelsLayout = new QVBoxLayout(levelsPanel);
@@ -583,7 +592,7 @@ void MainWindow::buildDocks() {
     return b;
   };
   connect(button("addLevelButton", tr("+"), tr("Add a level (twice the last threshold) — Ctrl+Shift+L")), &QToolButton::clicked,
-          this, [this] { findChild<QAction*>("actionAddLevel")->trigger(); });
+          this, [this] { m_addLevelAction->trigger(); }); // (the actions: buildActions(), right after)
   connect(button("removeLevelButton", tr("−"), tr("Remove the current level")), &QToolButton::clicked, this,
           [this] { edit::removeLevel(*m_document, m_document->currentLevel()); });
   connect(button("levelUpButton", tr("↑"), tr("Move the current level up")), &QToolButton::clicked, this, [this] {
@@ -596,7 +605,7 @@ void MainWindow::buildDocks() {
   });
   connect(button("generateLevelsButton", tr("Budget…"),
                  tr("Generate the levels from an error budget in pixels on screen — Ctrl+Shift+G")),
-          &QToolButton::clicked, this, [this] { findChild<QAction*>("actionGenerateLevels")->trigger(); });
+          &QToolButton::clicked, this, [this] { m_generateLevelsAction->trigger(); });
   buttons->addStretch();
   buttons->addWidget(new QLabel(tr("α")));
   m_alphaBox = new QDoubleSpinBox;
@@ -620,23 +629,28 @@ void MainWindow::buildDocks() {
           [this](int index) { edit::setMode(*m_document, JpcMode(m_modeBox->itemData(index).toInt())); });
   buttons->addWidget(m_modeBox);
   levelsLayout->addLayout(buttons);
-  addDock("levelsDock", tr("LOD Levels"), levelsPanel, Qt::LeftDockWidgetArea);
+  m_levelsDock = addDock("levelsDock", tr("LOD Levels"), levelsPanel, Qt::LeftDockWidgetArea);
+}
 
+// The clustering table, the trajectory and the statistics of the current joint.
+void MainWindow::buildAnalysisDocks() {
   m_clusteringView = new ClusteringTableView;
   m_clusteringView->setObjectName("clusteringView");
-  QDockWidget* table = addDock("clusteringDock", tr("Clustering Table"), m_clusteringView, Qt::RightDockWidgetArea);
+  m_clusteringDock = addDock("clusteringDock", tr("Clustering Table"), m_clusteringView, Qt::RightDockWidgetArea);
   connect(m_clusteringView, &ClusteringTableView::hovered, this, [this](int t, int ref, double error) {
     m_frameLabel->setText(tr("frame %1 · t_ref %2 · E %3 cm·°").arg(t).arg(ref).arg(error, 0, 'f', 2));
   });
   m_trajectoryView = new TrajectoryView;
   m_trajectoryView->setObjectName("trajectoryView");
-  QDockWidget* trajectory = addDock("trajectoryDock", tr("Trajectory"), m_trajectoryView, Qt::RightDockWidgetArea);
-  splitDockWidget(table, trajectory, Qt::Vertical);
+  m_trajectoryDock = addDock("trajectoryDock", tr("Trajectory"), m_trajectoryView, Qt::RightDockWidgetArea);
+  splitDockWidget(m_clusteringDock, m_trajectoryDock, Qt::Vertical);
   m_statisticsView = new StatisticsView;
   m_statisticsView->setObjectName("statisticsView");
-  QDockWidget* statistics = addDock("statisticsDock", tr("Statistics"), m_statisticsView, Qt::BottomDockWidgetArea);
-  splitDockWidget(m_ui->logDock, statistics, Qt::Horizontal);
+  m_statisticsDock = addDock("statisticsDock", tr("Statistics"), m_statisticsView, Qt::BottomDockWidgetArea);
+  splitDockWidget(m_ui->logDock, m_statisticsDock, Qt::Horizontal);
+}
 
+void MainWindow::buildViewports() {
   // The 3D views (viewport/): the character, original and simplified, and the crowd; one
   // timeline drives both.
   auto* viewport = new ViewportPanel(m_document);
@@ -652,8 +666,8 @@ void MainWindow::buildDocks() {
   m_ui->menuView->insertSeparator(m_ui->menuView->actions().value(1));
   m_ui->menuView->setToolTipsVisible(true);
   m_crowdDock = addDock("crowdDock", tr("Crowd"), m_crowdPanel, Qt::RightDockWidgetArea);
-  tabifyDockWidget(trajectory, m_crowdDock);
-  trajectory->raise();
+  tabifyDockWidget(m_trajectoryDock, m_crowdDock);
+  m_trajectoryDock->raise();
   connect(viewport->playback(), &Playback::timeChanged, m_statisticsView,
           [this, viewport] { m_statisticsView->setPlayhead(viewport->playback()->frame()); });
   auto* currentFrame = new QLabel(viewport->timeline()->frameText());
@@ -662,7 +676,9 @@ void MainWindow::buildDocks() {
   connect(viewport->playback(), &Playback::timeChanged, currentFrame,
           [currentFrame, viewport] { currentFrame->setText(viewport->timeline()->frameText()); });
   statusBar()->addPermanentWidget(currentFrame);
+}
 
+void MainWindow::buildStatusLabels() {
   m_clipLabel = new QLabel;
   m_frameLabel = new QLabel;
   m_levelLabel = new QLabel;
@@ -673,7 +689,10 @@ void MainWindow::buildDocks() {
   m_jointLabel->setToolTip(tr("The selected joint at the current level: threshold (cm·degrees), simplified %, clusters, max E"));
   for (QLabel* label : {m_clipLabel, m_frameLabel, m_levelLabel, m_jointLabel})
     statusBar()->addPermanentWidget(label);
+}
 
+// The views follow the document: its current joint and level, settings and analysis.
+void MainWindow::connectDocument() {
   connect(m_document, &Document::currentChanged, this, &MainWindow::refreshViews);
   connect(m_document, &Document::settingsChanged, this, [this] {
     const QSignalBlocker block(m_alphaBox);
@@ -779,7 +798,7 @@ void MainWindow::buildActions() {
            else
              log(m_document->undoStack()->text(m_document->undoStack()->index() - 1));
          });
-  action(edit, "actionGenerateLevels", tr("&Generate Levels from Pixel Budget…"), QKeySequence("Ctrl+Shift+G"),
+  m_generateLevelsAction = action(edit, "actionGenerateLevels", tr("&Generate Levels from Pixel Budget…"), QKeySequence("Ctrl+Shift+G"),
          tr("Compute every level's threshold, mesh ratio and switch distance so that each stays within N pixels on "
             "screen (motion and mesh together, in the background)"),
          [this] { openBudgetDialog(); });
@@ -793,7 +812,7 @@ void MainWindow::buildActions() {
       offerToRegenerateDistances();
   });
   edit->addSeparator();
-  action(edit, "actionAddLevel", tr("&Add Level"), QKeySequence("Ctrl+Shift+L"),
+  m_addLevelAction = action(edit, "actionAddLevel", tr("&Add Level"), QKeySequence("Ctrl+Shift+L"),
          tr("Add a LOD level with twice the last threshold (cm·degrees)"),
          [this] { edit::addLevel(*m_document, nextLodLevelThreshold(m_document->lods())); });
   action(edit, "actionRemoveLevel", tr("&Remove Current Level"), QKeySequence(), tr("Remove the current LOD level"),
@@ -816,6 +835,9 @@ void MainWindow::buildActions() {
     file->insertAction(first, a);
     return a;
   };
+  fileAction("actionNewProject", tr("&New Project"), QKeySequence::New,
+             tr("Start an empty, untitled project (asks first when this one has unsaved changes)"),
+             [this] { newProject(); });
   fileAction("actionOpenProject", tr("&Open Project…"), QKeySequence("Ctrl+Shift+O"),
              tr("Open a Motion LOD project (%1)").arg(kProjectSuffix), [this] {
                const QString path = QFileDialog::getOpenFileName(this, tr("Open project"),
@@ -834,7 +856,7 @@ void MainWindow::buildActions() {
     if (!path.isEmpty())
       saveProject(isProjectFile(path.toStdString()) ? path : path + kProjectSuffix);
   };
-  fileAction("actionSave", tr("&Save Project"), QKeySequence::Save, tr("Save the project (atomically)"), [this, saveAs] {
+  m_saveAction = fileAction("actionSave", tr("&Save Project"), QKeySequence::Save, tr("Save the project (atomically)"), [this, saveAs] {
     if (m_document->fileName().isEmpty())
       saveAs();
     else
@@ -1028,6 +1050,18 @@ void MainWindow::showError(const QString& title, const QString& text, const QStr
   box->setInformativeText(detail);
   box->setAttribute(Qt::WA_DeleteOnClose);
   box->open();
+}
+
+bool MainWindow::newProject() {
+  if (m_document->isModified() && isVisible() &&
+      QMessageBox::question(this, tr("Unsaved changes"),
+                            tr("A new project discards the unsaved changes of this one. Start a new project anyway?")) !=
+          QMessageBox::Yes)
+    return false;
+  m_document->newProject();
+  log(tr("New project"));
+  refreshTitle();
+  return true;
 }
 
 bool MainWindow::openProject(const QString& path) {

@@ -31,6 +31,7 @@ class CrowdPanel;
 class ViewportPanel;
 class Document;
 class ImportJob;
+class HelpBrowser;
 class JobProgress;
 class JointTreeModel;
 class LevelsModel;
@@ -90,6 +91,8 @@ public:
 
   // Projects: errors show in a non-modal message box and the log; the document is kept.
   bool openProject(const QString& path);
+  // File > New Project: an empty, untitled project; false when the user kept the unsaved changes.
+  bool newProject();
   bool saveProject(const QString& path);
   // A recovery file left by a session that did not close cleanly: asks (unless `ask` is
   // false) and opens it as an unsaved project.
@@ -119,7 +122,13 @@ private:
   void buildAssetUnitMenu(QMenu* edit);
   void refreshAssetUnitMenu();
   void offerToRegenerateDistances();
-  void buildDocks();
+  void buildDocks(); // the docks below, in their first-run places, and their links to the document
+  void buildSkeletonDock();
+  void buildLevelsDock();
+  void buildAnalysisDocks();
+  void buildViewports();
+  void buildStatusLabels();
+  void connectDocument();
   void buildSummaryDock();
   void buildResetLayout(); // after every dock is in its first-run place
   void buildActions();
@@ -162,6 +171,16 @@ private:
   QDockWidget* m_summaryDock = nullptr;
   QLabel* m_summaryLabel = nullptr;
   QDockWidget* m_crowdDock = nullptr;
+  QDockWidget* m_skeletonDock = nullptr;
+  QDockWidget* m_levelsDock = nullptr;
+  QDockWidget* m_clusteringDock = nullptr;
+  QDockWidget* m_trajectoryDock = nullptr;
+  QDockWidget* m_statisticsDock = nullptr;
+  // the actions that buttons also trigger (buildActions())
+  QAction* m_addLevelAction = nullptr;
+  QAction* m_generateLevelsAction = nullptr;
+  QAction* m_saveAction = nullptr;
+  QPointer<HelpBrowser> m_help; // the user guide, while open
   QMenu* m_recentMenu = nullptr;
   QMenu* m_assetUnitMenu = nullptr;
   int m_loggedIndex = 0; // the undo stack's index the log has told of

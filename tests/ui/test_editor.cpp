@@ -321,6 +321,7 @@ private slots:
     QVERIFY(waitForFigures(document));
     QVERIFY(document->project().assets[0].joints.count("Spine") && document->project().assets[0].joints.at("Spine").locked);
     QCOMPARE(document->analysis()->clusteredPairs, 0); // a locked joint is not clustered: nothing to do
+    QCOMPARE(document->analysis()->reusedFromOtherLevels, 0);
     QVERIFY2(window->statusBar()->currentMessage().startsWith("no joint clustered again ("),
              qPrintable(window->statusBar()->currentMessage()));
     for (const JpcLevelResult& level : document->analysis()->levels) {
@@ -549,6 +550,12 @@ private slots:
     QVERIFY(waitForFigures(document));
     QCOMPARE(levelThresholdsFor(document->project(), document->currentAsset()),
              (std::vector<double>{0, 5, 100, 50, 300}));
+    // New figures (levels 2 and 3 swapped), none clustered: the status says they came from
+    // the cache rather than that nothing was clustered again.
+    QCOMPARE(document->analysis()->clusteredPairs, 0);
+    QVERIFY(document->analysis()->reusedFromOtherLevels > 0);
+    QVERIFY2(window->statusBar()->currentMessage().startsWith("figures from the cache: "),
+             qPrintable(window->statusBar()->currentMessage()));
     QVERIFY(document->project().assets[0].joints.count("Neck"));
     const auto& neck = document->project().assets[0].joints.at("Neck").thresholds;
     QCOMPARE(neck.size(), std::size_t(4));
@@ -1416,6 +1423,42 @@ private slots:
     QCOMPARE(window->document()->undoStack()->count(), 1);
   }
 
+  // File > New Project (Ctrl+N): over unsaved changes it asks first and "No" keeps them;
+  // "Yes" leaves an empty, untitled project with no undo history.
+  void newProjectAsksThenStartsEmpty() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QVERIFY(document->isModified());
+    QAction* action = window->findChild<QAction*>("actionNewProject");
+    QVERIFY(action);
+    QCOMPARE(action->shortcut(), QKeySequence(QKeySequence::New));
+    const auto answer = [&](QMessageBox::StandardButton button, bool* asked) {
+      QTimer::singleShot(0, window.get(), [button, asked] {
+        if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
+          *asked = true;
+          QTest::mouseClick(box->button(button), Qt::LeftButton);
+        }
+      });
+    };
+    bool asked = false;
+    answer(QMessageBox::No, &asked);
+    action->trigger();
+    QVERIFY(asked);
+    QCOMPARE(document->assetCount(), 1);
+    QVERIFY(document->isModified());
+    asked = false;
+    answer(QMessageBox::Yes, &asked);
+    action->trigger();
+    QVERIFY(asked);
+    QCOMPARE(document->assetCount(), 0);
+    QCOMPARE(document->undoStack()->count(), 0);
+    QVERIFY(!document->isModified());
+    QVERIFY(document->fileName().isEmpty());
+    QVERIFY(!document->analysis());
+    QVERIFY(window->logText().contains("New project"));
+  }
+
   // A motion assigned to a character (automatic joint mapping) is one undo step, shows in the
   // Assets dock, survives save and reopen, and goes with the character when it is removed.
   void assignMotionToCharacter() {
@@ -1551,6 +1594,7 @@ private slots:
     QCOMPARE(shortcut("actionRedo"), QKeySequence(QKeySequence::Redo));
     QCOMPARE(shortcut("actionSave"), QKeySequence(QKeySequence::Save));
     QCOMPARE(shortcut("actionOpenProject"), QKeySequence("Ctrl+Shift+O"));
+    QCOMPARE(shortcut("actionNewProject"), QKeySequence(QKeySequence::New));
     QCOMPARE(shortcut("actionLockJoints"), QKeySequence("Ctrl+L"));
     QCOMPARE(shortcut("actionNextLevel"), QKeySequence(Qt::Key_PageDown));
     QVERIFY(!window.findChild<QAction*>("actionApplyToChildren")->toolTip().isEmpty());

@@ -94,12 +94,18 @@ Result<std::shared_ptr<const JpcAnalysis>> buildJpcAnalysis(const JpcAnalysisReq
       if (!key.active || level == 0) // level 0 is the original: nothing clustered
         continue;
       bool reused = false;
-      for (int old = 1; previous && trackSame && old < previous->levelCount() && !reused; ++old)
+      // the same level first (nothing changed there), then any other
+      for (int k = 0; previous && trackSame && k < previous->levelCount() && !reused; ++k) {
+        const int old = k == 0 ? level : (k == level ? 0 : k);
+        if (old < 1 || old >= previous->levelCount())
+          continue;
         if (keyOf(*previous->prepared, joint, old, previous->levelThresholds[static_cast<std::size_t>(old)]) == key) {
           out->clusterings[static_cast<std::size_t>(level)][static_cast<std::size_t>(joint)] =
               previous->clusterings[static_cast<std::size_t>(old)][static_cast<std::size_t>(joint)];
           reused = true;
+          out->reusedFromOtherLevels += old != level ? 1 : 0;
         }
+      }
       if (!reused)
         todo.push_back(level * joints + joint);
     }

@@ -47,6 +47,9 @@ struct JpcAnalysis {
   std::vector<std::vector<JointClustering>> clusterings;           // [level][joint]
   std::vector<JpcLevelResult> levels;                              // per level, measured
   int clusteredPairs = 0; // (level, joint) pairs clustered for this snapshot (the rest were reused)
+  // Pairs whose clustering came from another level of the previous snapshot (a level moved,
+  // a threshold set to another level's): new figures that needed no clustering.
+  int reusedFromOtherLevels = 0;
 
   const Clip& clipRef() const { return asset->clips[static_cast<std::size_t>(clip)]; }
   int levelCount() const { return static_cast<int>(levels.size()); }

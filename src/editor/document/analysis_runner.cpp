@@ -112,7 +112,12 @@ void AnalysisRunner::onDone() {
     return;
   }
   const int pairs = m_snapshot->clusteredPairs; // none when the edit touched only locked joints
-  emit finished(true, pairs == 0   ? tr("no joint clustered again (%1 ms)").arg(m_lastMs)
+  const int cached = m_snapshot->reusedFromOtherLevels;
+  emit finished(true, pairs == 0 && cached > 0
+                          ? tr("figures from the cache: %1 joint clusterings of other levels reused, none run (%2 ms)")
+                                .arg(cached)
+                                .arg(m_lastMs)
+                      : pairs == 0 ? tr("no joint clustered again (%1 ms)").arg(m_lastMs)
                       : pairs == 1 ? tr("1 joint clustering in %1 ms").arg(m_lastMs)
                                    : tr("%1 joint clusterings in %2 ms").arg(pairs).arg(m_lastMs));
 }

@@ -323,6 +323,19 @@ bool Document::open(const QString& path, const ProjectFileOptions& options, QStr
   return true;
 }
 
+void Document::newProject() {
+  m_analysis->stop();
+  m_undo->clear();
+  m_project = Project{};
+  m_fileName.clear();
+  m_assets.clear();
+  m_analysis->reset();
+  m_currentJoint = -1;
+  emit assetsChanged();
+  emit settingsChanged();
+  emit currentChanged();
+}
+
 bool Document::recover(const QString& path, QString* out_error) {
   // Its asset paths are absolute (saveRecovery()): the files the project had open.
   if (!open(path, {.allowOutsideAssets = true}, out_error))

@@ -79,6 +79,8 @@ public:
   // `options` say where the project's assets may be (core/project.h).
   bool save(const QString& path, QString* out_error = nullptr);
   bool open(const QString& path, const ProjectFileOptions& options, QString* out_error = nullptr);
+  // An empty, untitled project (File > New Project): no asset, the default settings, no undo history.
+  void newProject();
   // The autosave copy at `path`, and beside it (recoveryOriginPath()) the project file it is
   // unsaved work of, if any.
   bool saveRecovery(const QString& path, QString* out_error = nullptr) const;
