@@ -2,6 +2,7 @@
 # Imports a glTF file into Godot 3.2's editor headless (under Xvfb) and prints what Godot made
 # of it:
 #     scripts/check-godot.sh FILE.glb|FILE.gltf
+#     fps: 30 (from the glTF's animation extras: 30)
 #     skeleton: Skeleton bones=54
 #     mesh: BCN_Epileptic_LOD0 surfaces=3 skeleton=Skeleton visible
 #     mesh: BCN_Epileptic_LOD1 surfaces=3 skeleton=Skeleton hidden (MSFT_lod level 1)
@@ -15,7 +16,9 @@
 # script (nodes/custom_script) to scripts/godot/motionlod_msft_lod.gd, the project's
 # EditorScenePostImport script: Godot 3.2 imports every node of a glTF, the coarser levels
 # that only MSFT_lod names included, knows no MSFT_lod and shows them all; the script hides
-# the coarser levels (present, visible = false, metadata MSFT_lod_level). Then
+# the coarser levels (present, visible = false, metadata MSFT_lod_level). The .import file
+# also sets animation/fps to the clips' frame rate (animation extras "fps"): Godot 3.2
+# resamples every track at that rate, 15 fps unless told. Then
 # `godot3 --path DIR -e --quit` imports it (the editor's first scan) and a GDScript run
 # (`-s`) loads the imported scene and lists it. The editor's settings and caches go to a
 # temporary directory (XDG_*), not to ~/.config/godot. docs/user-guide.md, "Godot", says
@@ -63,22 +66,28 @@ config_version=4
 config/name="motionlod check-godot"
 EOF
 cp "$file" "$project/model.$ext"
-if [ "$ext" = gltf ]; then
-  # the buffers and images a .gltf names by relative path travel with it
-  python3 - "$file" "$project" <<'PYTHON'
-import json, os, shutil, sys
+# The clips' frame rate (animation extras "fps", docs/gltf-extension.md), for the import's
+# animation/fps; a .gltf's buffers and images named by relative path travel with it.
+fps=$(python3 - "$file" "$project" <<'PYTHON'
+import json, os, shutil, struct, sys
 from urllib.parse import unquote
 source, project = sys.argv[1], sys.argv[2]
-with open(source, encoding="utf-8") as f:
-    gltf = json.load(f)
-for item in gltf.get("buffers", []) + gltf.get("images", []):
-    uri = item.get("uri", "")
-    if uri and not uri.startswith("data:") and "://" not in uri:
-        target = os.path.join(project, unquote(uri))
-        os.makedirs(os.path.dirname(target), exist_ok=True)
-        shutil.copyfile(os.path.join(os.path.dirname(source), unquote(uri)), target)
+with open(source, "rb") as f:
+    data = f.read()
+glb = data[:4] == b"glTF"
+gltf = json.loads(data[20:20 + struct.unpack_from("<I", data, 12)[0]] if glb else data)
+if not glb:
+    for item in gltf.get("buffers", []) + gltf.get("images", []):
+        uri = item.get("uri", "")
+        if uri and not uri.startswith("data:") and "://" not in uri:
+            target = os.path.join(project, unquote(uri))
+            os.makedirs(os.path.dirname(target), exist_ok=True)
+            shutil.copyfile(os.path.join(os.path.dirname(source), unquote(uri)), target)
+fps = [(a.get("extras") or {}).get("fps") for a in gltf.get("animations", [])]
+fps = [f for f in fps if isinstance(f, (int, float)) and f > 0]
+print("%g" % fps[0] if fps else "")
 PYTHON
-fi
+)
 cp "$script_dir/godot/motionlod_msft_lod.gd" "$project/motionlod_msft_lod.gd"
 cat >"$project/model.$ext.import" <<'EOF'
 [remap]
@@ -89,6 +98,13 @@ importer="scene"
 
 nodes/custom_script="res://motionlod_msft_lod.gd"
 EOF
+if [ -n "$fps" ]; then
+  # Godot 3.2 resamples every animation track at the import's animation/fps (15 by default,
+  # a whole number): at the clips' own rate the samples fall on the source's frames
+  godot_fps=$(awk -v fps="$fps" 'BEGIN { printf "%d", fps + 0.5 }')
+  echo "animation/fps=$godot_fps" >>"$project/model.$ext.import"
+  echo "fps: $godot_fps (from the glTF's animation extras: $fps)"
+fi
 
 cat >"$project/check_godot.gd" <<EOF
 extends SceneTree

@@ -6,7 +6,8 @@
 # scripts/godot/motionlod_msft_lod.gd) and checks: one skeleton with every joint as a bone,
 # every level's mesh present, exactly one of them visible, showing each character part once
 # (its surfaces), the coarser levels hidden with their MSFT_lod level, and one animation per
-# level and clip. Exit 77 (ctest: skipped) when there is no Godot 3 or no xvfb-run.
+# level and clip, imported at the clips' frame rate. Exit 77 (ctest: skipped) when there is
+# no Godot 3 or no xvfb-run.
 set -eu
 motionlod=$1 check=$2 models=$3 out=$4
 godot=${GODOT:-}
@@ -26,8 +27,9 @@ fail() {
   echo "FAIL: $*"
   failures=$((failures + 1))
 }
-# What the file itself says: "NAME LEVELS PARTS ANIMATIONS" (the node with MSFT_lod, its
-# levels with it, its mesh's primitives = character parts, the glTF's animations)
+# What the file itself says: "NAME LEVELS PARTS ANIMATIONS FPS" (the node with MSFT_lod,
+# its levels with it, its mesh's primitives = character parts, the glTF's animations, their
+# frame rate rounded as Godot's animation/fps takes it)
 describe() {
   python3 - "$1" <<'PYTHON'
 import json, struct, sys
@@ -40,7 +42,7 @@ if len(hosts) != 1 or "mesh" not in hosts[0]:
 host = hosts[0]
 name = host["name"].rsplit("_LOD", 1)[0]
 print(name, 1 + len(host["extensions"]["MSFT_lod"]["ids"]), len(gltf["meshes"][host["mesh"]]["primitives"]),
-      len(gltf.get("animations", [])))
+      len(gltf.get("animations", [])), int(gltf["animations"][0]["extras"]["fps"] + 0.5))
 PYTHON
 }
 joints() { "$motionlod" info "$1" --json | python3 -c 'import json,sys; print(len(json.load(sys.stdin)["joints"]))'; }
@@ -49,7 +51,7 @@ check() {
   file=$1
   info=$(describe "$file") || { fail "$file: not a combined file"; return; }
   set -- $info
-  name=$1 levels=$2 parts=$3 animations=$4
+  name=$1 levels=$2 parts=$3 animations=$4 fps=$5
   bones=$(joints "$file")
   [ "$levels" -ge 2 ] || fail "$file: $levels level(s), a combined file with several was expected"
   summary=$("$check" "$file" 2>"$file.godot.err" | tee "$file.godot.txt" | grep '^summary: ') ||
@@ -61,6 +63,7 @@ check() {
   esac
   grep -q "^mesh: ${name}_LOD0 surfaces=$parts skeleton=Skeleton visible\$" "$file.godot.txt" ||
     fail "$file: ${name}_LOD0 is not the visible mesh with its $parts part(s)"
+  grep -q "^fps: $fps " "$file.godot.txt" || fail "$file: Godot's animation/fps was not set to the clips' $fps fps"
   level=1
   while [ "$level" -lt "$levels" ]; do
     grep -q "^mesh: ${name}_LOD$level surfaces=$parts skeleton=Skeleton hidden (MSFT_lod level $level)\$" "$file.godot.txt" ||
