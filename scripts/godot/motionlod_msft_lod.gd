@@ -16,6 +16,8 @@ extends EditorScenePostImport
 
 
 func post_import(scene):
+	if not get_source_file().get_extension().to_lower() in ["gltf", "glb"]:
+		return scene  # made a project's default: other formats pass through unchanged
 	var gltf = _read_gltf_json(get_source_file())
 	if typeof(gltf) != TYPE_DICTIONARY:
 		push_warning("motionlod_msft_lod: %s: no glTF JSON read; nothing hidden" % get_source_file())
