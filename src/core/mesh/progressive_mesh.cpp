@@ -166,11 +166,10 @@ struct Topology {
   std::vector<std::uint8_t> lockedWelded; // per welded vertex
 };
 
-// The corners of `v` at which OpenMesh's add_face (PolyConnectivity::add_face) would refuse
-// the triangle: a vertex whose fan is closed; both ends of an edge that already has a
-// triangle on this side; a vertex whose separate fans the triangle would join where no other
-// gap is left to move one into. Asked first, so that a refusal is ours to handle rather than
-// a line on stderr.
+// The corners of `v` at which OpenMesh's add_face would refuse the triangle: a vertex whose fan
+// is closed; both ends of an edge that has a triangle on this side; a vertex whose separate
+// fans it would join with no other gap left to move one into. Asked first, so that a refusal
+// is ours to handle rather than a line on stderr.
 std::array<bool, 3> refusedCorners(const WeldedMesh& m, const std::array<VertexHandle, 3>& v) {
   std::array<bool, 3> out{};
   std::array<HalfedgeHandle, 3> h;
@@ -218,26 +217,24 @@ Topology buildTopology(const SkinnedMesh& mesh) {
   for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
     const std::uint32_t* corners = &mesh.indices[std::size_t(t) * 3];
     const std::array<std::uint32_t, 3> w = {weld[corners[0]], weld[corners[1]], weld[corners[2]]};
-    if (w[0] == w[1] || w[1] == w[2] || w[2] == w[0]) {
-      out.degenerate.push_back(t);
-      out.lockedWelded[w[0]] = out.lockedWelded[w[1]] = out.lockedWelded[w[2]] = 1;
-      continue;
-    }
     std::array<VertexHandle, 3> v = {out.vertexOf[w[0]], out.vertexOf[w[1]], out.vertexOf[w[2]]};
     std::array<std::size_t, 3> tried = {};
-    for (std::array<bool, 3> refused; refused = refusedCorners(m, v), refused[0] || refused[1] || refused[2];)
-      for (int k = 0; k < 3; ++k) {
-        if (!refused[k])
-          continue;
-        std::vector<VertexHandle>& others = copies[w[k]];
-        if (tried[k] == others.size())
-          others.push_back(addVertex(w[k]));
-        v[k] = others[tried[k]++];
-        out.lockedWelded[w[k]] = 1;
-      }
-    const FaceHandle f = m.add_face(v[0], v[1], v[2]);
-    if (!f.is_valid()) { // not foreseen by refusedCorners(): kept as it is, like a degenerate one
-      assert(false);
+    FaceHandle f;
+    if (w[0] != w[1] && w[1] != w[2] && w[2] != w[0]) {
+      for (std::array<bool, 3> refused; refused = refusedCorners(m, v), refused[0] || refused[1] || refused[2];)
+        for (int k = 0; k < 3; ++k) {
+          if (!refused[k])
+            continue;
+          std::vector<VertexHandle>& others = copies[w[k]];
+          if (tried[k] == others.size())
+            others.push_back(addVertex(w[k]));
+          v[k] = others[tried[k]++];
+          out.lockedWelded[w[k]] = 1;
+        }
+      f = m.add_face(v[0], v[1], v[2]);
+      assert(f.is_valid()); // refusedCorners() foresees every refusal
+    }
+    if (!f.is_valid()) { // degenerate: kept as it is, its vertices locked
       out.degenerate.push_back(t);
       out.lockedWelded[w[0]] = out.lockedWelded[w[1]] = out.lockedWelded[w[2]] = 1;
       continue;
@@ -431,14 +428,8 @@ public:
   void run(const std::atomic<bool>* cancel);
 
 private:
-  struct Candidate {
-    std::uint32_t target = kNone;
-    double cost = 0.0;
-    bool attribute = false;
-  };
   void accumulateQuadrics(std::span<const std::vector<glm::vec3>> poses, std::span<const float> importance);
-  // The cheapest allowed collapse of u.
-  Candidate evaluate(VertexHandle u);
+  // Ranks u again: its cheapest allowed collapse goes on the heap (none for a locked or gone u).
   void push(VertexHandle u);
   void collapse(VertexHandle u, VertexHandle v, double cost, bool attribute);
   // Connected components (over welded vertices) and what pruning each costs.
@@ -493,7 +484,6 @@ ProgressiveMeshBuilder::ProgressiveMeshBuilder(const SkinnedMesh& mesh, std::spa
 
 void ProgressiveMeshBuilder::accumulateQuadrics(std::span<const std::vector<glm::vec3>> poses,
                                                 std::span<const float> importance) {
-  const std::size_t poseCount = m_poseCount;
   std::vector<double> scale(m_mesh.vertexCount(), 0.0); // per welded vertex: the largest importance of its wedges
   for (std::size_t v = 0; v < m_mesh.vertexCount(); ++v) {
     double& s = scale[m_out.m_weld[v]];
@@ -501,10 +491,10 @@ void ProgressiveMeshBuilder::accumulateQuadrics(std::span<const std::vector<glm:
   }
   for (const VertexHandle v : m_m.vertices()) {
     auto& data = m_m.data(v);
-    data.positions.resize(poseCount);
-    for (std::size_t p = 0; p < poseCount; ++p)
+    data.positions.resize(m_poseCount);
+    for (std::size_t p = 0; p < m_poseCount; ++p)
       data.positions[p] = glm::dvec3(poses[p][data.welded]);
-    data.quadrics.assign(poseCount, Quadric{});
+    data.quadrics.assign(m_poseCount, Quadric{});
   }
   for (const FaceHandle f : m_m.faces()) {
     const HalfedgeHandle h0 = m_m.halfedge_handle(f);
@@ -512,7 +502,7 @@ void ProgressiveMeshBuilder::accumulateQuadrics(std::span<const std::vector<glm:
     const std::array<VertexHandle, 3> v = {m_m.from_vertex_handle(h[0]), m_m.from_vertex_handle(h[1]),
                                            m_m.from_vertex_handle(h[2])};
     const auto position = [&](int k, std::size_t p) -> const glm::dvec3& { return m_m.data(v[k]).positions[p]; };
-    for (std::size_t p = 0; p < poseCount; ++p)
+    for (std::size_t p = 0; p < m_poseCount; ++p)
       for (int k = 0; k < 3; ++k)
         quadricAdd(m_m.data(v[k]).quadrics[p],
                    quadricFromTriangle(position(0, p), position(1, p), position(2, p), scale[m_m.data(v[k]).welded]));
@@ -531,7 +521,7 @@ void ProgressiveMeshBuilder::accumulateQuadrics(std::span<const std::vector<glm:
       if (!(weight > 0.0))
         continue;
       for (const int end : {k, (k + 1) % 3})
-        for (std::size_t p = 0; p < poseCount; ++p)
+        for (std::size_t p = 0; p < m_poseCount; ++p)
           quadricAdd(m_m.data(v[end]).quadrics[p],
                      quadricFromEdge(position(k, p), position((k + 1) % 3, p), position((k + 2) % 3, p),
                                      weight * scale[m_m.data(v[end]).welded]));
@@ -644,10 +634,11 @@ bool ProgressiveMeshBuilder::prune(std::uint32_t c, double cost) {
   return true;
 }
 
-ProgressiveMeshBuilder::Candidate ProgressiveMeshBuilder::evaluate(VertexHandle u) {
+void ProgressiveMeshBuilder::push(VertexHandle u) {
+  const std::uint32_t version = ++m_version[std::size_t(u.idx())];
   const auto& data = m_m.data(u);
   if (data.locked || m_m.status(u).deleted() || m_m.is_isolated(u))
-    return {};
+    return;
   const bool border = m_m.is_boundary(u);
   std::vector<std::pair<double, HalfedgeHandle>> options; // cost, u -> v
   for (const HalfedgeHandle h : m_m.voh_range(u)) {
@@ -667,16 +658,11 @@ ProgressiveMeshBuilder::Candidate ProgressiveMeshBuilder::evaluate(VertexHandle 
   WedgeMap map;
   for (const auto& [cost, h] : options)
     if (mapWedges(m_m, h, m_mesh, map) && (m_m.is_collapse_ok(h) || loneTriangle(m_m, h)) &&
-        !flips(m_m, h, map, m_mesh))
-      return {std::uint32_t(m_m.to_vertex_handle(h).idx()), cost, map.attribute};
-  return {};
-}
-
-void ProgressiveMeshBuilder::push(VertexHandle u) {
-  const std::uint32_t version = ++m_version[std::size_t(u.idx())];
-  const Candidate c = evaluate(u);
-  if (c.target != kNone)
-    m_heap.push(HeapEntry{c.cost, std::uint32_t(u.idx()), c.target, version, c.attribute});
+        !flips(m_m, h, map, m_mesh)) {
+      m_heap.push(HeapEntry{cost, std::uint32_t(u.idx()), std::uint32_t(m_m.to_vertex_handle(h).idx()), version,
+                            map.attribute});
+      return;
+    }
 }
 
 void ProgressiveMeshBuilder::collapse(VertexHandle u, VertexHandle v, double cost, bool attribute) {
