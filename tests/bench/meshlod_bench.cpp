@@ -33,7 +33,7 @@
 //    same; WusonSMD at 50/25/10% 0.95/1.34/1.94 -> 1.03/1.34/1.76 (its non-manifold vertices,
 //    2 locked before, are 7 now: a closed fan touched by another triangle is one too); CPU
 //    time of BM_OursLevel beside the previous binary on the same (shared, loaded) machine,
-//    median of 3: BCN_Epileptic 1.0-1.13x, tube5k 1.2-1.3x, tube50k 1.06-1.22x.
+//    median of 3, four rounds: BCN_Epileptic 1.0-1.15x, tube5k 1.2-1.35x, tube50k 0.96-1.22x.
 
 #include "../unit/core/mesh_lod_fixtures.h"
 #include "core/mesh/mesh_lod.h"
