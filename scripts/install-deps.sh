@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build ccache dpkg-dev file pkg-config
   qt6-base-dev qt6-base-dev-tools qt6-tools-dev qt6-tools-dev-tools qt6-charts-dev qt6-svg-dev
   libqt6opengl6-dev
-  libassimp-dev assimp-utils assimp-testmodels libglm-dev libmeshoptimizer-dev
+  libassimp-dev assimp-utils assimp-testmodels libopenmesh-dev libglm-dev libmeshoptimizer-dev
   libtinygltf-dev nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
   libgl-dev libgl1-mesa-dri xvfb xauth clang libclang-rt-14-dev
   appstream desktop-file-utils jq man-db valgrind

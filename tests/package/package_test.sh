@@ -194,7 +194,7 @@ deb)
   depends=$(dpkg-deb -f "$deb" Depends)
   # dpkg-shlibdeps filled Depends from the binaries' NEEDED entries.
   depends_names=$(tr ',|' '\n\n' <<< "$depends" | sed -E 's/^ +//; s/ .*//')
-  for package in libc6 libstdc++6 libqt6core6 libqt6gui6 libqt6widgets6 libqt6charts6 libassimp5; do
+  for package in libc6 libstdc++6 libqt6core6 libqt6gui6 libqt6widgets6 libqt6charts6 libassimp5 libopenmesh1; do
     grep -qxF "$package" <<< "$depends_names" || fail "Depends lacks $package: $depends"
   done
   [ "$(dpkg-deb -f "$deb" Package)" = motionlod ] || fail "package name"

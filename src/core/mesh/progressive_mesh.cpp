@@ -2,20 +2,23 @@
 
 #include "core/cancel.h"
 
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <algorithm>
 #include <array>
 #include <cassert>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <queue>
-#include <unordered_map>
 
 namespace mlod {
 
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+// ---- Quadrics and costs ------------------------------------------------------------------
 
 // A symmetric 4x4 quadric (Garland & Heckbert): error(p) = p^T A p + 2 b.p + c, with the
 // area weight it was built from.
@@ -49,9 +52,8 @@ double quadricError(const Quadric& q, const glm::dvec3& p) {
 }
 
 // The triangle's plane, weighted by the square root of its area (cm), as meshoptimizer 0.18
-// weighs it: the error then grows linearly with a part's size, which keeps silhouettes
-// (BCN_Epileptic at 50%: 0.36% -> 0.31% of the diagonal animated; area weights rank a large
-// part's small move above a thin part's large one).
+// weighs it: the error then grows linearly with a part's size, which keeps silhouettes (area
+// weights rank a large part's small move above a thin part's large one).
 Quadric quadricFromTriangle(const glm::dvec3& p0, const glm::dvec3& p1, const glm::dvec3& p2, double scale) {
   glm::dvec3 n = glm::cross(p1 - p0, p2 - p0);
   const double length = glm::length(n);
@@ -78,26 +80,6 @@ Quadric quadricFromEdge(const glm::dvec3& p0, const glm::dvec3& p1, const glm::d
   return quadricFromPlane(n, glm::dot(n, p0), length * scale);
 }
 
-// A corner's position bits and, on a skinned mesh, its influences: corners at one position
-// that a different skin moves apart are not one surface point.
-struct WeldKey {
-  std::uint32_t bits[3 + 2 * kMaxInfluences] = {};
-  bool operator==(const WeldKey& other) const { return std::memcmp(bits, other.bits, sizeof bits) == 0; }
-};
-
-struct WeldHash {
-  std::size_t operator()(const WeldKey& k) const {
-    std::size_t h = 0;
-    for (std::uint32_t b : k.bits)
-      h = h * 1000003u ^ b;
-    return h;
-  }
-};
-
-std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
-  return (std::uint64_t(a) << 32) | b;
-}
-
 // Weight mass that changes joint between two influence sets (0: same bones, same weights; 1:
 // no bone in common).
 double skinDistance(const glm::u16vec4& ja, const glm::vec4& wa, const glm::u16vec4& jb, const glm::vec4& wb) {
@@ -109,11 +91,316 @@ double skinDistance(const glm::u16vec4& ja, const glm::vec4& wa, const glm::u16v
   return std::max(0.0, 1.0 - common);
 }
 
-struct Candidate {
-  std::uint32_t target = kNone; // welded vertex
+// The cost of moving u onto v (progressive_mesh.h): u's quadrics (per pose, importance
+// scaled) at v's positions, the move and skin terms, per unit of the weight u's quadrics
+// gathered (`weightU`, unscaled). `skin`: skinDistance() of the two, 0 on an unskinned mesh.
+double collapseCost(std::span<const Quadric> quadricsU, double weightU, std::span<const glm::dvec3> positionsU,
+                    std::span<const glm::dvec3> positionsV, double skin, const ProgressiveMeshSettings& settings) {
   double cost = 0.0;
-  bool attribute = false; // needs wedges the edge does not map
+  for (std::size_t p = 0; p < quadricsU.size(); ++p)
+    cost += quadricError(quadricsU[p], positionsV[p]);
+  const glm::dvec3 edge = positionsV[0] - positionsU[0];
+  // note: a collapse whose quadric cost is nil (u on every plane of its fan at v, as on a
+  // ridge where mirrored halves meet) still moves the surface by |u - v|: a small weight on
+  // that distance ranks short moves first
+  cost += (settings.moveWeight + settings.skinWeight * skin) * quadricsU[0].w * glm::dot(edge, edge);
+  // note: the sum alone would rank a small part that moves far (an eye, a finger tip) below
+  // a large one that moves a little, and the max distance levels are measured by is set by
+  // the former; importance scales the quadrics, not the weight, so it still ranks later
+  return weightU > 0.0 ? cost / weightU : cost;
+}
+
+// ---- Topology: the welded mesh, on OpenMesh ----------------------------------------------
+
+struct WeldedTraits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d; // the bind pose, cm
+  VertexAttributes(OpenMesh::Attributes::Status);
+  HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge);
+  EdgeAttributes(OpenMesh::Attributes::Status);
+  FaceAttributes(OpenMesh::Attributes::Status);
+  VertexTraits {
+    std::uint32_t welded = 0;          // the welded vertex (original vertex index) it stands for
+    bool locked = false;               // a non-manifold guard: never moves
+    std::vector<glm::dvec3> positions; // skinned, per pose ([0] the bind pose), cm
+    std::vector<Quadric> quadrics;     // per pose, scaled by importance
+    double weight = 0.0;               // the triangle weights its quadrics gathered (bind pose, unscaled)
+  };
+  HalfedgeTraits {
+    std::uint32_t wedge = kNone; // its triangle's corner (original vertex) at its start vertex
+  };
+  FaceTraits {
+    std::uint32_t triangle = 0; // the original triangle
+  };
 };
+using WeldedMesh = OpenMesh::TriMesh_ArrayKernelT<WeldedTraits>;
+using VertexHandle = OpenMesh::VertexHandle;
+using HalfedgeHandle = OpenMesh::HalfedgeHandle;
+using FaceHandle = OpenMesh::FaceHandle;
+
+// Per vertex: the lowest vertex index with the same position bits and, on a skinned mesh, the
+// same influences (corners at one position that a different skin moves apart are not one
+// surface point).
+std::vector<std::uint32_t> weldVertices(const SkinnedMesh& mesh) {
+  std::vector<std::uint32_t> weld(mesh.vertexCount());
+  std::map<std::array<std::uint32_t, 3 + 2 * kMaxInfluences>, std::uint32_t> first;
+  for (std::size_t v = 0; v < weld.size(); ++v) {
+    std::array<std::uint32_t, 3 + 2 * kMaxInfluences> key = {};
+    std::memcpy(key.data(), &mesh.positions[v], 3 * sizeof(std::uint32_t));
+    if (mesh.skinned()) {
+      for (int i = 0; i < kMaxInfluences; ++i)
+        key[std::size_t(3 + i)] = mesh.joints[v][i];
+      std::memcpy(key.data() + 3 + kMaxInfluences, &mesh.weights[v], kMaxInfluences * sizeof(std::uint32_t));
+    }
+    weld[v] = first.emplace(key, static_cast<std::uint32_t>(v)).first->second;
+  }
+  return weld;
+}
+
+// The welded mesh of `mesh`: one OpenMesh vertex per welded vertex (vertexOf), and copies of
+// them for the triangles add_face refuses.
+struct Topology {
+  WeldedMesh mesh;
+  std::vector<std::uint32_t> weld;        // per vertex: its welded vertex (weldVertices())
+  std::vector<VertexHandle> vertexOf;     // per welded vertex: its first OpenMesh vertex
+  std::vector<std::uint32_t> degenerate;  // input triangles with two corners welded together: kept, never in `mesh`
+  std::vector<std::uint8_t> lockedWelded; // per welded vertex
+};
+
+// The corners of `v` at which OpenMesh's add_face would refuse the triangle: a vertex whose fan
+// is closed; both ends of an edge that has a triangle on this side; a vertex whose separate
+// fans it would join with no other gap left to move one into. Asked first, so that a refusal
+// is ours to handle rather than a line on stderr.
+std::array<bool, 3> refusedCorners(const WeldedMesh& m, const std::array<VertexHandle, 3>& v) {
+  std::array<bool, 3> out{};
+  std::array<HalfedgeHandle, 3> h;
+  for (int k = 0; k < 3; ++k) {
+    out[k] = out[k] || !m.is_boundary(v[k]);
+    h[k] = m.find_halfedge(v[k], v[(k + 1) % 3]);
+    if (h[k].is_valid() && !m.is_boundary(h[k]))
+      out[k] = out[(k + 1) % 3] = true;
+  }
+  if (out[0] || out[1] || out[2])
+    return out;
+  for (int k = 0; k < 3; ++k) {
+    const HalfedgeHandle in = h[k], next = h[(k + 1) % 3]; // into and out of v[k + 1]
+    if (!in.is_valid() || !next.is_valid() || m.next_halfedge_handle(in) == next)
+      continue;
+    HalfedgeHandle gap = m.opposite_halfedge_handle(next);
+    do
+      gap = m.opposite_halfedge_handle(m.next_halfedge_handle(gap));
+    while (!m.is_boundary(gap));
+    out[(k + 1) % 3] = gap == in;
+  }
+  return out;
+}
+
+Topology buildTopology(const SkinnedMesh& mesh) {
+  Topology out;
+  out.weld = weldVertices(mesh);
+  const std::vector<std::uint32_t>& weld = out.weld;
+  WeldedMesh& m = out.mesh;
+  const std::size_t n = mesh.vertexCount();
+  out.vertexOf.resize(n);
+  out.lockedWelded.assign(n, 0);
+  const auto addVertex = [&](std::uint32_t w) {
+    const VertexHandle v =
+        m.add_vertex(WeldedMesh::Point(mesh.positions[w].x, mesh.positions[w].y, mesh.positions[w].z));
+    m.data(v).welded = w;
+    return v;
+  };
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (weld[v] == v)
+      out.vertexOf[v] = addVertex(v);
+  // adds triangle t; where add_face would refuse it, on copies of the welded vertices it may
+  // not share (the first copy that takes it, or a new one)
+  std::map<std::uint32_t, std::vector<VertexHandle>> copies; // per welded vertex
+  for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+    const std::uint32_t* corners = &mesh.indices[std::size_t(t) * 3];
+    const std::array<std::uint32_t, 3> w = {weld[corners[0]], weld[corners[1]], weld[corners[2]]};
+    std::array<VertexHandle, 3> v = {out.vertexOf[w[0]], out.vertexOf[w[1]], out.vertexOf[w[2]]};
+    std::array<std::size_t, 3> tried = {};
+    FaceHandle f;
+    if (w[0] != w[1] && w[1] != w[2] && w[2] != w[0]) {
+      for (std::array<bool, 3> refused; refused = refusedCorners(m, v), refused[0] || refused[1] || refused[2];)
+        for (int k = 0; k < 3; ++k) {
+          if (!refused[k])
+            continue;
+          std::vector<VertexHandle>& others = copies[w[k]];
+          if (tried[k] == others.size())
+            others.push_back(addVertex(w[k]));
+          v[k] = others[tried[k]++];
+          out.lockedWelded[w[k]] = 1;
+        }
+      f = m.add_face(v[0], v[1], v[2]);
+      assert(f.is_valid()); // refusedCorners() foresees every refusal
+    }
+    if (!f.is_valid()) { // degenerate: kept as it is, its vertices locked
+      out.degenerate.push_back(t);
+      out.lockedWelded[w[0]] = out.lockedWelded[w[1]] = out.lockedWelded[w[2]] = 1;
+      continue;
+    }
+    m.data(f).triangle = t;
+    for (const HalfedgeHandle h : m.fh_range(f))
+      m.data(h).wedge = corners[std::find(v.begin(), v.end(), m.from_vertex_handle(h)) - v.begin()];
+  }
+  for (const VertexHandle v : m.vertices())
+    if (!m.is_manifold(v))
+      out.lockedWelded[m.data(v).welded] = 1;
+  for (const VertexHandle v : m.vertices())
+    m.data(v).locked = out.lockedWelded[m.data(v).welded] != 0;
+  return out;
+}
+
+// Where each wedge of u goes when u collapses onto v.
+struct WedgeMap {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs; // wedge of u -> wedge of v
+  bool attribute = false; // a wedge that the edge's triangles do not map moves (an attribute collapse)
+
+  std::uint32_t find(std::uint32_t from) const {
+    for (const auto& [a, b] : pairs)
+      if (a == from)
+        return b;
+    return kNone;
+  }
+};
+
+// The wedge map of the collapse `uv` (u onto v) into out_map; false when there is none: the
+// edge's triangles map a wedge two ways (a half-seam), or v has no wedge to take one of u's.
+bool mapWedges(const WeldedMesh& m, HalfedgeHandle uv, const SkinnedMesh& mesh, WedgeMap& out_map) {
+  out_map.pairs.clear();
+  out_map.attribute = false;
+  const auto map = [&](std::uint32_t from, std::uint32_t to) {
+    const std::uint32_t found = out_map.find(from);
+    if (found == kNone)
+      out_map.pairs.emplace_back(from, to);
+    return found == kNone || found == to;
+  };
+  // the edge's triangles map u's corner in them onto v's corner in them
+  const HalfedgeHandle vu = m.opposite_halfedge_handle(uv);
+  if (!m.is_boundary(uv) && !map(m.data(uv).wedge, m.data(m.next_halfedge_handle(uv)).wedge))
+    return false;
+  if (!m.is_boundary(vu) && !map(m.data(m.next_halfedge_handle(vu)).wedge, m.data(vu).wedge))
+    return false;
+  // wedges of u on no triangle of the edge: onto v's wedge with the nearest normal, then UV
+  for (const HalfedgeHandle h : m.voh_range(m.from_vertex_handle(uv))) {
+    const std::uint32_t c = m.data(h).wedge;
+    if (m.is_boundary(h) || out_map.find(c) != kNone)
+      continue;
+    out_map.attribute = true;
+    std::uint32_t best = kNone;
+    double bestScore = std::numeric_limits<double>::max();
+    for (const HalfedgeHandle k : m.voh_range(m.to_vertex_handle(uv))) {
+      if (m.is_boundary(k))
+        continue;
+      const std::uint32_t d = m.data(k).wedge;
+      double score = 0.0;
+      if (!mesh.normals.empty())
+        score += 4.0 * (1.0 - double(glm::dot(mesh.normals[c], mesh.normals[d])));
+      if (!mesh.uvs.empty()) {
+        const glm::dvec2 delta = glm::dvec2(mesh.uvs[c]) - glm::dvec2(mesh.uvs[d]);
+        score += glm::dot(delta, delta);
+      }
+      // (a NaN score, from a degenerate triangle's normal, must still name a wedge)
+      if (best == kNone || score < bestScore)
+        bestScore = score, best = d;
+    }
+    if (best == kNone)
+      return false; // v keeps no wedge of its own to take u's: no collapse
+    out_map.pairs.emplace_back(c, best);
+  }
+  return true;
+}
+
+// Whether the collapse `uv` with `map` (mapWedges()) turns a triangle that stays over in some
+// pose, makes it degenerate in the bind pose, or turns its back on its corners' normals.
+bool flips(const WeldedMesh& m, HalfedgeHandle uv, const WedgeMap& map, const SkinnedMesh& mesh) {
+  const VertexHandle u = m.from_vertex_handle(uv), v = m.to_vertex_handle(uv);
+  const std::vector<glm::dvec3>& pu = m.data(u).positions;
+  const std::vector<glm::dvec3>& pv = m.data(v).positions;
+  for (const HalfedgeHandle h : m.voh_range(u)) {
+    if (m.is_boundary(h))
+      continue;
+    const HalfedgeHandle next = m.next_halfedge_handle(h), prev = m.next_halfedge_handle(next);
+    const VertexHandle a = m.to_vertex_handle(h), b = m.to_vertex_handle(next);
+    if (a == v || b == v)
+      continue; // the edge's own triangles go away
+    const std::vector<glm::dvec3>& pa = m.data(a).positions;
+    const std::vector<glm::dvec3>& pb = m.data(b).positions;
+    for (std::size_t p = 0; p < pu.size(); ++p) {
+      const glm::dvec3 before = glm::cross(pa[p] - pu[p], pb[p] - pu[p]);
+      const glm::dvec3 after = glm::cross(pa[p] - pv[p], pb[p] - pv[p]);
+      // note: a triangle already degenerate in a pose says nothing about a flip there
+      if (glm::length(before) * glm::length(after) > 0.0 && glm::dot(before, after) <= 0.0)
+        return true;
+      if (p != 0)
+        continue;
+      if (!(glm::dot(after, after) > 0.0) && glm::dot(before, before) > 0.0)
+        return true; // would become degenerate in the bind pose
+      if (mesh.normals.empty())
+        continue;
+      // nor turn its back on its corners' normals (it would shade inside out), unless the
+      // input triangle already did
+      const std::uint32_t corner = m.data(h).wedge;
+      const glm::dvec3 shadingBefore =
+          glm::dvec3(mesh.normals[corner] + mesh.normals[m.data(next).wedge] + mesh.normals[m.data(prev).wedge]);
+      const glm::dvec3 shadingAfter =
+          shadingBefore - glm::dvec3(mesh.normals[corner]) + glm::dvec3(mesh.normals[map.find(corner)]);
+      if (glm::dot(after, shadingAfter) < 0.0 && glm::dot(before, shadingBefore) >= 0.0)
+        return true;
+    }
+  }
+  return false;
+}
+
+// Whether `uv` is the edge of a triangle that stands alone (its three edges open): OpenMesh's
+// is_collapse_ok refuses it (the collapse would leave a dangling edge); ours removes the
+// triangle.
+bool loneTriangle(const WeldedMesh& m, HalfedgeHandle uv) {
+  if (m.is_boundary(uv))
+    return false;
+  for (const HalfedgeHandle h : m.fh_range(m.face_handle(uv)))
+    if (!m.is_boundary(m.opposite_halfedge_handle(h)))
+      return false;
+  return true;
+}
+
+// Collapses `uv` (OpenMesh's collapse(): u goes, v stays) and gives u's triangles v's wedges
+// by `map`.
+void collapseWithWedges(WeldedMesh& m, HalfedgeHandle uv, const WedgeMap& map) {
+  if (loneTriangle(m, uv)) {
+    m.delete_face(m.face_handle(uv), true);
+    return;
+  }
+  const VertexHandle u = m.from_vertex_handle(uv), v = m.to_vertex_handle(uv);
+  // note: where collapse() merges the two halfedges of a side of a removed triangle, it may
+  // keep the removed triangle's, whose wedge is that triangle's corner, not the neighbour's;
+  // so the corners of u's remaining triangles are noted before and written back after
+  struct Corners {
+    FaceHandle face;
+    std::array<std::pair<VertexHandle, std::uint32_t>, 3> corners; // start vertex, wedge
+  };
+  std::vector<Corners> faces;
+  for (const HalfedgeHandle h : m.voh_range(u)) {
+    if (m.is_boundary(h) || m.to_vertex_handle(h) == v || m.to_vertex_handle(m.next_halfedge_handle(h)) == v)
+      continue;
+    Corners& f = faces.emplace_back();
+    f.face = m.face_handle(h);
+    int k = 0;
+    for (const HalfedgeHandle g : m.fh_range(f.face)) {
+      const VertexHandle from = m.from_vertex_handle(g);
+      f.corners[k++] = from == u ? std::pair(v, map.find(m.data(g).wedge)) : std::pair(from, m.data(g).wedge);
+    }
+  }
+  m.collapse(uv);
+  for (const Corners& f : faces)
+    for (const HalfedgeHandle g : m.fh_range(f.face)) {
+      const VertexHandle from = m.from_vertex_handle(g);
+      m.data(g).wedge =
+          std::find_if(f.corners.begin(), f.corners.end(), [&](const auto& c) { return c.first == from; })->second;
+    }
+}
+
+// ---- The queue driver ----------------------------------------------------------------------
 
 // HeapEntry::target of a component's pruning (HeapEntry::vertex is then the component).
 constexpr std::uint32_t kPrune = kNone - 1;
@@ -131,40 +418,20 @@ struct HeapEntry {
 
 } // namespace
 
-// Builds the collapse order: the state of a simplification in progress.
+// Builds the collapse order: the queue of a simplification in progress over the welded mesh.
 class ProgressiveMeshBuilder {
 public:
   ProgressiveMeshBuilder(const SkinnedMesh& mesh, std::span<const std::vector<glm::vec3>> poses,
                          std::span<const float> importance, const ProgressiveMeshSettings& settings,
-                         ProgressiveMesh& out)
-      : m_mesh(mesh), m_settings(settings), m_out(out), m_poseCount(poses.size()) {
-    weld();
-    classify();
-    accumulateQuadrics(poses, importance);
-    findComponents();
-  }
+                         ProgressiveMesh& out);
 
   void run(const std::atomic<bool>* cancel);
 
 private:
-  std::uint32_t welded(std::uint32_t v) const { return m_out.m_weld[v]; }
-  const glm::dvec3& position(std::uint32_t w, std::size_t pose) const {
-    return m_positions[std::size_t(w) * m_poseCount + pose];
-  }
-  Quadric& quadric(std::uint32_t w, std::size_t pose) { return m_quadrics[std::size_t(w) * m_poseCount + pose]; }
-
-  void weld();
-  void classify();
   void accumulateQuadrics(std::span<const std::vector<glm::vec3>> poses, std::span<const float> importance);
-  // Drops dead triangles from w's fan.
-  std::vector<std::uint32_t>& fan(std::uint32_t w);
-  Candidate evaluate(std::uint32_t u);
-  // The wedge map of u -> v over u's fan; false when the edge's triangles map a wedge two ways.
-  bool wedgeMap(std::uint32_t u, std::uint32_t v, const std::vector<std::uint32_t>& fanU, bool& out_attribute);
-  bool linkHolds(std::uint32_t u, std::uint32_t v, int edgeTriangles);
-  bool flips(std::uint32_t u, std::uint32_t v, const std::vector<std::uint32_t>& fanU) const;
-  void collapse(std::uint32_t u, std::uint32_t v, double cost, bool attribute);
-  void push(std::uint32_t u);
+  // Ranks u again: its cheapest allowed collapse goes on the heap (none for a locked or gone u).
+  void push(VertexHandle u);
+  void collapse(VertexHandle u, VertexHandle v, double cost, bool attribute);
   // Connected components (over welded vertices) and what pruning each costs.
   void findComponents();
   // Removes component c's live triangles as one step; false when it may not go (the last
@@ -174,24 +441,16 @@ private:
   const SkinnedMesh& m_mesh;
   const ProgressiveMeshSettings& m_settings;
   ProgressiveMesh& m_out;
+  Topology m_topology;
+  WeldedMesh& m_m; // m_topology.mesh
   std::size_t m_poseCount;
-
-  std::vector<std::uint32_t> m_corners;           // current wedge per corner
-  std::vector<std::uint8_t> m_alive;              // per triangle
-  std::vector<std::uint8_t> m_degenerate;         // per triangle: two corners welded together in the input
-  std::vector<std::vector<std::uint32_t>> m_fans; // per welded vertex: its triangles (some maybe dead)
-  std::vector<std::uint8_t> m_lockedWelded;       // per welded vertex
-  std::vector<std::uint8_t> m_removed;            // per welded vertex: collapsed away
-  std::vector<std::uint32_t> m_version;           // per welded vertex
-  std::vector<glm::dvec3> m_positions;            // [welded * poses + pose]
-  std::vector<Quadric> m_quadrics;                // [welded * poses + pose]
-  std::vector<double> m_weight; // per welded vertex: its quadrics' triangle weights merged (bind pose, no importance)
+  std::vector<std::uint32_t> m_version; // per vertex of m_m
   std::priority_queue<HeapEntry> m_heap;
   std::size_t m_triangles = 0;
-  // Connected components: per welded vertex its component (kNone where no triangle uses it);
-  // per component its welded vertices, live triangles, pruning cost, and whether it may go.
+  // Per vertex of m_m its component (kNone where no triangle uses it); per component its
+  // vertices, live triangles, pruning cost, and whether it may go.
   struct Component {
-    std::vector<std::uint32_t> vertices;
+    std::vector<VertexHandle> vertices;
     std::size_t triangles = 0;
     double pruneCost = 0.0;
     bool prunable = true;
@@ -200,157 +459,78 @@ private:
   std::vector<Component> m_components;
   std::size_t m_liveComponents = 0;
   bool m_sawAttribute = false;
-
-  // scratch of evaluate()
-  std::vector<std::pair<std::uint32_t, int>> m_neighbours;    // welded neighbour, triangles on the edge
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_map; // wedge of u -> wedge of v
-  std::vector<std::uint32_t> m_scratch;
 };
 
-void ProgressiveMeshBuilder::weld() {
-  const std::size_t n = m_mesh.vertexCount();
-  m_out.m_weld.resize(n);
-  std::unordered_map<WeldKey, std::uint32_t, WeldHash> first;
-  first.reserve(n);
-  int count = 0;
-  for (std::size_t v = 0; v < n; ++v) {
-    WeldKey key;
-    std::memcpy(key.bits, &m_mesh.positions[v], 3 * sizeof(std::uint32_t));
-    if (m_mesh.skinned()) {
-      for (int i = 0; i < kMaxInfluences; ++i)
-        key.bits[3 + i] = m_mesh.joints[v][i];
-      std::memcpy(key.bits + 3 + kMaxInfluences, &m_mesh.weights[v], kMaxInfluences * sizeof(std::uint32_t));
-    }
-    const auto [it, inserted] = first.emplace(key, static_cast<std::uint32_t>(v));
-    m_out.m_weld[v] = it->second;
-    count += inserted ? 1 : 0;
+ProgressiveMeshBuilder::ProgressiveMeshBuilder(const SkinnedMesh& mesh, std::span<const std::vector<glm::vec3>> poses,
+                                               std::span<const float> importance,
+                                               const ProgressiveMeshSettings& settings, ProgressiveMesh& out)
+    : m_mesh(mesh), m_settings(settings), m_out(out), m_topology(buildTopology(mesh)), m_m(m_topology.mesh),
+      m_poseCount(poses.size()), m_triangles(mesh.triangleCount()) {
+  m_out.m_indices = mesh.indices;
+  m_out.m_triangleCount = mesh.triangleCount();
+  m_out.m_weld = m_topology.weld;
+  m_out.m_locked.resize(mesh.vertexCount());
+  m_out.m_weldedCount = m_out.m_lockedCount = 0;
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    const std::uint32_t w = m_out.m_weld[v];
+    m_out.m_locked[v] = m_topology.lockedWelded[w];
+    m_out.m_weldedCount += w == v;
+    m_out.m_lockedCount += w == v && m_topology.lockedWelded[w];
   }
-  m_out.m_weldedCount = count;
-}
-
-void ProgressiveMeshBuilder::classify() {
-  const std::size_t n = m_mesh.vertexCount();
-  const std::size_t triangles = m_mesh.triangleCount();
-  m_out.m_indices = m_mesh.indices;
-  m_out.m_triangleCount = triangles;
-  m_corners = m_mesh.indices;
-  m_alive.assign(triangles, 1);
-  m_degenerate.assign(triangles, 0);
-  m_fans.resize(n);
-  m_lockedWelded.assign(n, 0);
-  m_removed.assign(n, 0);
-  m_version.assign(n, 0);
-  m_triangles = triangles;
-
-  // welded directed edges: how often each is used, and undirected counts
-  std::unordered_map<std::uint64_t, int> directed, undirected;
-  directed.reserve(triangles * 3);
-  undirected.reserve(triangles * 3);
-  for (std::size_t t = 0; t < triangles; ++t) {
-    const std::uint32_t w[3] = {welded(m_corners[t * 3]), welded(m_corners[t * 3 + 1]), welded(m_corners[t * 3 + 2])};
-    if (w[0] == w[1] || w[1] == w[2] || w[2] == w[0]) {
-      m_degenerate[t] = 1; // kept as it is, its vertices locked
-      for (std::uint32_t x : w)
-        m_lockedWelded[x] = 1;
-      continue;
-    }
-    for (int e = 0; e < 3; ++e) {
-      const std::uint32_t a = w[e], b = w[(e + 1) % 3];
-      ++directed[edgeKey(a, b)];
-      ++undirected[edgeKey(std::min(a, b), std::max(a, b))];
-    }
-    for (std::uint32_t x : w)
-      m_fans[x].push_back(static_cast<std::uint32_t>(t));
-  }
-  // non-manifold guards: an edge of three or more triangles, or used twice in one
-  // direction (a fold or inconsistent orientation); more than two open edges at a vertex
-  std::vector<int> openEdges(n, 0);
-  for (const auto& [key, count] : undirected) {
-    const auto a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key);
-    if (count >= 3 || directed[edgeKey(a, b)] >= 2 || directed[edgeKey(b, a)] >= 2)
-      m_lockedWelded[a] = m_lockedWelded[b] = 1;
-    if (count == 1)
-      ++openEdges[a], ++openEdges[b];
-  }
-  for (std::size_t v = 0; v < n; ++v)
-    if (openEdges[v] > 2)
-      m_lockedWelded[v] = 1;
-
-  m_out.m_locked.assign(n, 0);
-  m_out.m_lockedCount = 0;
-  for (std::size_t v = 0; v < n; ++v) {
-    m_out.m_locked[v] = m_lockedWelded[welded(static_cast<std::uint32_t>(v))];
-    if (welded(static_cast<std::uint32_t>(v)) == v && m_lockedWelded[v])
-      ++m_out.m_lockedCount;
-  }
+  m_version.assign(m_m.n_vertices(), 0);
+  accumulateQuadrics(poses, importance);
+  findComponents();
 }
 
 void ProgressiveMeshBuilder::accumulateQuadrics(std::span<const std::vector<glm::vec3>> poses,
                                                 std::span<const float> importance) {
-  const std::size_t n = m_mesh.vertexCount();
-  m_positions.resize(n * m_poseCount);
-  for (std::size_t v = 0; v < n; ++v)
-    if (welded(static_cast<std::uint32_t>(v)) == v)
-      for (std::size_t p = 0; p < m_poseCount; ++p)
-        m_positions[v * m_poseCount + p] = glm::dvec3(poses[p][v]);
-  std::vector<double> scale(n, 0.0); // per welded vertex: the largest importance of its wedges
-  for (std::size_t v = 0; v < n; ++v) {
-    double& s = scale[welded(static_cast<std::uint32_t>(v))];
+  std::vector<double> scale(m_mesh.vertexCount(), 0.0); // per welded vertex: the largest importance of its wedges
+  for (std::size_t v = 0; v < m_mesh.vertexCount(); ++v) {
+    double& s = scale[m_out.m_weld[v]];
     s = std::max(s, importance.empty() ? 1.0 : double(importance[v]));
   }
-  m_quadrics.assign(n * m_poseCount, Quadric{});
-  m_weight.assign(n, 0.0);
-
-  // wedge-level directed edges: a welded edge whose two triangles do not meet in the same
-  // wedges on both ends is an attribute seam
-  std::unordered_map<std::uint64_t, std::uint8_t> wedgeEdges;
-  std::unordered_map<std::uint64_t, int> weldedEdges;
-  for (std::size_t t = 0; t < m_mesh.triangleCount(); ++t) {
-    if (m_degenerate[t])
-      continue;
-    for (int e = 0; e < 3; ++e) {
-      const std::uint32_t a = m_corners[t * 3 + e], b = m_corners[t * 3 + (e + 1) % 3];
-      wedgeEdges[edgeKey(a, b)] = 1;
-      const std::uint32_t wa = welded(a), wb = welded(b);
-      ++weldedEdges[edgeKey(std::min(wa, wb), std::max(wa, wb))];
-    }
-  }
-  for (std::size_t t = 0; t < m_mesh.triangleCount(); ++t) {
-    if (m_degenerate[t])
-      continue;
-    const std::uint32_t c[3] = {m_corners[t * 3], m_corners[t * 3 + 1], m_corners[t * 3 + 2]};
-    const std::uint32_t w[3] = {welded(c[0]), welded(c[1]), welded(c[2])};
+  for (const VertexHandle v : m_m.vertices()) {
+    auto& data = m_m.data(v);
+    data.positions.resize(m_poseCount);
     for (std::size_t p = 0; p < m_poseCount; ++p)
-      for (std::uint32_t x : w)
-        quadricAdd(quadric(x, p),
-                   quadricFromTriangle(position(w[0], p), position(w[1], p), position(w[2], p), scale[x]));
-    const double area =
-        0.5 * glm::length(glm::cross(position(w[1], 0) - position(w[0], 0), position(w[2], 0) - position(w[0], 0)));
-    for (std::uint32_t x : w)
-      m_weight[x] += std::sqrt(area);
-    for (int e = 0; e < 3; ++e) {
-      const std::uint32_t a = c[e], b = c[(e + 1) % 3];
-      const std::uint32_t wa = w[e], wb = w[(e + 1) % 3], wc = w[(e + 2) % 3];
-      const int count = weldedEdges[edgeKey(std::min(wa, wb), std::max(wa, wb))];
+      data.positions[p] = glm::dvec3(poses[p][data.welded]);
+    data.quadrics.assign(m_poseCount, Quadric{});
+  }
+  for (const FaceHandle f : m_m.faces()) {
+    const HalfedgeHandle h0 = m_m.halfedge_handle(f);
+    const std::array<HalfedgeHandle, 3> h = {h0, m_m.next_halfedge_handle(h0), m_m.prev_halfedge_handle(h0)};
+    const std::array<VertexHandle, 3> v = {m_m.from_vertex_handle(h[0]), m_m.from_vertex_handle(h[1]),
+                                           m_m.from_vertex_handle(h[2])};
+    const auto position = [&](int k, std::size_t p) -> const glm::dvec3& { return m_m.data(v[k]).positions[p]; };
+    for (std::size_t p = 0; p < m_poseCount; ++p)
+      for (int k = 0; k < 3; ++k)
+        quadricAdd(m_m.data(v[k]).quadrics[p],
+                   quadricFromTriangle(position(0, p), position(1, p), position(2, p), scale[m_m.data(v[k]).welded]));
+    const double area = 0.5 * glm::length(glm::cross(position(1, 0) - position(0, 0), position(2, 0) - position(0, 0)));
+    for (int k = 0; k < 3; ++k)
+      m_m.data(v[k]).weight += std::sqrt(area);
+    // edge quadrics: open borders, and seams (the triangle across meets this one in other wedges)
+    for (int k = 0; k < 3; ++k) {
+      const HalfedgeHandle across = m_m.opposite_halfedge_handle(h[k]);
       double weight = 0.0;
-      if (count == 1)
+      if (m_m.is_boundary(across))
         weight = m_settings.borderWeight;
-      else if (count == 2 && !wedgeEdges.count(edgeKey(b, a)))
+      else if (m_m.data(across).wedge != m_m.data(h[(k + 1) % 3]).wedge ||
+               m_m.data(m_m.next_halfedge_handle(across)).wedge != m_m.data(h[k]).wedge)
         weight = m_settings.seamWeight;
       if (!(weight > 0.0))
         continue;
-      for (std::size_t p = 0; p < m_poseCount; ++p) {
-        quadricAdd(quadric(wa, p),
-                   quadricFromEdge(position(wa, p), position(wb, p), position(wc, p), weight * scale[wa]));
-        quadricAdd(quadric(wb, p),
-                   quadricFromEdge(position(wa, p), position(wb, p), position(wc, p), weight * scale[wb]));
-      }
+      for (const int end : {k, (k + 1) % 3})
+        for (std::size_t p = 0; p < m_poseCount; ++p)
+          quadricAdd(m_m.data(v[end]).quadrics[p],
+                     quadricFromEdge(position(k, p), position((k + 1) % 3, p), position((k + 2) % 3, p),
+                                     weight * scale[m_m.data(v[end]).welded]));
     }
   }
 }
 
 void ProgressiveMeshBuilder::findComponents() {
-  const std::size_t n = m_mesh.vertexCount();
+  const std::size_t n = m_m.n_vertices();
   std::vector<std::uint32_t> parent(n);
   for (std::size_t v = 0; v < n; ++v)
     parent[v] = static_cast<std::uint32_t>(v);
@@ -359,31 +539,40 @@ void ProgressiveMeshBuilder::findComponents() {
       x = parent[x] = parent[parent[x]];
     return x;
   };
-  for (std::size_t t = 0; t < m_mesh.triangleCount(); ++t)
-    for (int k = 1; k < 3; ++k) {
-      const std::uint32_t a = find(welded(m_corners[t * 3])), b = find(welded(m_corners[t * 3 + std::size_t(k)]));
-      if (a != b)
-        parent[std::max(a, b)] = std::min(a, b);
-    }
+  const auto unite = [&](VertexHandle a, VertexHandle b) {
+    const std::uint32_t ra = find(std::uint32_t(a.idx())), rb = find(std::uint32_t(b.idx()));
+    if (ra != rb)
+      parent[std::max(ra, rb)] = std::min(ra, rb);
+  };
+  // per triangle its vertices, the degenerate ones (outside m_m) last; a copy joins its welded
+  // vertex's component
+  std::vector<std::array<VertexHandle, 3>> triangles;
+  for (const FaceHandle f : m_m.faces())
+    std::copy(m_m.fv_begin(f), m_m.fv_end(f), triangles.emplace_back().begin());
+  for (std::uint32_t t : m_topology.degenerate)
+    for (std::array<VertexHandle, 3>& corners = triangles.emplace_back(); int k : {0, 1, 2})
+      corners[k] = m_topology.vertexOf[m_out.m_weld[m_mesh.indices[t * 3 + std::size_t(k)]]];
+  for (const auto& t : triangles)
+    unite(t[0], t[1]), unite(t[0], t[2]);
+  for (const VertexHandle v : m_m.vertices())
+    unite(v, m_topology.vertexOf[m_m.data(v).welded]);
   m_component.assign(n, kNone);
   std::vector<std::uint32_t> index(n, kNone); // per root: its component
-  for (std::size_t t = 0; t < m_mesh.triangleCount(); ++t) {
-    const std::uint32_t root = find(welded(m_corners[t * 3]));
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const std::uint32_t root = find(std::uint32_t(triangles[t][0].idx()));
     if (index[root] == kNone) {
       index[root] = static_cast<std::uint32_t>(m_components.size());
       m_components.emplace_back();
     }
     Component& component = m_components[index[root]];
     ++component.triangles;
-    component.prunable &= !m_degenerate[t];
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t w = welded(m_corners[t * 3 + std::size_t(k)]);
-      if (m_component[w] == kNone) {
-        m_component[w] = index[root];
-        component.vertices.push_back(w);
-        component.prunable &= !m_lockedWelded[w];
+    component.prunable &= t < m_m.n_faces(); // a degenerate triangle is never pruned
+    for (const VertexHandle v : triangles[t])
+      if (m_component[std::size_t(v.idx())] == kNone) {
+        m_component[std::size_t(v.idx())] = index[root];
+        component.vertices.push_back(v);
+        component.prunable &= !m_m.data(v).locked;
       }
-    }
   }
   m_liveComponents = m_components.size();
   // note: pruning a component moves each of its vertices by about its radius in every pose,
@@ -396,21 +585,21 @@ void ProgressiveMeshBuilder::findComponents() {
     for (std::size_t p = 0; p < m_poseCount; ++p) {
       glm::dvec3 centre(0.0);
       double weight = 0.0;
-      for (std::uint32_t w : component.vertices) {
-        centre += position(w, p);
-        weight += quadric(w, p).w;
+      for (const VertexHandle v : component.vertices) {
+        centre += m_m.data(v).positions[p];
+        weight += m_m.data(v).quadrics[p].w;
       }
       centre /= double(component.vertices.size());
       double radius2 = 0.0;
-      for (std::uint32_t w : component.vertices) {
-        const glm::dvec3 d = position(w, p) - centre;
+      for (const VertexHandle v : component.vertices) {
+        const glm::dvec3 d = m_m.data(v).positions[p] - centre;
         radius2 = std::max(radius2, glm::dot(d, d));
       }
       component.pruneCost += weight * radius2;
     }
-    double total = 0.0; // collapse costs are per unit of weight (evaluate()): so is this one
-    for (std::uint32_t w : component.vertices)
-      total += m_weight[w];
+    double total = 0.0; // collapse costs are per unit of weight (collapseCost()): so is this one
+    for (const VertexHandle v : component.vertices)
+      total += m_m.data(v).weight;
     if (total > 0.0)
       component.pruneCost /= total;
   }
@@ -424,17 +613,18 @@ bool ProgressiveMeshBuilder::prune(std::uint32_t c, double cost) {
   record.firstWedge = static_cast<std::uint32_t>(m_out.m_from.size());
   record.firstPruned = static_cast<std::uint32_t>(m_out.m_pruned.size());
   record.cost = cost;
-  for (std::uint32_t w : component.vertices) {
-    if (m_removed[w])
+  std::vector<FaceHandle> faces;
+  for (const VertexHandle v : component.vertices) {
+    if (m_m.status(v).deleted())
       continue;
-    for (std::uint32_t t : fan(w)) {
-      m_alive[t] = 0;
+    faces.assign(m_m.vf_begin(v), m_m.vf_end(v));
+    for (const FaceHandle f : faces) {
+      m_out.m_pruned.push_back(m_m.data(f).triangle);
+      m_m.delete_face(f, true);
       --m_triangles;
-      m_out.m_pruned.push_back(t);
     }
-    m_fans[w].clear();
-    m_removed[w] = 1;
-    ++m_version[w];
+    m_m.status(v).set_deleted(true);
+    ++m_version[std::size_t(v.idx())];
   }
   record.prunedCount = static_cast<std::uint32_t>(m_out.m_pruned.size() - record.firstPruned);
   component.triangles = 0;
@@ -444,282 +634,79 @@ bool ProgressiveMeshBuilder::prune(std::uint32_t c, double cost) {
   return true;
 }
 
-std::vector<std::uint32_t>& ProgressiveMeshBuilder::fan(std::uint32_t w) {
-  std::vector<std::uint32_t>& f = m_fans[w];
-  f.erase(std::remove_if(f.begin(), f.end(), [&](std::uint32_t t) { return !m_alive[t]; }), f.end());
-  return f;
-}
-
-bool ProgressiveMeshBuilder::wedgeMap(std::uint32_t u, std::uint32_t v, const std::vector<std::uint32_t>& fanU,
-                                      bool& out_attribute) {
-  m_map.clear();
-  out_attribute = false;
-  // the edge's triangles map u's corner in them onto v's corner in them
-  for (std::uint32_t t : fanU) {
-    std::uint32_t cu = kNone, cv = kNone;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t c = m_corners[std::size_t(t) * 3 + k];
-      if (welded(c) == u)
-        cu = c;
-      else if (welded(c) == v)
-        cv = c;
-    }
-    if (cv == kNone)
-      continue;
-    const auto found = std::find_if(m_map.begin(), m_map.end(), [&](const auto& e) { return e.first == cu; });
-    if (found == m_map.end())
-      m_map.emplace_back(cu, cv);
-    else if (found->second != cv)
-      return false; // a corner that would have to go two ways: a half-seam
-  }
-  // wedges of u on no triangle of the edge: an attribute collapse, onto v's wedge with the
-  // nearest normal, then UV
-  for (std::uint32_t t : fanU)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t c = m_corners[std::size_t(t) * 3 + k];
-      if (welded(c) != u || std::any_of(m_map.begin(), m_map.end(), [&](const auto& e) { return e.first == c; }))
-        continue;
-      out_attribute = true;
-      m_scratch.clear();
-      for (std::uint32_t s : fan(v))
-        for (int j = 0; j < 3; ++j) {
-          const std::uint32_t d = m_corners[std::size_t(s) * 3 + j];
-          if (welded(d) == v && std::find(m_scratch.begin(), m_scratch.end(), d) == m_scratch.end())
-            m_scratch.push_back(d);
-        }
-      std::uint32_t best = kNone;
-      double bestScore = std::numeric_limits<double>::max();
-      for (std::uint32_t d : m_scratch) {
-        double score = 0.0;
-        if (!m_mesh.normals.empty())
-          score += 4.0 * (1.0 - double(glm::dot(m_mesh.normals[c], m_mesh.normals[d])));
-        if (!m_mesh.uvs.empty()) {
-          const glm::dvec2 delta = glm::dvec2(m_mesh.uvs[c]) - glm::dvec2(m_mesh.uvs[d]);
-          score += glm::dot(delta, delta);
-        }
-        // (a NaN score, from a degenerate triangle's normal, must still name a wedge)
-        if (best == kNone || score < bestScore)
-          bestScore = score, best = d;
-      }
-      if (best == kNone)
-        return false; // v keeps no wedge of its own to take u's: no collapse
-      m_map.emplace_back(c, best);
-    }
-  return true;
-}
-
-bool ProgressiveMeshBuilder::linkHolds(std::uint32_t u, std::uint32_t v, int edgeTriangles) {
-  // u's neighbours are in m_neighbours; count v's neighbours among them
-  int common = 0;
-  m_scratch.clear();
-  for (std::uint32_t t : fan(v))
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t w = welded(m_corners[std::size_t(t) * 3 + k]);
-      if (w == v || w == u || std::find(m_scratch.begin(), m_scratch.end(), w) != m_scratch.end())
-        continue;
-      m_scratch.push_back(w);
-      if (std::any_of(m_neighbours.begin(), m_neighbours.end(), [&](const auto& e) { return e.first == w; }))
-        ++common;
-    }
-  return common == edgeTriangles;
-}
-
-bool ProgressiveMeshBuilder::flips(std::uint32_t u, std::uint32_t v, const std::vector<std::uint32_t>& fanU) const {
-  // needs m_map, the wedge map of u -> v (wedgeMap())
-  const bool shaded = !m_mesh.normals.empty();
-  for (std::uint32_t t : fanU) {
-    std::uint32_t w[3], c[3];
-    int at = -1;
-    bool hasV = false;
-    for (int k = 0; k < 3; ++k) {
-      c[k] = m_corners[std::size_t(t) * 3 + std::size_t(k)];
-      w[k] = welded(c[k]);
-      hasV |= w[k] == v;
-      if (w[k] == u)
-        at = k;
-    }
-    if (hasV || at < 0)
-      continue; // the edge's own triangles go away
-    const std::uint32_t a = w[(at + 1) % 3], b = w[(at + 2) % 3];
-    for (std::size_t p = 0; p < m_poseCount; ++p) {
-      const glm::dvec3& pa = position(a, p);
-      const glm::dvec3& pb = position(b, p);
-      const glm::dvec3 before = glm::cross(pa - position(u, p), pb - position(u, p));
-      const glm::dvec3 after = glm::cross(pa - position(v, p), pb - position(v, p));
-      // note: a triangle already degenerate in a pose says nothing about a flip there
-      if (glm::length(before) * glm::length(after) > 0.0 && glm::dot(before, after) <= 0.0)
-        return true;
-      if (p != 0)
-        continue;
-      if (!(glm::dot(after, after) > 0.0) && glm::dot(before, before) > 0.0)
-        return true; // would become degenerate in the bind pose
-      if (!shaded)
-        continue;
-      // nor turn its back on its corners' normals (it would shade inside out), unless the
-      // input triangle already did
-      const std::uint32_t moved =
-          std::find_if(m_map.begin(), m_map.end(), [&](const auto& e) { return e.first == c[at]; })->second;
-      const glm::dvec3 shadingBefore = glm::dvec3(m_mesh.normals[c[0]] + m_mesh.normals[c[1]] + m_mesh.normals[c[2]]);
-      const glm::dvec3 shadingAfter =
-          shadingBefore - glm::dvec3(m_mesh.normals[c[at]]) + glm::dvec3(m_mesh.normals[moved]);
-      if (glm::dot(after, shadingAfter) < 0.0 && glm::dot(before, shadingBefore) >= 0.0)
-        return true;
-    }
-  }
-  return false;
-}
-
-Candidate ProgressiveMeshBuilder::evaluate(std::uint32_t u) {
-  Candidate best;
-  if (m_lockedWelded[u] || m_removed[u])
-    return best;
-  const std::vector<std::uint32_t>& fanU = fan(u);
-  if (fanU.empty())
-    return best;
-  m_neighbours.clear();
-  for (std::uint32_t t : fanU)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t w = welded(m_corners[std::size_t(t) * 3 + k]);
-      if (w == u)
-        continue;
-      auto found = std::find_if(m_neighbours.begin(), m_neighbours.end(), [&](const auto& e) { return e.first == w; });
-      if (found == m_neighbours.end())
-        m_neighbours.emplace_back(w, 1);
-      else
-        ++found->second;
-    }
-  bool border = false;
-  for (const auto& [w, count] : m_neighbours) {
-    if (count > 2)
-      return best; // not manifold here (a guard; the link condition keeps it from arising)
-    border |= count == 1;
-  }
-
-  struct Option {
-    double cost;
-    std::uint32_t v;
-    int edgeTriangles;
-  };
-  std::vector<Option> options;
-  const glm::dvec3& bindU = position(u, 0);
-  for (const auto& [v, count] : m_neighbours) {
-    if (border && count != 1)
+void ProgressiveMeshBuilder::push(VertexHandle u) {
+  const std::uint32_t version = ++m_version[std::size_t(u.idx())];
+  const auto& data = m_m.data(u);
+  if (data.locked || m_m.status(u).deleted() || m_m.is_isolated(u))
+    return;
+  const bool border = m_m.is_boundary(u);
+  std::vector<std::pair<double, HalfedgeHandle>> options; // cost, u -> v
+  for (const HalfedgeHandle h : m_m.voh_range(u)) {
+    if (border && !m_m.is_boundary(m_m.edge_handle(h)))
       continue; // a border vertex moves only along its border
-    double cost = 0.0;
-    for (std::size_t p = 0; p < m_poseCount; ++p)
-      cost += quadricError(quadric(u, p), position(v, p));
-    // note: a collapse whose quadric cost is nil (u on every plane of its fan at v, as on a
-    // ridge where mirrored halves meet) still moves the surface by |u - v|; a small weight
-    // on that distance ranks short moves first (WusonSMD at 25%: 2.74% -> 2.10% of the
-    // diagonal in the bind pose)
-    if (m_settings.moveWeight > 0.0) {
-      const glm::dvec3 edge = position(v, 0) - bindU;
-      cost += m_settings.moveWeight * quadric(u, 0).w * glm::dot(edge, edge);
-    }
-    if (m_mesh.skinned() && m_settings.skinWeight > 0.0) {
-      const double d = skinDistance(m_mesh.joints[u], m_mesh.weights[u], m_mesh.joints[v], m_mesh.weights[v]);
-      const glm::dvec3 edge = position(v, 0) - bindU;
-      cost += m_settings.skinWeight * d * quadric(u, 0).w * glm::dot(edge, edge);
-    }
-    // note: per unit of the weight u's quadrics gathered (a weighted mean squared distance,
-    // as meshoptimizer ranks): the sum alone ranks a small part that moves far (an eye, a
-    // finger tip) below a large one that moves a little, and the symmetric max distance the
-    // levels are measured by is set by the former (WusonSMD at 25%: 2.10% -> 1.46% of the
-    // diagonal; BCN_Epileptic animated 1.02% -> 0.79%); importance still scales the
-    // quadrics (not the weight they are divided by), so it still ranks a joint's vertices later
-    if (m_weight[u] > 0.0)
-      cost /= m_weight[u];
-    options.push_back({cost, v, count});
+    const auto& target = m_m.data(m_m.to_vertex_handle(h));
+    const double skin = m_mesh.skinned() && m_settings.skinWeight > 0.0
+                            ? skinDistance(m_mesh.joints[data.welded], m_mesh.weights[data.welded],
+                                           m_mesh.joints[target.welded], m_mesh.weights[target.welded])
+                            : 0.0;
+    options.emplace_back(collapseCost(data.quadrics, data.weight, data.positions, target.positions, skin, m_settings),
+                         h);
   }
-  std::sort(options.begin(), options.end(), [](const Option& a, const Option& b) { return a.cost < b.cost; });
+  std::sort(options.begin(), options.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   // the cheapest allowed collapse: a seam is a cost (its edge quadrics), not a second tier
-  // after every clean collapse (that left cheap seam collapses behind costly clean ones:
-  // Testwuson at 10%, 9.77% -> 5.90% of the diagonal)
-  for (const Option& option : options) {
-    bool attribute = false;
-    if (!wedgeMap(u, option.v, fanU, attribute))
-      continue;
-    if (!linkHolds(u, option.v, option.edgeTriangles) || flips(u, option.v, fanU))
-      continue;
-    return Candidate{option.v, option.cost, attribute};
-  }
-  return best;
+  // after every clean collapse (that left cheap seam collapses behind costly clean ones)
+  WedgeMap map;
+  for (const auto& [cost, h] : options)
+    if (mapWedges(m_m, h, m_mesh, map) && (m_m.is_collapse_ok(h) || loneTriangle(m_m, h)) &&
+        !flips(m_m, h, map, m_mesh)) {
+      m_heap.push(HeapEntry{cost, std::uint32_t(u.idx()), std::uint32_t(m_m.to_vertex_handle(h).idx()), version,
+                            map.attribute});
+      return;
+    }
 }
 
-void ProgressiveMeshBuilder::push(std::uint32_t u) {
-  ++m_version[u];
-  const Candidate c = evaluate(u);
-  if (c.target != kNone)
-    m_heap.push(HeapEntry{c.cost, u, c.target, m_version[u], c.attribute});
-}
-
-void ProgressiveMeshBuilder::collapse(std::uint32_t u, std::uint32_t v, double cost, bool attribute) {
-  std::vector<std::uint32_t> fanU = fan(u);
-  bool mapAttribute = false;
+void ProgressiveMeshBuilder::collapse(VertexHandle u, VertexHandle v, double cost, bool attribute) {
+  const HalfedgeHandle uv = m_m.find_halfedge(u, v);
+  WedgeMap map;
   // ranked legal; a map that cannot be made now (damaged input: ../shared/repro/crash_segv_min.obj
   // mapped a corner to no wedge and crashed) leaves the mesh as it is
-  if (!wedgeMap(u, v, fanU, mapAttribute))
+  if (!uv.is_valid() || !mapWedges(m_m, uv, m_mesh, map) || !(m_m.is_collapse_ok(uv) || loneTriangle(m_m, uv)))
     return;
-  assert(mapAttribute == attribute);
+  assert(map.attribute == attribute);
   (void)attribute;
   ProgressiveMesh::Collapse record;
   record.firstWedge = static_cast<std::uint32_t>(m_out.m_from.size());
-  record.wedgeCount = static_cast<std::uint32_t>(m_map.size());
+  record.wedgeCount = static_cast<std::uint32_t>(map.pairs.size());
   record.cost = cost;
-  for (const auto& [from, to] : m_map) {
+  for (const auto& [from, to] : map.pairs) {
     m_out.m_from.push_back(from);
     m_out.m_to.push_back(to);
   }
-  std::vector<std::uint32_t>& fanV = m_fans[v];
-  for (std::uint32_t t : fanU) {
-    bool hasV = false;
-    for (int k = 0; k < 3; ++k)
-      hasV |= welded(m_corners[std::size_t(t) * 3 + k]) == v;
-    if (hasV) {
-      m_alive[t] = 0;
+  for (const HalfedgeHandle h : {uv, m_m.opposite_halfedge_handle(uv)})
+    if (!m_m.is_boundary(h)) {
       --m_triangles;
-      Component& component = m_components[m_component[u]];
-      if (--component.triangles == 0)
+      if (--m_components[m_component[std::size_t(u.idx())]].triangles == 0)
         --m_liveComponents;
-      continue;
     }
-    for (int k = 0; k < 3; ++k) {
-      std::uint32_t& c = m_corners[std::size_t(t) * 3 + k];
-      if (welded(c) == u) {
-        const auto mapped = std::find_if(m_map.begin(), m_map.end(), [&](const auto& e) { return e.first == c; });
-        assert(mapped != m_map.end()); // wedgeMap() maps every corner of u in its fan
-        c = mapped->second;
-      }
-    }
-    fanV.push_back(t);
-  }
-  m_fans[u].clear();
-  m_removed[u] = 1;
-  for (std::size_t p = 0; p < m_poseCount; ++p)
-    quadricAdd(quadric(v, p), quadric(u, p));
-  m_weight[v] += m_weight[u];
+  collapseWithWedges(m_m, uv, map);
+  auto& from = m_m.data(u);
+  auto& to = m_m.data(v);
+  for (std::size_t p = 0; p < to.quadrics.size(); ++p)
+    quadricAdd(to.quadrics[p], from.quadrics[p]);
+  to.weight += from.weight;
   m_out.m_collapses.push_back(record);
   m_out.m_trianglesAfter.push_back(m_triangles);
-
   // v and its neighbours see a new fan: rank them again
-  m_scratch.clear();
-  for (std::uint32_t t : fan(v))
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t w = welded(m_corners[std::size_t(t) * 3 + k]);
-      if (std::find(m_scratch.begin(), m_scratch.end(), w) == m_scratch.end())
-        m_scratch.push_back(w);
-    }
-  const std::vector<std::uint32_t> around = m_scratch;
-  for (std::uint32_t w : around)
+  push(v);
+  for (const VertexHandle w : m_m.vv_range(v))
     push(w);
 }
 
 void ProgressiveMeshBuilder::run(const std::atomic<bool>* cancel) {
   m_out.m_trianglesAfter.assign(1, m_triangles);
   m_out.m_cleanCollapses = 0;
-  for (std::uint32_t v = 0; v < m_mesh.vertexCount(); ++v)
-    if (welded(v) == v)
-      push(v);
+  for (const VertexHandle v : m_m.vertices())
+    push(v);
   for (std::uint32_t c = 0; c < m_components.size(); ++c)
     if (m_components[c].prunable && m_components.size() > 1)
       m_heap.push(HeapEntry{m_components[c].pruneCost, c, kPrune, 0, true});
@@ -742,21 +729,22 @@ void ProgressiveMeshBuilder::run(const std::atomic<bool>* cancel) {
     // note: an entry is current while its vertex's version is: every collapse ranks again
     // the vertices whose fan, neighbours or wedges it changed, which is all a candidate's
     // cost and validity depend on (positions never move)
-    if (top.version != m_version[top.vertex] || m_removed[top.vertex])
+    const VertexHandle u(int(top.vertex)), v(int(top.target));
+    if (top.version != m_version[top.vertex] || m_m.status(u).deleted() || m_m.status(v).deleted())
       continue;
     if (top.attribute && !m_sawAttribute) {
       m_out.m_cleanCollapses = m_out.m_collapses.size();
       m_sawAttribute = true;
     }
-    collapse(top.vertex, top.target, top.cost, top.attribute);
+    collapse(u, v, top.cost, top.attribute);
   }
   if (!m_sawAttribute)
     m_out.m_cleanCollapses = m_out.m_collapses.size();
 }
 
 ProgressiveMesh ProgressiveMesh::build(const SkinnedMesh& mesh, std::span<const std::vector<glm::vec3>> poses,
-                                       std::span<const float> vertexImportance,
-                                       const ProgressiveMeshSettings& settings, const std::atomic<bool>* cancel) {
+                                       std::span<const float> vertexImportance, const ProgressiveMeshSettings& settings,
+                                       const std::atomic<bool>* cancel) {
   assert(!poses.empty());
   assert(vertexImportance.empty() || vertexImportance.size() == mesh.vertexCount());
   ProgressiveMesh out;

@@ -1,65 +1,67 @@
 #pragma once
-// A progressive mesh of a whole skinned mesh, welded by position, simplified by halfedge
-// collapses whose cost sees the motion (docs/architecture.md section 1, Geometric LOD).
+// A progressive mesh of a whole skinned mesh, welded by position, simplified by halfedge collapses
+// whose cost sees the motion (docs/architecture.md section 1, Geometric LOD).
 //
 // Garland & Heckbert, "Surface Simplification Using Quadric Error Metrics" (1997), with the
-// quadrics accumulated over several poses of the skinned surface instead of one: each vertex
-// keeps one quadric per pose (the bind pose and poses of the clips the character plays),
-// and a collapse u -> v costs sum over poses p of Q_u^p(x_v^p) per unit of the weight u's
-// quadrics gathered (a weighted mean squared distance, as meshoptimizer 0.18 ranks its
-// collapses; triangles weigh the square root of their area, border and seam edges their
-// length: the sum of area weights would rank a small part that moves far, an eye or a
-// finger tip, below a large part that moves a little), so a collapse that looks
-// harmless in the bind pose but folds an elbow or a knee when it bends costs what it costs
-// there. Halfedge collapses keep the original vertices (v keeps its position, normal, UV and
-// skin weights), so every level is drawn with the original vertex data and skins exactly like
-// the original.
+// quadrics accumulated over several poses of the skinned surface instead of one: each vertex keeps
+// one quadric per pose (the bind pose and poses of the clips the character plays), and a
+// collapse u -> v costs sum over poses p of Q_u^p(x_v^p) per unit of the weight u's quadrics gathered (a
+// weighted mean squared distance, as meshoptimizer 0.18 ranks its collapses; triangles weigh the
+// square root of their area, border and seam edges their length: the sum of area weights would rank
+// a small part that moves far, an eye or a finger tip, below a large part that moves a little), so
+// a collapse that looks harmless in the bind pose but folds an elbow or a knee when it bends costs
+// what it costs there. Halfedge collapses keep the original vertices (v keeps its position, normal,
+// UV and skin weights), so every level is drawn with the original vertex data and skins exactly
+// like the original.
 //
-// Topology is read on welded vertices: corners with the same position bits and, on a skinned
-// mesh, the same influences (corners at one place that different weights move apart are two
-// surface points: welding them would tear the skin in motion). The corners of one welded
-// vertex are its *wedges* (attribute seams: UV or normal splits). What may
-// collapse, after meshoptimizer's simplifier (Kapoulkine, src/simplifier.cpp):
-//  - a vertex collapses along an edge whose triangles map each of its wedges to exactly one
-//    wedge of the target: an interior vertex without a seam onto any neighbour; a seam vertex
-//    (two wedges) only along its seam, both sides at once, each onto its own side, so no
-//    crack and no T-junction opens along a seam;
-//  - seams are a cost, not a wall: a collapse may also move a wedge that the edge's
-//    triangles do not map (corners of three or more wedges, a seam left across, a
-//    flat-shaded mesh) onto the target's wedge with the nearest attributes (normal, then
-//    UV). Such *attribute collapses* rank with the clean ones by their cost,
-//    which the seam's edge quadrics raise (one queue: a second tier after every clean
-//    collapse left cheap seam collapses behind costly clean ones); positions stay welded,
-//    so they open no crack either, only an attribute discontinuity;
-//  - a vertex on an open border only along the border, onto a border vertex, so no interior
-//    edge becomes a border; the border is kept by edge quadrics of `borderWeight` (planes
-//    through each border edge, perpendicular to its triangle), a cost rather than a wall;
-//    seam edges get the same with `seamWeight`, so a seam keeps its line;
-//  - hard locks are non-manifold guards only: vertices on an edge with three or more
-//    triangles or used twice in one direction, on more than two open edges (bowties), or of
-//    a degenerate input triangle;
-//  - a collapse must keep the mesh manifold (link condition: the two vertices share no
-//    neighbour but the opposite corners of the edge's triangles) and flip no triangle's
-//    normal in the bind pose.
+// Topology is read on welded vertices: corners with the same position bits and, on a skinned mesh,
+// the same influences (corners at one place that different weights move apart are two surface
+// points: welding them would tear the skin in motion). The welded mesh is an OpenMesh halfedge mesh
+// (TriMesh_ArrayKernelT): OpenMesh keeps the connectivity, answers boundary and manifold queries,
+// tests each collapse's link condition (is_collapse_ok) and performs it (collapse); the costs, the
+// rules below, the queue and the pruning are ours. The corners of one welded vertex are its
+// *wedges* (attribute seams: UV or normal splits); each halfedge carries the wedge it starts from
+// in its triangle. What may collapse, after meshoptimizer's simplifier (Kapoulkine,
+// src/simplifier.cpp):
+//  - a vertex collapses along an edge whose triangles map each of its wedges to exactly one wedge
+//    of the target: an interior vertex without a seam onto any neighbour; a seam vertex (two
+//    wedges) only along its seam, both sides at once, each onto its own side, so no crack and no
+//    T-junction opens along a seam;
+//  - seams are a cost, not a wall: a collapse may also move a wedge that the edge's triangles do
+//    not map (corners of three or more wedges, a seam left across, a flat-shaded mesh) onto the
+//    target's wedge with the nearest attributes (normal, then UV). Such *attribute collapses* rank
+//    with the clean ones by their cost, which the seam's edge quadrics raise; positions stay
+//    welded, so they open no crack either, only an attribute discontinuity;
+//  - a vertex on an open border only along the border, onto a border vertex, so no interior edge
+//    becomes a border; the border is kept by edge quadrics of `borderWeight` (planes through each
+//    border edge, perpendicular to its triangle), a cost rather than a wall; seam edges get the
+//    same with `seamWeight`, so a seam keeps its line;
+//  - hard locks are non-manifold guards only: where OpenMesh's add_face refuses a triangle (an
+//    edge with three or more triangles or used twice in one direction, a vertex whose fan is
+//    already closed) the triangle gets its own copies of the vertices it cannot share, and every
+//    copy of those welded vertices is locked; so are vertices that OpenMesh finds non-manifold
+//    (bowties: two fans through one vertex) and those of a degenerate input triangle (kept as it
+//    is);
+//  - a collapse must keep the mesh manifold (OpenMesh's is_collapse_ok: the link condition; a
+//    triangle standing alone, which OpenMesh will not collapse, is removed by ours) and flip no
+//    triangle's normal in any pose.
 // Beyond geometry, a collapse between vertices with different skin influences costs more:
 // skinWeight x (1 - sum_j min(w_u[j], w_v[j])) x |u - v|^2 x importance (the skin weight mass that
-// changes bone), so bones keep their own vertices. Per-vertex
-// importance (the joints' mesh importance, weighted by the skin) scales the vertex's
-// quadrics (not the area they are divided by), and so the cost of removing it and of
-// everything later merged into it. A small move term, moveWeight x |u - v|^2 x importance,
-// ranks collapses the quadrics see as free.
+// changes bone), so bones keep their own vertices. Per-vertex importance (the joints' mesh
+// importance, weighted by the skin) scales the vertex's quadrics (not the area they are divided
+// by), and so the cost of removing it and of everything later merged into it. A small move term,
+// moveWeight x |u - v|^2 x importance, ranks collapses the quadrics see as free.
 //
-// A closed component cannot collapse below a tetrahedron, so a mesh of many small closed
-// parts (64 cubes) stops far above 10% by collapses alone. A step may also *prune* a whole
-// connected component (after meshoptimizer's prune option), costed in the same metric: sum
-// over poses of its quadrics' weight times its radius squared in that pose, per unit of its
-// weight (what moving all its vertices that far costs). Prunings rank with the collapses;
-// a component with a locked vertex or a degenerate triangle is never pruned, nor
-// the last one with triangles.
+// A closed component cannot collapse below a tetrahedron, so a mesh of many small closed parts (64
+// cubes) stops far above 10% by collapses alone. A step may also *prune* a whole connected
+// component (after meshoptimizer's prune option), costed in the same metric: sum over poses of its
+// quadrics' weight times its radius squared in that pose, per unit of its weight (what moving all
+// its vertices that far costs). Prunings rank with the collapses; a component with a locked vertex
+// or a degenerate triangle is never pruned, nor the last one with triangles.
 //
-// The steps run greedily by cost (a priority queue, re-ranked around each collapse) until
-// none is allowed; the first k give a mesh for any k, so one build serves every triangle
-// count down to minTriangleCount().
+// The steps run greedily by cost (a priority queue, re-ranked around each collapse) until none is
+// allowed; the first k give a mesh for any k, so one build serves every triangle count down to
+// minTriangleCount().
 
 #include "core/skinned_mesh.h"
 
@@ -75,12 +77,9 @@ namespace mlod {
 struct ProgressiveMeshSettings {
   // Edge quadric weight of open borders, relative to the triangles' plane quadrics (>= 0;
   // 0 lets a border shrink freely).
-  // note: with triangles weighing sqrt(area) and edges their length (meshoptimizer's units),
-  // 1 and 0.1 measure best on every character of bench_meshlod at 25% and 10% (animated max
-  // distance, % of the diagonal; WusonSMD 1.46/3.61 -> 1.34/1.94, holy_grailref 3.44/4.28 ->
-  // 2.63/4.28, BCN_Epileptic 0.79/1.69 -> 0.71/1.61, Testwuson 3.12/3.76 -> 1.97/3.42) and
-  // neighbouring values (0.5/0.05) measure alike; meshoptimizer's 10 and 1 assume that its
-  // error divides by the edges' weight too
+  // note: triangles weigh sqrt(area) and edges their length, as in meshoptimizer, whose 10 and
+  // 1 assume that its error divides by the edges' weight too; ours divides by the triangles'
+  // alone, and 1 and 0.1 measure best on every character of bench_meshlod (its notes)
   double borderWeight = 1.0;
   // Edge quadric weight of attribute seams (>= 0).
   double seamWeight = 0.1;
@@ -107,8 +106,7 @@ public:
   // order stops where it is, so a cancelled build is incomplete and the caller drops it.
   static ProgressiveMesh build(const SkinnedMesh& mesh, std::span<const std::vector<glm::vec3>> poses,
                                std::span<const float> vertexImportance = {},
-                               const ProgressiveMeshSettings& settings = {},
-                               const std::atomic<bool>* cancel = nullptr);
+                               const ProgressiveMeshSettings& settings = {}, const std::atomic<bool>* cancel = nullptr);
 
   std::size_t triangleCount() const { return m_triangleCount; } // before any collapse
   std::size_t collapseCount() const { return m_collapses.size(); }

@@ -403,6 +403,49 @@ TEST(MeshLodGuards, NonManifoldEdgesAreLocked) {
   EXPECT_LT(level.triangles(), mesh.triangleCount() / 2);
 }
 
+// Guards non-manifold input on the halfedge mesh, whose add_face refuses it: an edge with three
+// triangles (a fin), a bowtie at a border vertex (a triangle touching the open end at one
+// corner) and a triangle touching an interior vertex (whose fan is closed) at one corner. It
+// simplifies without a crash, those vertices are locked and stay in place at every level, and
+// the rest still simplifies.
+TEST(MeshLodGuards, NonManifoldInputSimplifiesAndKeepsItsGuards) {
+  test::Tube tube = test::makeTube(9, 8);
+  SkinnedMesh& mesh = tube.mesh;
+  const auto vertex = [&](int r, int s) { return std::uint32_t(r * (tube.sides + 1) + s); };
+  const auto addVertex = [&](std::uint32_t near, glm::vec3 offset) {
+    mesh.positions.push_back(mesh.positions[near] + offset);
+    mesh.normals.push_back(mesh.normals[near]);
+    mesh.uvs.push_back(mesh.uvs[near]);
+    mesh.joints.push_back(mesh.joints[near]);
+    mesh.weights.push_back(mesh.weights[near]);
+    return std::uint32_t(mesh.positions.size() - 1);
+  };
+  const std::uint32_t a = mesh.indices[0], b = mesh.indices[1], border = vertex(0, 3), interior = vertex(4, 5);
+  const std::uint32_t fin = addVertex(a, {0.0f, 0.5f, 3.0f});
+  const std::uint32_t bowtie[2] = {addVertex(border, {0.0f, -2.0f, 1.0f}), addVertex(border, {1.0f, -2.0f, 0.0f})};
+  const std::uint32_t touch[2] = {addVertex(interior, {2.0f, 0.0f, 0.0f}), addVertex(interior, {2.0f, 1.0f, 0.0f})};
+  mesh.indices.insert(mesh.indices.end(), {a, b, fin, border, bowtie[0], bowtie[1], interior, touch[0], touch[1]});
+  mesh.parts.back().indexCount += 9;
+  ASSERT_FALSE(mesh.validate(2)) << mesh.validate(2).message();
+  Result<MeshLod> lod = MeshLod::build(mesh);
+  ASSERT_TRUE(lod) << lod.message();
+  const ProgressiveMesh& pm = lod->progressive();
+  const std::uint32_t guarded[] = {a, b, border, interior};
+  for (std::uint32_t v : guarded)
+    EXPECT_TRUE(pm.locked()[v]) << "vertex " << v;
+  EXPECT_EQ(pm.lockedCount(), 4);
+  for (double ratio : {0.5, 0.25, 0.1}) {
+    const MeshLodLevel level = lod->levelForRatio(ratio);
+    EXPECT_FALSE(level.mesh.validate(2)) << ratio;
+    EXPECT_TRUE(level.lockedVerticesPreserved) << ratio;
+    for (std::uint32_t v : guarded)
+      EXPECT_TRUE(std::any_of(level.sourceVertices.begin(), level.sourceVertices.end(),
+                              [&](std::uint32_t s) { return pm.weld()[s] == pm.weld()[v]; }))
+          << "vertex " << v << " at " << ratio;
+  }
+  EXPECT_LT(lod->levelForRatio(0.25).triangles(), mesh.triangleCount() / 2);
+}
+
 class MeshLodBcn : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
