@@ -39,8 +39,10 @@ Result<LodCharacter> LodCharacter::prepare(const Skeleton& skeleton, const Skinn
     return error;
   LodCharacter out;
   out.m_skeleton = skeleton;
-  if (mesh)
+  if (mesh) {
     out.m_mesh = *mesh;
+    out.m_deviation = SkinDeviation(*mesh);
+  }
   out.m_clips.assign(clips.begin(), clips.end());
   out.m_jpc = jpc;
   out.m_meshSettings = meshSettings;
@@ -109,6 +111,14 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
     out.clips.push_back(reduceClip(out.bones, m_skeleton, full));
     out.clusters.push_back(std::move(clusters));
     const Clip& reduced = out.clips.back();
+    if (levelMesh && originalMesh->skinned()) { // the same maximum as the loop below, far fewer frames skinned
+      Result<double> largest = m_deviation.measure(m_skeleton, *originalMesh, clip, out.bones, *levelMesh, reduced,
+                                                   out.motionErrorCm, cancel);
+      if (!largest)
+        return largest.error();
+      out.motionErrorCm = *largest;
+      continue;
+    }
     for (int t = 0; t < clip.frameCount; ++t) {
       if (cancelled(cancel))
         return Error(kCancelled);

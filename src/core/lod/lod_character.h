@@ -24,6 +24,7 @@
 #include "core/jpc/jpc.h"
 #include "core/jpc/jpc_settings.h"
 #include "core/lod/bone_reduction.h"
+#include "core/lod/skin_deviation.h"
 #include "core/mesh/mesh_lod.h"
 #include "core/skeleton.h"
 #include "core/skinned_mesh.h"
@@ -96,6 +97,7 @@ private:
   JpcSettings m_jpc;
   MeshLodSettings m_meshSettings; // its cancel is the character's
   double m_radius = 0.0;
+  SkinDeviation m_deviation; // of m_mesh, when it is skinned
   std::shared_ptr<JpcWorkBudget> m_work = std::make_shared<JpcWorkBudget>(); // shared by copies
 };
 

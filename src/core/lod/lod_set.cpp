@@ -245,6 +245,7 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
     if (!lod)
       return lod.error();
     fullMotionMesh.emplace(std::move(lod).value());
+    motions.emplace(std::pair<int, double>{0, 0.0}, std::move(full).value()); // the search's E = 0 at slot 0
   }
   if (!done(1, 0.0))
     return Error(kLodBudgetCancelled);
