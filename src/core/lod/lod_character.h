@@ -44,7 +44,8 @@ struct LevelMotion {
   std::vector<ClusterSet> clusters; // per clip, on the full skeleton
   std::vector<Clip> clips;          // per clip, on bones.skeleton
   std::optional<SkinnedMesh> mesh;  // the full-resolution mesh rebound to bones.skeleton (when there is a mesh)
-  double motionErrorCm = 0.0;       // see above
+  double motionErrorCm = 0.0;       // see above; an upper bound of it while !motionErrorExact
+  bool motionErrorExact = true;     // false: motionAt(..., MotionError::Bound) took the bound alone
   // 100 x clustered joint-frames / (clusterable joints x frames), every clip.
   double simplifiedPercent = 0.0;
 };
@@ -82,6 +83,14 @@ public:
   // thresholds, so a clip that one simplify takes seconds for could keep it busy for hours.
   // Past it, this and every later call is refused, naming the limit.
   Result<LevelMotion> motionAt(double threshold, int level = 0) const;
+  // What the motion error of a level costs: measured (to the bit, skin_deviation.h), or an
+  // upper bound of it from the skinning palettes alone (no frame skinned; worth it where
+  // the error is float noise, at E = 0, and only a bound is compared).
+  enum class MotionError { Exact, Bound };
+  Result<LevelMotion> motionAt(double threshold, int level, MotionError measure) const;
+  // Measures the error of a motion that motionAt() bounded (nothing when it is exact). Errors:
+  // kCancelled.
+  Error measureMotionError(LevelMotion& motion) const;
   // The work every motionAt() of this character may spend together, from now on.
   void setWorkLimit(std::int64_t units) { m_work = std::make_shared<JpcWorkBudget>(units); }
   // Step 4's progressive mesh for a level's motion (an error without a mesh).

@@ -78,12 +78,11 @@ SkinDeviation::SkinDeviation(const SkinnedMesh& mesh) {
       group(points[j], 0, points[j].size(), m_groups[j]);
 }
 
-Result<double> SkinDeviation::measure(const Skeleton& skeleton, const SkinnedMesh& mesh, const Clip& clip,
-                                      const BoneReduction& bones, const SkinnedMesh& levelMesh, const Clip& levelClip,
-                                      double floor, const std::atomic<bool>* cancel) const {
+Result<std::vector<double>> SkinDeviation::reachPerFrame(const Skeleton& skeleton, const SkinnedMesh& mesh, const Clip& clip,
+                                                 const BoneReduction& bones, const SkinnedMesh& levelMesh,
+                                                 const Clip& levelClip, const std::atomic<bool>* cancel) const {
   assert(mesh.skinned() && levelMesh.vertexCount() == mesh.vertexCount());
   assert(levelClip.frameCount == clip.frameCount);
-  double largest = floor;
   const std::vector<glm::mat4> bake = bakeMatrices(bones, skeleton);
 
   // A vertex that blends joints rebound to different active joints k differs from
@@ -171,6 +170,32 @@ Result<double> SkinDeviation::measure(const Skeleton& skeleton, const SkinnedMes
     const double at = (bound + blend) * (1.0 + 1e-6) + kRoundingMargin * magnitude + 2.0 * levelStretch * drift;
     reach[static_cast<std::size_t>(t)] = std::isnan(at) ? std::numeric_limits<double>::infinity() : at;
   }
+
+  return reach;
+}
+
+Result<double> SkinDeviation::bound(const Skeleton& skeleton, const SkinnedMesh& mesh, const Clip& clip,
+                                    const BoneReduction& bones, const SkinnedMesh& levelMesh, const Clip& levelClip,
+                                    double floor, const std::atomic<bool>* cancel) const {
+  Result<std::vector<double>> reached = reachPerFrame(skeleton, mesh, clip, bones, levelMesh, levelClip, cancel);
+  if (!reached)
+    return reached.error();
+  double largest = floor;
+  for (const double r : *reached)
+    largest = std::max(largest, r);
+  return largest;
+}
+
+Result<double> SkinDeviation::measure(const Skeleton& skeleton, const SkinnedMesh& mesh, const Clip& clip,
+                                      const BoneReduction& bones, const SkinnedMesh& levelMesh, const Clip& levelClip,
+                                      double floor, const std::atomic<bool>* cancel) const {
+  Result<std::vector<double>> reached = reachPerFrame(skeleton, mesh, clip, bones, levelMesh, levelClip, cancel);
+  if (!reached)
+    return reached.error();
+  const std::vector<double>& reach = *reached;
+  const int frames = clip.frameCount;
+  double largest = floor;
+  std::vector<glm::mat4> models, levelModels, palette, levelPalette;
 
   // The frames whose reach passes the largest error so far, farthest first: skinned whole.
   std::vector<int> order(static_cast<std::size_t>(frames));

@@ -47,6 +47,12 @@ public:
                          const SkinnedMesh& levelMesh, const Clip& levelClip, double floor,
                          const std::atomic<bool>* cancel = nullptr) const;
 
+  // At least measure() (the same arguments): an upper bound from the skinning palettes
+  // alone, no frame skinned; max(floor, ...) too.
+  Result<double> bound(const Skeleton& skeleton, const SkinnedMesh& mesh, const Clip& clip, const BoneReduction& bones,
+                       const SkinnedMesh& levelMesh, const Clip& levelClip, double floor,
+                       const std::atomic<bool>* cancel = nullptr) const;
+
   // A few bind positions of the vertices one joint influences.
   struct Group {
     glm::dvec3 centre{0.0};
@@ -54,6 +60,11 @@ public:
   };
 
 private:
+  // Per frame: at least the largest distance measure() finds in that frame.
+  Result<std::vector<double>> reachPerFrame(const Skeleton& skeleton, const SkinnedMesh& mesh, const Clip& clip,
+                                    const BoneReduction& bones, const SkinnedMesh& levelMesh, const Clip& levelClip,
+                                    const std::atomic<bool>* cancel) const;
+
   std::vector<std::vector<Group>> m_groups; // per joint: its vertices (weight > 0), in groups
   double m_extent = 0.0;                    // the largest |bind position|, cm
 };

@@ -1,4 +1,5 @@
-// The motion error of a level (core/lod/skin_deviation.h) is the plain maximum, to the bit:
+// The motion error of a level (core/lod/skin_deviation.h) is the plain maximum, to the bit,
+// and its bound (what the pixel budget compares E = 0's noise-level error by) is above it:
 // on skinned characters of Debian's assimp-testmodels playing their own clips and CMU 01_03
 // mapped onto them, at thresholds from 0 (float noise only: every frame counts) to 1000
 // (bones removed, vertices blending joints rebound to different ones), the bounded search
@@ -77,6 +78,14 @@ TEST_P(SkinDeviationOnCharacters, IsThePlainMaximumAtEveryThreshold) {
       EXPECT_EQ(*bounded, alone) << "clip " << clips[c].name;
     }
     EXPECT_EQ(level->motionErrorCm, plain); // what LodCharacter::motionAt() reports
+    // the bound alone (the budget's E = 0) is at least that, and measuring it gives it exactly
+    Result<LevelMotion> bounded = character->motionAt(threshold, 0, LodCharacter::MotionError::Bound);
+    ASSERT_TRUE(bounded) << bounded.message();
+    EXPECT_FALSE(bounded->motionErrorExact);
+    EXPECT_GE(bounded->motionErrorCm, plain);
+    EXPECT_FALSE(character->measureMotionError(*bounded));
+    EXPECT_TRUE(bounded->motionErrorExact);
+    EXPECT_EQ(bounded->motionErrorCm, plain);
     blended = blended || level->bones.removedCount() > 0;
   }
   EXPECT_TRUE(blended) << "no threshold removed a joint: the rebound vertices went untested";
