@@ -75,8 +75,8 @@ int makeProject(const char* characterPath, const char* motionPath, const char* o
     asset.path = path;
     project.assets.push_back(std::move(asset));
   }
-  Result<MappedMotion> mapped = mapMotionAutomatically(
-      motion->skeleton, std::span<const Clip>(motion->clips).first(1), character->skeleton, characterPath);
+  Result<MappedMotion> mapped = mapMotionAutomatically(motion->skeleton, std::span<const Clip>(motion->clips).first(1),
+                                                       character->skeleton, characterPath);
   if (!mapped) {
     std::fprintf(stderr, "error: %s: %s\n", motionPath, mapped.message().c_str());
     return 2;

@@ -38,7 +38,7 @@ std::vector<Run> runsOf(const JointTrack& track, FrameRange range) {
 // every row and column. A joint that keeps one pose under float noise (a retargeted finger
 // that the source clip does not move) has thousands of frames but a few hundred postures.
 struct Postures {
-  std::vector<int> of;      // per run: its posture, 0 .. count - 1, numbered by first run
+  std::vector<int> of;       // per run: its posture, 0 .. count - 1, numbered by first run
   std::vector<int> firstRun; // per posture: the first run that holds it
   bool repeated() const { return firstRun.size() < of.size(); }
 };
@@ -78,10 +78,8 @@ Postures posturesOf(const JointTrack& track, const std::vector<Run>& runs) {
 class RowErrors {
 public:
   RowErrors(const JointTrack& track, const std::vector<Run>& runs, const Postures& postures)
-      : m_track(track), m_runs(runs), m_postures(postures) {
-    if (postures.repeated())
-      m_memo.resize(postures.firstRun.size());
-  }
+      : m_track(track), m_runs(runs), m_postures(postures),
+        m_memo(postures.repeated() ? postures.firstRun.size() : 0, -1.0) {}
   void setRow(int k) {
     m_row = k;
     std::fill(m_memo.begin(), m_memo.end(), -1.0); // errors are >= 0

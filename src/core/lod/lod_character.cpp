@@ -118,11 +118,10 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level, MotionEr
     const Clip& reduced = out.clips.back();
     if (levelMesh && originalMesh->skinned()) { // the same maximum as the loop below, far fewer frames skinned
       const bool bound = measure == MotionError::Bound;
-      Result<double> largest =
-          bound ? m_deviation.bound(m_skeleton, *originalMesh, clip, out.bones, *levelMesh, reduced, out.motionErrorCm,
-                                    cancel)
-                : m_deviation.measure(m_skeleton, *originalMesh, clip, out.bones, *levelMesh, reduced,
-                                      out.motionErrorCm, cancel);
+      Result<double> largest = bound ? m_deviation.bound(m_skeleton, *originalMesh, clip, out.bones, *levelMesh,
+                                                         reduced, out.motionErrorCm, cancel)
+                                     : m_deviation.measure(m_skeleton, *originalMesh, clip, out.bones, *levelMesh,
+                                                           reduced, out.motionErrorCm, cancel);
       if (!largest)
         return largest.error();
       out.motionErrorCm = *largest;

@@ -39,7 +39,7 @@ namespace mlod {
 
 // What one level plays: its motion on the reduced skeleton, and the skin it moves.
 struct LevelMotion {
-  double threshold = 0.0;           // E, cm·degrees
+  double threshold = 0.0; // E, cm·degrees
   BoneReduction bones;
   std::vector<ClusterSet> clusters; // per clip, on the full skeleton
   std::vector<Clip> clips;          // per clip, on bones.skeleton
@@ -106,7 +106,7 @@ private:
   JpcSettings m_jpc;
   MeshLodSettings m_meshSettings; // its cancel is the character's
   double m_radius = 0.0;
-  SkinDeviation m_deviation; // of m_mesh, when it is skinned
+  SkinDeviation m_deviation;                                                 // of m_mesh, when it is skinned
   std::shared_ptr<JpcWorkBudget> m_work = std::make_shared<JpcWorkBudget>(); // shared by copies
 };
 

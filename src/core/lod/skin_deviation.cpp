@@ -23,7 +23,8 @@ constexpr double kRoundingMargin = 1e-5;
 
 // Splits points[begin, end) at the median of the longest side until a group holds at most
 // kGroupVertices points.
-void group(std::vector<glm::dvec3>& points, std::size_t begin, std::size_t end, std::vector<SkinDeviation::Group>& out) {
+void group(std::vector<glm::dvec3>& points, std::size_t begin, std::size_t end,
+           std::vector<SkinDeviation::Group>& out) {
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
   for (std::size_t i = begin; i < end; ++i) {
     lo = glm::min(lo, points[i]);
@@ -78,9 +79,10 @@ SkinDeviation::SkinDeviation(const SkinnedMesh& mesh) {
       group(points[j], 0, points[j].size(), m_groups[j]);
 }
 
-Result<std::vector<double>> SkinDeviation::reachPerFrame(const Skeleton& skeleton, const SkinnedMesh& mesh, const Clip& clip,
-                                                 const BoneReduction& bones, const SkinnedMesh& levelMesh,
-                                                 const Clip& levelClip, const std::atomic<bool>* cancel) const {
+Result<std::vector<double>> SkinDeviation::reachPerFrame(const Skeleton& skeleton, const SkinnedMesh& mesh,
+                                                         const Clip& clip, const BoneReduction& bones,
+                                                         const SkinnedMesh& levelMesh, const Clip& levelClip,
+                                                         const std::atomic<bool>* cancel) const {
   assert(mesh.skinned() && levelMesh.vertexCount() == mesh.vertexCount());
   assert(levelClip.frameCount == clip.frameCount);
   const std::vector<glm::mat4> bake = bakeMatrices(bones, skeleton);

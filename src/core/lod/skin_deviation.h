@@ -25,9 +25,8 @@
 #include "core/skeleton.h"
 #include "core/skinned_mesh.h"
 
-#include <glm/glm.hpp>
-
 #include <atomic>
+#include <glm/glm.hpp>
 #include <vector>
 
 namespace mlod {
@@ -43,8 +42,8 @@ public:
   // playing `levelClip` (reduceClip() of the level's motion: the same frames)), cm, over every
   // frame and vertex. `mesh` is the one this was made from. Errors: kCancelled once `cancel`
   // (core/cancel.h, may be null) is set, looked at per frame.
-  Result<double> measure(const Skeleton& skeleton, const SkinnedMesh& mesh, const Clip& clip, const BoneReduction& bones,
-                         const SkinnedMesh& levelMesh, const Clip& levelClip, double floor,
+  Result<double> measure(const Skeleton& skeleton, const SkinnedMesh& mesh, const Clip& clip,
+                         const BoneReduction& bones, const SkinnedMesh& levelMesh, const Clip& levelClip, double floor,
                          const std::atomic<bool>* cancel = nullptr) const;
 
   // At least measure() (the same arguments): an upper bound from the skinning palettes
@@ -62,8 +61,8 @@ public:
 private:
   // Per frame: at least the largest distance measure() finds in that frame.
   Result<std::vector<double>> reachPerFrame(const Skeleton& skeleton, const SkinnedMesh& mesh, const Clip& clip,
-                                    const BoneReduction& bones, const SkinnedMesh& levelMesh, const Clip& levelClip,
-                                    const std::atomic<bool>* cancel) const;
+                                            const BoneReduction& bones, const SkinnedMesh& levelMesh,
+                                            const Clip& levelClip, const std::atomic<bool>* cancel) const;
 
   std::vector<std::vector<Group>> m_groups; // per joint: its vertices (weight > 0), in groups
   double m_extent = 0.0;                    // the largest |bind position|, cm

@@ -51,8 +51,8 @@ class SkinDeviationOnCharacters : public ::testing::TestWithParam<std::string> {
 TEST_P(SkinDeviationOnCharacters, IsThePlainMaximumAtEveryThreshold) {
   const Asset& asset = test::meshAsset(GetParam());
   const Asset& motion = test::meshAsset("BVH/01_03.bvh");
-  Result<MappedMotion> mapped = mapMotionAutomatically(
-      motion.skeleton, std::span<const Clip>(motion.clips).first(1), asset.skeleton, GetParam());
+  Result<MappedMotion> mapped =
+      mapMotionAutomatically(motion.skeleton, std::span<const Clip>(motion.clips).first(1), asset.skeleton, GetParam());
   ASSERT_TRUE(mapped) << mapped.message();
   std::vector<Clip> clips = asset.clips;
   clips.insert(clips.end(), mapped->clips.begin(), mapped->clips.end());
@@ -91,8 +91,7 @@ TEST_P(SkinDeviationOnCharacters, IsThePlainMaximumAtEveryThreshold) {
   EXPECT_TRUE(blended) << "no threshold removed a joint: the rebound vertices went untested";
 }
 
-INSTANTIATE_TEST_SUITE_P(Characters, SkinDeviationOnCharacters,
-                         ::testing::Values("X/BCN_Epileptic.X", "X/Testwuson.X"),
+INSTANTIATE_TEST_SUITE_P(Characters, SkinDeviationOnCharacters, ::testing::Values("X/BCN_Epileptic.X", "X/Testwuson.X"),
                          [](const ::testing::TestParamInfo<std::string>& param) {
                            std::string name = param.param.substr(param.param.rfind('/') + 1);
                            return name.substr(0, name.find('.'));
