@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <unordered_map>
 #include <vector>
 
 namespace mlod {
@@ -31,6 +32,79 @@ std::vector<Run> runsOf(const JointTrack& track, FrameRange range) {
   return runs;
 }
 
+// Runs of the range that hold the same posture as an earlier run (the same normalised
+// rotation, up to its sign, hence the same rotated child directions): error(t, x) is a
+// function of the two frames' postures alone, so such runs give bit-identical errors in
+// every row and column. A joint that keeps one pose under float noise (a retargeted finger
+// that the source clip does not move) has thousands of frames but a few hundred postures.
+struct Postures {
+  std::vector<int> of;       // per run: its posture, 0 .. count - 1, numbered by first run
+  std::vector<int> firstRun; // per posture: the first run that holds it
+  bool repeated() const { return firstRun.size() < of.size(); }
+};
+
+Postures posturesOf(const JointTrack& track, const std::vector<Run>& runs) {
+  struct Key {
+    double w, x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      const std::hash<double> h;
+      return ((h(k.w) * 31 + h(k.x)) * 31 + h(k.y)) * 31 + h(k.z);
+    }
+  };
+  Postures out;
+  out.of.reserve(runs.size());
+  std::unordered_map<Key, int, Hash> seen;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const glm::dquat& q = track.rotation(runs[i].frame);
+    // q and -q are one posture: the sign that makes the first non-zero component positive
+    // (+ 0.0 turns -0.0 into 0.0, which == compares equal anyway)
+    const double first = q.w != 0.0 ? q.w : q.x != 0.0 ? q.x : q.y != 0.0 ? q.y : q.z;
+    const double s = first < 0.0 ? -1.0 : 1.0;
+    const Key key{s * q.w + 0.0, s * q.x + 0.0, s * q.y + 0.0, s * q.z + 0.0};
+    const auto [found, added] = seen.emplace(key, static_cast<int>(out.firstRun.size()));
+    if (added)
+      out.firstRun.push_back(static_cast<int>(i));
+    out.of.push_back(found->second);
+  }
+  return out;
+}
+
+// error(t, k) for every run t of the range, each distinct posture evaluated once (lazily,
+// so a row that stops early costs what it used); the plain evaluation where no posture
+// repeats.
+class RowErrors {
+public:
+  RowErrors(const JointTrack& track, const std::vector<Run>& runs, const Postures& postures)
+      : m_track(track), m_runs(runs), m_postures(postures),
+        m_memo(postures.repeated() ? postures.firstRun.size() : 0, -1.0) {}
+  void setRow(int k) {
+    m_row = k;
+    std::fill(m_memo.begin(), m_memo.end(), -1.0); // errors are >= 0
+  }
+  double operator()(std::size_t run, std::int64_t& evaluations) {
+    if (m_memo.empty()) {
+      ++evaluations;
+      return m_track.error(m_runs[run].frame, m_row);
+    }
+    double& error = m_memo[static_cast<std::size_t>(m_postures.of[run])];
+    if (error < 0.0) {
+      error = m_track.error(m_runs[run].frame, m_row);
+      ++evaluations;
+    }
+    return error;
+  }
+
+private:
+  const JointTrack& m_track;
+  const std::vector<Run>& m_runs;
+  const Postures& m_postures;
+  std::vector<double> m_memo; // per posture; -1 until evaluated
+  int m_row = 0;
+};
+
 struct RowResult {
   bool complete = false; // false: over the threshold somewhere, or cannot beat the best
   double sum = 0.0;
@@ -38,12 +112,13 @@ struct RowResult {
 };
 
 // eq. (7) for row k, summed in ascending t; stops as soon as row k cannot win.
-RowResult evaluateRow(const JointTrack& track, const std::vector<Run>& runs, int k, double threshold, double bestSum,
+RowResult evaluateRow(RowErrors& errors, const std::vector<Run>& runs, int k, double threshold, double bestSum,
                       int bestKey, std::int64_t& evaluations) {
   RowResult row;
-  for (const Run& run : runs) {
-    const double error = track.error(run.frame, k);
-    ++evaluations;
+  errors.setRow(k);
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const Run& run = runs[i];
+    const double error = errors(i, evaluations);
     if (!(error <= threshold))
       return row;
     row.max = std::max(row.max, error);
@@ -76,6 +151,8 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
   };
   const std::vector<Run> runs = runsOf(track, range);
   const std::size_t count = runs.size();
+  const Postures postures = posturesOf(track, runs);
+  RowErrors rowErrors(track, runs, postures);
   const double m = range.length();
   const double eta = errorRoundingBound(track);
   constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
@@ -106,9 +183,9 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
   std::vector<double> pivotErrors(count);
   RowResult pivotRow;
   pivotRow.complete = !ruledOutByTable(runs[pivot].frame);
+  rowErrors.setRow(runs[pivot].frame);
   for (std::size_t i = 0; i < count; ++i) {
-    const double error = track.error(runs[i].frame, runs[pivot].frame);
-    ++out.evaluations;
+    const double error = rowErrors(i, out.evaluations);
     pivotErrors[i] = error;
     pivotRow.complete = pivotRow.complete && error <= threshold;
     pivotRow.max = std::max(pivotRow.max, error);
@@ -204,9 +281,10 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
   if (landmarks > 0) {
     std::vector<double> exact(static_cast<std::size_t>(length)), sorted(exact.size()), prefix(exact.size() + 1);
     for (const int p : landmarkFrames) {
-      for (const Run& run : runs) {
-        const double error = track.error(run.frame, p);
-        ++out.evaluations;
+      rowErrors.setRow(p);
+      for (std::size_t i = 0; i < count; ++i) {
+        const Run& run = runs[i];
+        const double error = rowErrors(i, out.evaluations);
         std::fill_n(exact.begin() + (run.frame - range.first), run.count, error);
       }
       sorted = exact;
@@ -255,6 +333,9 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
       return finish();
     if (i == pivot)
       continue;
+    // a later run of an earlier run's posture has the same sum: only the earlier can win
+    if (postures.firstRun[static_cast<std::size_t>(postures.of[i])] != static_cast<int>(i))
+      continue;
     const int k = runs[i].frame;
     const double v = pivotErrors[i];
     // E(t, k) >= |E(t, p) - E(k, p)|: some frame is over the threshold.
@@ -296,7 +377,7 @@ KeyPosture keyPosture(const JointTrack& track, FrameRange range, double threshol
     if (survivor.lower > upperBest || overBudget())
       break;
     const int k = runs[survivor.run].frame;
-    offer(k, evaluateRow(track, runs, k, threshold, bestSum, bestKey, out.evaluations));
+    offer(k, evaluateRow(rowErrors, runs, k, threshold, bestSum, bestKey, out.evaluations));
     upperBest = std::min(upperBest, bestSum);
   }
   return finish();

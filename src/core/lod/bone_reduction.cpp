@@ -171,13 +171,12 @@ Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip
   return out;
 }
 
-Clip frozenClip(const BoneReduction& reduction, const Clip& clip) {
-  Clip out = clip;
+Clip frozenClip(const BoneReduction& reduction, Clip clip) {
   for (int j = 0; j < clip.jointCount; ++j)
     if (reduction.removed[static_cast<std::size_t>(j)])
       for (int t = 0; t < clip.frameCount; ++t)
-        out.rotations[out.index(j, t)] = reduction.frozenRotation[static_cast<std::size_t>(j)];
-  return out;
+        clip.rotations[clip.index(j, t)] = reduction.frozenRotation[static_cast<std::size_t>(j)];
+  return clip;
 }
 
 Clip reduceClip(const BoneReduction& reduction, const Skeleton& full, const Clip& clip) {
@@ -216,10 +215,7 @@ Clip reduceClip(const BoneReduction& reduction, const Skeleton& full, const Clip
   return out;
 }
 
-SkinnedMesh rebindMesh(const BoneReduction& reduction, const Skeleton& full, const SkinnedMesh& mesh) {
-  SkinnedMesh out = mesh;
-  if (!mesh.skinned())
-    return out;
+std::vector<glm::mat4> bakeMatrices(const BoneReduction& reduction, const Skeleton& full) {
   const std::size_t n = full.joints.size();
   const std::vector<glm::mat4> rest = full.restModelMatrices();
   const auto inverseBind = [&](std::size_t j) {
@@ -234,6 +230,14 @@ SkinnedMesh rebindMesh(const BoneReduction& reduction, const Skeleton& full, con
     const glm::mat4 chain = foldAbove(full, reduction, int(j)) * frozenLocal(full, reduction, int(j));
     bake[j] = glm::inverse(inverseBind(a)) * chain * inverseBind(j);
   }
+  return bake;
+}
+
+SkinnedMesh rebindMesh(const BoneReduction& reduction, const Skeleton& full, const SkinnedMesh& mesh) {
+  SkinnedMesh out = mesh;
+  if (!mesh.skinned())
+    return out;
+  const std::vector<glm::mat4> bake = bakeMatrices(reduction, full);
   for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
     const glm::vec4& w = mesh.weights[v];
     const glm::u16vec4& joints = mesh.joints[v];

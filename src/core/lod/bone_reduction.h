@@ -58,13 +58,18 @@ Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip
                                   const JpcSettings& settings = {}, int level = 0,
                                   const std::atomic<bool>* cancel = nullptr);
 
-// `clip` (of the full skeleton) with every removed joint at its frozen rotation.
-Clip frozenClip(const BoneReduction& reduction, const Clip& clip);
+// `clip` (of the full skeleton) with every removed joint at its frozen rotation (a clip
+// passed as an rvalue is changed in place, not copied).
+Clip frozenClip(const BoneReduction& reduction, Clip clip);
 
 // `clip` (of the full skeleton) on the reduced skeleton: each active joint's local transform
 // is the frozen transforms of the removed joints above it (up to its active ancestor) times
 // its own. Channels as in `clip`.
 Clip reduceClip(const BoneReduction& reduction, const Skeleton& full, const Clip& clip);
+
+// Per joint of `full`: B_r (above) for a removed joint r, the identity for an active one.
+// rebindMesh() bakes with these.
+std::vector<glm::mat4> bakeMatrices(const BoneReduction& reduction, const Skeleton& full);
 
 // `mesh` (bound to the full skeleton) bound to the reduced one: influences on removed joints
 // move to their active ancestors, positions and normals baked as above, weights merged and

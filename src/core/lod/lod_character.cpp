@@ -4,6 +4,7 @@
 #include "core/mesh/skinning.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace mlod {
@@ -39,8 +40,10 @@ Result<LodCharacter> LodCharacter::prepare(const Skeleton& skeleton, const Skinn
     return error;
   LodCharacter out;
   out.m_skeleton = skeleton;
-  if (mesh)
+  if (mesh) {
     out.m_mesh = *mesh;
+    out.m_deviation = SkinDeviation(*mesh);
+  }
   out.m_clips.assign(clips.begin(), clips.end());
   out.m_jpc = jpc;
   out.m_meshSettings = meshSettings;
@@ -70,6 +73,10 @@ Result<LodCharacter> LodCharacter::prepare(const Skeleton& skeleton, const Skinn
 }
 
 Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
+  return motionAt(threshold, level, MotionError::Exact);
+}
+
+Result<LevelMotion> LodCharacter::motionAt(double threshold, int level, MotionError measure) const {
   if (Error error = validateThreshold(threshold))
     return error;
   const std::atomic<bool>* cancel = m_meshSettings.cancel;
@@ -109,6 +116,18 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
     out.clips.push_back(reduceClip(out.bones, m_skeleton, full));
     out.clusters.push_back(std::move(clusters));
     const Clip& reduced = out.clips.back();
+    if (levelMesh && originalMesh->skinned()) { // the same maximum as the loop below, far fewer frames skinned
+      const bool bound = measure == MotionError::Bound;
+      Result<double> largest = bound ? m_deviation.bound(m_skeleton, *originalMesh, clip, out.bones, *levelMesh,
+                                                         reduced, out.motionErrorCm, cancel)
+                                     : m_deviation.measure(m_skeleton, *originalMesh, clip, out.bones, *levelMesh,
+                                                           reduced, out.motionErrorCm, cancel);
+      if (!largest)
+        return largest.error();
+      out.motionErrorCm = *largest;
+      out.motionErrorExact = !bound;
+      continue;
+    }
     for (int t = 0; t < clip.frameCount; ++t) {
       if (cancelled(cancel))
         return Error(kCancelled);
@@ -127,6 +146,23 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level) const {
   }
   out.simplifiedPercent = jointFrames > 0.0 ? 100.0 * clusteredJointFrames / jointFrames : 0.0;
   return out;
+}
+
+Error LodCharacter::measureMotionError(LevelMotion& motion) const {
+  if (motion.motionErrorExact)
+    return {};
+  assert(m_mesh && motion.mesh && motion.clips.size() == m_clips.size());
+  double largest = 0.0;
+  for (std::size_t c = 0; c < m_clips.size(); ++c) {
+    Result<double> measured = m_deviation.measure(m_skeleton, *m_mesh, m_clips[c], motion.bones, *motion.mesh,
+                                                  motion.clips[c], largest, m_meshSettings.cancel);
+    if (!measured)
+      return measured.error();
+    largest = *measured;
+  }
+  motion.motionErrorCm = largest;
+  motion.motionErrorExact = true;
+  return {};
 }
 
 Result<MeshLod> LodCharacter::meshLodFor(const LevelMotion& motion) const {

@@ -24,6 +24,7 @@
 #include "core/jpc/jpc.h"
 #include "core/jpc/jpc_settings.h"
 #include "core/lod/bone_reduction.h"
+#include "core/lod/skin_deviation.h"
 #include "core/mesh/mesh_lod.h"
 #include "core/skeleton.h"
 #include "core/skinned_mesh.h"
@@ -38,12 +39,13 @@ namespace mlod {
 
 // What one level plays: its motion on the reduced skeleton, and the skin it moves.
 struct LevelMotion {
-  double threshold = 0.0;           // E, cm·degrees
+  double threshold = 0.0; // E, cm·degrees
   BoneReduction bones;
   std::vector<ClusterSet> clusters; // per clip, on the full skeleton
   std::vector<Clip> clips;          // per clip, on bones.skeleton
   std::optional<SkinnedMesh> mesh;  // the full-resolution mesh rebound to bones.skeleton (when there is a mesh)
-  double motionErrorCm = 0.0;       // see above
+  double motionErrorCm = 0.0;       // see above; an upper bound of it while !motionErrorExact
+  bool motionErrorExact = true;     // false: motionAt(..., MotionError::Bound) took the bound alone
   // 100 x clustered joint-frames / (clusterable joints x frames), every clip.
   double simplifiedPercent = 0.0;
 };
@@ -81,6 +83,14 @@ public:
   // thresholds, so a clip that one simplify takes seconds for could keep it busy for hours.
   // Past it, this and every later call is refused, naming the limit.
   Result<LevelMotion> motionAt(double threshold, int level = 0) const;
+  // What the motion error of a level costs: measured (to the bit, skin_deviation.h), or an
+  // upper bound of it from the skinning palettes alone (no frame skinned; worth it where
+  // the error is float noise, at E = 0, and only a bound is compared).
+  enum class MotionError { Exact, Bound };
+  Result<LevelMotion> motionAt(double threshold, int level, MotionError measure) const;
+  // Measures the error of a motion that motionAt() bounded (nothing when it is exact). Errors:
+  // kCancelled.
+  Error measureMotionError(LevelMotion& motion) const;
   // The work every motionAt() of this character may spend together, from now on.
   void setWorkLimit(std::int64_t units) { m_work = std::make_shared<JpcWorkBudget>(units); }
   // Step 4's progressive mesh for a level's motion (an error without a mesh).
@@ -96,6 +106,7 @@ private:
   JpcSettings m_jpc;
   MeshLodSettings m_meshSettings; // its cancel is the character's
   double m_radius = 0.0;
+  SkinDeviation m_deviation;                                                 // of m_mesh, when it is skinned
   std::shared_ptr<JpcWorkBudget> m_work = std::make_shared<JpcWorkBudget>(); // shared by copies
 };
 

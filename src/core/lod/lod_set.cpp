@@ -238,13 +238,17 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
     report->motionShare = motionShare;
   std::optional<MeshLod> fullMotionMesh;
   if (character->mesh()) {
-    Result<LevelMotion> full = character->motionAt(0.0);
+    // note: E = 0's motion error is float noise, and measuring it exactly skins every frame;
+    // the search mostly compares it with a budget far above it, so it takes the bound first
+    // and measures only where the bound decides nothing (settled() below)
+    Result<LevelMotion> full = character->motionAt(0.0, 0, LodCharacter::MotionError::Bound);
     if (!full)
       return full.error();
     Result<MeshLod> lod = character->meshLodFor(*full);
     if (!lod)
       return lod.error();
     fullMotionMesh.emplace(std::move(lod).value());
+    motions.emplace(std::pair<int, double>{0, 0.0}, std::move(full).value()); // the search's E = 0 at slot 0
   }
   if (!done(1, 0.0))
     return Error(kLodBudgetCancelled);
@@ -264,7 +268,7 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
     double tried = 0.0;
     // the per-joint overrides of the index the level gets if kept (levels left out close up)
     const int slot = perLevel ? static_cast<int>(out.levels.size()) : 0;
-    const auto motionAt = [&](double threshold) -> const LevelMotion* { // computed once per (slot, E)
+    const auto motionAt = [&](double threshold) -> LevelMotion* { // computed once per (slot, E)
       const std::pair<int, double> key{slot, threshold};
       auto found = motions.find(key);
       if (found == motions.end()) {
@@ -281,16 +285,33 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
       }
       return &found->second;
     };
-    const auto fits = [&](const LevelMotion& motion) { return motion.motionErrorCm <= motionShare * budget; };
-    const LevelMotion* chosen = nullptr;
+    // A motion whose error is a bound (E = 0's) is measured where its bound does not fit and
+    // before its error is read for anything else; a bound that fits says the error does.
+    const auto settled = [&](LevelMotion* motion) -> LevelMotion* {
+      if (motion && !motion->motionErrorExact)
+        if (Error error = character->measureMotionError(*motion)) {
+          failed = error;
+          return nullptr;
+        }
+      return motion;
+    };
+    const auto fits = [&](LevelMotion*& motion) {
+      if (motion->motionErrorCm > motionShare * budget)
+        motion = settled(motion);
+      return motion && motion->motionErrorCm <= motionShare * budget;
+    };
+    LevelMotion* chosen = nullptr;
     double firstMiss = 0.0; // the smallest candidate above the chosen one that does not fit (0: none tried)
     for (double threshold : candidates) {
       if (threshold < previousThreshold)
         continue;
-      const LevelMotion* motion = motionAt(threshold);
+      LevelMotion* motion = motionAt(threshold);
       if (!motion)
         return failed;
-      if (fits(*motion)) {
+      const bool fitting = fits(motion);
+      if (!motion)
+        return failed;
+      if (fitting) {
         chosen = motion;
         firstMiss = 0.0;
       } else {
@@ -313,10 +334,13 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
       double lo = std::floor(chosen->threshold) + 1.0, hi = std::ceil(firstMiss) - 1.0; // whole E strictly between
       while (lo <= hi) {
         const double mid = std::floor(0.5 * (lo + hi));
-        const LevelMotion* motion = motionAt(mid);
+        LevelMotion* motion = motionAt(mid);
         if (!motion)
           return failed;
-        if (fits(*motion)) {
+        const bool fitting = fits(motion);
+        if (!motion)
+          return failed;
+        if (fitting) {
           chosen = motion;
           lo = mid + 1.0;
         } else {
@@ -325,6 +349,9 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
       }
     }
 
+    chosen = settled(chosen);
+    if (!chosen)
+      return failed;
     if (!done(i, 0.6))
       return Error(kLodBudgetCancelled);
     LodLevel level;

@@ -5,8 +5,15 @@
 namespace mlod {
 
 std::vector<glm::mat4> skinningPalette(const Skeleton& skeleton, std::span<const glm::mat4> models) {
+  std::vector<glm::mat4> palette;
+  skinningPalette(skeleton, models, palette);
+  return palette;
+}
+
+void skinningPalette(const Skeleton& skeleton, std::span<const glm::mat4> models, std::vector<glm::mat4>& out_palette) {
+  std::vector<glm::mat4>& palette = out_palette;
   assert(models.size() == skeleton.joints.size());
-  std::vector<glm::mat4> palette(models.size());
+  palette.resize(models.size());
   std::vector<glm::mat4> rest;
   for (std::size_t j = 0; j < models.size(); ++j) {
     const Joint& joint = skeleton.joints[j];
@@ -18,7 +25,6 @@ std::vector<glm::mat4> skinningPalette(const Skeleton& skeleton, std::span<const
       rest = skeleton.restModelMatrices();
     palette[j] = models[j] * glm::inverse(rest[j]);
   }
-  return palette;
 }
 
 void skinPositions(const SkinnedMesh& mesh, std::span<const glm::mat4> palette, std::vector<glm::vec3>& out_positions) {
@@ -27,18 +33,8 @@ void skinPositions(const SkinnedMesh& mesh, std::span<const glm::mat4> palette, 
     out_positions.assign(mesh.positions.begin(), mesh.positions.end());
     return;
   }
-  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
-    const glm::vec4 p(mesh.positions[v], 1.0f);
-    glm::vec3 sum(0.0f);
-    for (int i = 0; i < kMaxInfluences; ++i) {
-      const float w = mesh.weights[v][i];
-      if (w == 0.0f)
-        break; // sorted largest first
-      assert(mesh.joints[v][i] < palette.size());
-      sum += w * glm::vec3(palette[mesh.joints[v][i]] * p);
-    }
-    out_positions[v] = sum;
-  }
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
+    out_positions[v] = skinPosition(mesh, palette, v);
 }
 
 std::vector<glm::vec3> posedPositions(const SkinnedMesh& mesh, const Skeleton& skeleton, const Clip& clip, int frame) {

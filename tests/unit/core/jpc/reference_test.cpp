@@ -178,5 +178,37 @@ TEST(JpcReference, SlowMotionsKeyAsTheFullTableSaysInFewEvaluations) {
   EXPECT_LT(key.evaluations, 20 * static_cast<std::int64_t>(frames));
 }
 
+// A joint that keeps one pose under float noise (BCN_Epileptic's fingers under the mapped CMU
+// 01_03: 4,510 frames in one cluster, 715 distinct rotations, not in runs) made the key
+// search sum every row exactly: 15 million evaluations, most of the budget preview's time.
+// Frames of one posture share their errors, so each row costs one evaluation per posture and
+// a repeated posture is not a row of its own; the key is still the full table's.
+TEST(JpcReference, RepeatedPosturesKeyAsTheFullTableSaysInFewEvaluations) {
+  const Skeleton chain = test::makeChain(3, 10.0f);
+  const int n = 1200, postures = 9;
+  std::mt19937 random(26);
+  std::vector<int> pick(static_cast<std::size_t>(n));
+  for (int& p : pick)
+    p = static_cast<int>(random() % postures);
+  const auto jitter = [&](int t) {
+    const float a = 1e-4f * static_cast<float>(pick[static_cast<std::size_t>(t)]);
+    return test::axisAngle(0.2f + a, {0, 0, 1}) * test::axisAngle(a, {1, 0, 0});
+  };
+  const Clip clip = test::chainClip(chain, n, jitter);
+  for (double alpha : {0.0, 5.0}) {
+    SCOPED_TRACE("alpha " + std::to_string(alpha));
+    const JointTrack track = test::chainTrack(clip, alpha);
+    const std::vector<double> table = test::fullTable(track);
+    const FrameRange all{0, n - 1};
+    for (double threshold : {1.0, 5.0}) {
+      const int key = test::referenceKey(table, n, all, threshold);
+      ASSERT_GE(key, 0);
+      const KeyPosture found = keyPosture(track, all, threshold);
+      EXPECT_EQ(found.key, key);
+      EXPECT_LE(found.evaluations, 40 * static_cast<std::int64_t>(postures) * postures + 20 * n);
+    }
+  }
+}
+
 } // namespace
 } // namespace mlod
