@@ -592,6 +592,11 @@ private slots:
       QCOMPARE(document->lods().levels[2].switchDistanceCm, 1500.0);
       QCOMPARE(document->lods().levels[4].switchDistanceCm, 1500.0); // kept in order
       QCOMPARE(document->lods().levels[1].switchDistanceCm, 800.0);
+      // one format a column (issue 26: "72.0976 m" beside "0 m", "9.968%")
+      QCOMPARE(model->index(2, LevelsModel::MeshRatioColumn).data().toString(), QString("40.0%"));
+      QCOMPARE(model->index(2, LevelsModel::SwitchDistanceColumn).data().toString(), QString("15.00 m"));
+      QCOMPARE(model->index(0, LevelsModel::SwitchDistanceColumn).data().toString(), QString("0.00 m"));
+      QCOMPARE(model->index(0, LevelsModel::MeshRatioColumn).data().toString(), QString("100.0%"));
       QVERIFY(editLevelCell(*window, 2, LevelsModel::ThresholdColumn, "70"));
       QVERIFY(waitForFigures(document));
       QCOMPARE(document->lods().levels[2].motionThreshold, 70.0);

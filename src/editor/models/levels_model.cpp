@@ -35,8 +35,9 @@ QVariant LevelsModel::data(const QModelIndex& index, int role) const {
     switch (index.column()) {
     case NameColumn: return QString::fromStdString(level.name);
     case ThresholdColumn: return row == 0 ? tr("original") : QString::number(level.motionThreshold, 'g', 6);
-    case MeshRatioColumn: return QString::number(level.meshRatio * 100.0, 'g', 4) + "%";
-    case SwitchDistanceColumn: return QString::number(level.switchDistanceCm / 100.0, 'g', 6) + " m";
+    // one format a column: "40.0%", "72.10 m" and "0.00 m" (not "9.968%", "72.0976 m", "0 m")
+    case MeshRatioColumn: return QString::number(level.meshRatio * 100.0, 'f', 1) + "%";
+    case SwitchDistanceColumn: return QString::number(level.switchDistanceCm / 100.0, 'f', 2) + " m";
     case SimplifiedColumn:
       return analysis && row < analysis->levelCount()
                  ? QString::number(analysis->levels[static_cast<std::size_t>(row)].simplifiedPercent, 'f', 1)
