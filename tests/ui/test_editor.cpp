@@ -93,6 +93,17 @@ QString tableText(const StatisticsView* view) {
   return cells.join(',');
 }
 
+// The next message box that opens (from the call that follows) is answered `button`;
+// *asked says whether one opened.
+void answerNextQuestion(QObject* context, QMessageBox::StandardButton button, bool* asked) {
+  QTimer::singleShot(0, context, [button, asked] {
+    if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
+      *asked = true;
+      QTest::mouseClick(box->button(button), Qt::LeftButton);
+    }
+  });
+}
+
 bool waitForFigures(Document* document) {
   return QTest::qWaitFor(
       [&] { return !document->isAnalysing() && !document->isLoading() && document->analysis() != nullptr; }, 60000);
@@ -935,12 +946,7 @@ private slots:
     QVERIFY(next.document()->fileName().isEmpty());
     // Closing asks about the unsaved changes; Discard closes cleanly and removes the recovery file.
     bool asked = false;
-    QTimer::singleShot(0, &next, [&asked] {
-      if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
-        asked = true;
-        QTest::mouseClick(box->button(QMessageBox::Discard), Qt::LeftButton);
-      }
-    });
+    answerNextQuestion(&next, QMessageBox::Discard, &asked);
     QVERIFY(next.close());
     QVERIFY(asked);
     QVERIFY(!next.autosave()->hasRecovery());
@@ -1416,12 +1422,7 @@ private slots:
     QVERIFY(window);
     QVERIFY(window->document()->isModified());
     bool asked = false;
-    QTimer::singleShot(0, window.get(), [&asked] {
-      if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
-        asked = true;
-        QTest::mouseClick(box->button(QMessageBox::No), Qt::LeftButton);
-      }
-    });
+    answerNextQuestion(window.get(), QMessageBox::No, &asked);
     QVERIFY(!window->openProject(path));
     QVERIFY(asked);
     QCOMPARE(window->document()->assetCount(), 1);
@@ -1438,22 +1439,14 @@ private slots:
     QAction* action = window->findChild<QAction*>("actionNewProject");
     QVERIFY(action);
     QCOMPARE(action->shortcut(), QKeySequence(QKeySequence::New));
-    const auto answer = [&](QMessageBox::StandardButton button, bool* asked) {
-      QTimer::singleShot(0, window.get(), [button, asked] {
-        if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
-          *asked = true;
-          QTest::mouseClick(box->button(button), Qt::LeftButton);
-        }
-      });
-    };
     bool asked = false;
-    answer(QMessageBox::No, &asked);
+    answerNextQuestion(window.get(), QMessageBox::No, &asked);
     action->trigger();
     QVERIFY(asked);
     QCOMPARE(document->assetCount(), 1);
     QVERIFY(document->isModified());
     asked = false;
-    answer(QMessageBox::Yes, &asked);
+    answerNextQuestion(window.get(), QMessageBox::Yes, &asked);
     action->trigger();
     QVERIFY(asked);
     QCOMPARE(document->assetCount(), 0);
