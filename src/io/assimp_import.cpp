@@ -1036,6 +1036,12 @@ Result<Asset> convert(std::unique_ptr<Assimp::Importer> importer, const aiScene*
     std::string reason = importer->GetErrorString();
     if (reason.empty())
       reason = "Assimp could not read it";
+    // a glTF compressed with meshoptimizer (the glTF exporter's compress=meshopt): say so
+    // rather than Assimp's "buffer with non-zero length missing the uri attribute"
+    for (const std::string& required : requiredGltfExtensions(gltfBytes))
+      if (required == "EXT_meshopt_compression")
+        return Error("it is compressed with EXT_meshopt_compression, which Assimp 5.2 cannot read (three.js, "
+                     "Babylon.js and gltf-transform can; export it without compress=meshopt to read it here)");
     // Assimp catches the allocation failure itself and keeps only its what().
     if (reason.find("bad_alloc") != std::string::npos)
       reason = "it needs more memory than the import may use (the file may be broken)";
@@ -1097,8 +1103,8 @@ Result<Asset> importAsset(const std::string& path, const ImportOptions& options)
     const aiScene* scene = importer->ReadFile(path, kPostProcess);
     if (const std::string& refused = sideFileGuard(*importer).problem(); !refused.empty())
       return Error(refused);
-    std::string gltf; // a glTF's own JSON: what it states beyond what Assimp reads
-    if (scene && (extension == "glb" || extension == "gltf")) {
+    std::string gltf; // a glTF's own JSON: what it states beyond what Assimp reads (or why it failed)
+    if (extension == "glb" || extension == "gltf") {
       stream.clear();
       stream.seekg(0);
       gltf.resize(static_cast<std::size_t>(size));

@@ -326,6 +326,20 @@ void readNormalizedRotations(std::string_view bytes, const json& document, const
 
 } // namespace
 
+std::vector<std::string> requiredGltfExtensions(std::string_view bytes) {
+  const std::string_view text = jsonText(bytes);
+  if (text.empty())
+    return {};
+  const json document = json::parse(text.begin(), text.end(), nullptr, false);
+  const json* required = member(document, "extensionsRequired");
+  std::vector<std::string> out;
+  if (!document.is_discarded() && required && required->is_array())
+    for (const json& name : *required)
+      if (name.is_string())
+        out.push_back(name.get<std::string>());
+  return out;
+}
+
 std::vector<GltfAnimationInfo> readGltfAnimationInfo(std::string_view bytes, std::vector<std::string>& out_warnings) {
   const std::string_view text = jsonText(bytes);
   if (text.empty())

@@ -34,6 +34,10 @@ struct GltfAnimationInfo {
   std::string normalizedRotationProblem;
 };
 
+// The extensions the glTF `bytes` (a .glb, or the JSON of a .gltf) requires
+// (extensionsRequired); empty for anything else.
+std::vector<std::string> requiredGltfExtensions(std::string_view bytes);
+
 // Per animation of the glTF `bytes` (a .glb, or the JSON of a .gltf), in the file's order.
 // Empty when the bytes are neither, or state nothing about any animation. References of
 // MLOD_joint_clusters are resolved by name where the name and the index disagree (a tool
