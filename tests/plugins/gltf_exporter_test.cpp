@@ -1044,80 +1044,86 @@ std::optional<glm::quat> sampledRotation(const tinygltf::Model& model, const tin
 // encoders, KHR_mesh_quantization where the normals are quantized) passes the validator,
 // brings CMU 01_01's four levels to at most 1.32 MB (gltfpack 1.3 -af 0 -c on the float
 // file), and three.js r187 and Babylon.js 9 load it and play it as the uncompressed file plays
-// (every rotated joint within 0.02 degrees at a half frame; every mesh vertex there).
-// Skipped without Node.
+// (every rotated joint within 0.02 degrees at a half frame; every mesh vertex there), as .glb
+// and as .gltf (the encoded buffer as a data URI). Skipped without Node.
 TEST(GltfExporter, MeshoptCompressedPassesTheValidatorAndPlaysInThreeAndBabylon) {
   if (!test::haveNode())
     GTEST_SKIP() << "three.js and Babylon.js run in Node, which is not on PATH";
-  for (const LodPackage* package : {&test::cmuPackage(), &test::bcnPackage()}) {
-    SCOPED_TRACE(package->name);
-    QTemporaryDir dir;
-    const Exported plain = exportTo(*package, dir.filePath("plain.glb"));
-    const Exported out = exportTo(*package, dir.filePath("meshopt.glb"), {"compress=meshopt"});
-    ASSERT_TRUE(plain.result.ok && out.result.ok) << out.result.message.toStdString();
-    std::cout << "[ size ] " << package->name << ": " << plain.bytes.size() << " bytes, compress=meshopt "
-              << out.bytes.size() << " bytes\n";
-    EXPECT_LT(out.bytes.size(), plain.bytes.size());
-    if (package == &test::cmuPackage()) {
-      EXPECT_LE(out.bytes.size(), 1'320'000);
-    }
-    const test::ValidatorReport report = test::runValidator(out.path);
-    EXPECT_EQ(report.exitCode, 0) << report.output;
-    EXPECT_EQ(report.errors, 0) << report.output;
-    EXPECT_EQ(report.warnings, 0) << report.output;
-
-    const json document = documentOf(out.bytes);
-    const auto required = document.at("extensionsRequired").get<std::vector<std::string>>();
-    EXPECT_NE(std::find(required.begin(), required.end(), "EXT_meshopt_compression"), required.end());
-    EXPECT_EQ(std::find(required.begin(), required.end(), "KHR_mesh_quantization") != required.end(),
-              package->mesh.has_value()); // the normals are 8-bit
-    for (const json& view : document.at("bufferViews"))
-      EXPECT_TRUE(view.at("extensions").contains("EXT_meshopt_compression")) << view.dump();
-    EXPECT_TRUE(document.at("buffers").at(1).at("extensions").at("EXT_meshopt_compression").at("fallback").get<bool>());
-    // Assimp 5.2 cannot read it: the importer says why
-    const Result<Asset> back = importAsset(out.path.toStdString());
-    ASSERT_FALSE(back);
-    EXPECT_NE(back.message().find("EXT_meshopt_compression"), std::string::npos) << back.message();
-
-    const tinygltf::Model model = parseModel(plain.bytes);
-    const std::size_t animation = package->clips.size(); // LOD1's first clip
-    const Clip& clip = package->clips[0];
-    const double seconds = (std::min(100, clip.frameCount - 2) + 0.5) / clip.fps;
-    const test::LoaderReport played = test::runLoaders(out.path, int(animation), seconds);
-    ASSERT_EQ(played.exitCode, 0) << played.errors;
-    const json result = json::parse(played.output);
-    std::size_t vertices = 0;
-    if (!model.meshes.empty())
-      for (const tinygltf::Primitive& primitive : model.meshes[0].primitives)
-        vertices += model.accessors[std::size_t(primitive.attributes.at("POSITION"))].count;
-    for (const char* reader : {"three", "babylon"}) {
-      SCOPED_TRACE(reader);
-      const json& got = result.at(reader);
-      ASSERT_EQ(got.at("animations").size(), model.animations.size());
-      for (std::size_t a = 0; a < model.animations.size(); ++a)
-        EXPECT_EQ(got.at("animations")[a].get<std::string>(), model.animations[a].name);
-      EXPECT_EQ(got.at("vertices").get<std::size_t>(), vertices); // the finest level's mesh
-      double worst = 0.0;
-      int rotated = 0;
-      for (int j = 0; j < package->skeleton.jointCount(); ++j) {
-        const std::string& name = model.nodes[std::size_t(j)].name;
-        const std::optional<glm::quat> expected = sampledRotation(model, model.animations[animation], j, seconds);
-        if (!expected)
-          continue;
-        ASSERT_TRUE(got.at("rotations").contains(name)) << name;
-        const std::vector<double> q = got.at("rotations").at(name).get<std::vector<double>>();
-        ASSERT_EQ(q.size(), 4u);
-        worst = std::max(
-            worst, rotationAngleDegrees(glm::quat(float(q[3]), float(q[0]), float(q[1]), float(q[2])), *expected));
-        ++rotated;
+  for (const LodPackage* package : {&test::cmuPackage(), &test::bcnPackage()})
+    for (const QString& file : {QStringLiteral("meshopt.glb"), QStringLiteral("meshopt.gltf")}) {
+      SCOPED_TRACE(package->name + " " + file.toStdString());
+      const bool binary = file.endsWith(".glb");
+      QTemporaryDir dir;
+      const Exported plain = exportTo(*package, dir.filePath("plain.glb"));
+      const Exported out = exportTo(*package, dir.filePath(file), {"compress=meshopt"});
+      ASSERT_TRUE(plain.result.ok && out.result.ok) << out.result.message.toStdString();
+      std::cout << "[ size ] " << package->name << ": " << plain.bytes.size() << " bytes, compress=meshopt "
+                << out.bytes.size() << " bytes (" << file.toStdString() << ")\n";
+      EXPECT_EQ(out.bytes.startsWith("glTF"), binary);
+      if (binary) {
+        EXPECT_LT(out.bytes.size(), plain.bytes.size());
       }
-      EXPECT_EQ(rotated, package->skeleton.jointCount()); // every joint is keyed
-      EXPECT_LT(worst, 0.02);
-      std::cout << "[ " << reader << " ] " << package->name << " " << model.animations[animation].name << " at "
-                << seconds << " s: " << rotated << " joints, at most " << worst
-                << " degrees from the uncompressed file\n";
+      if (package == &test::cmuPackage() && binary) {
+        EXPECT_LE(out.bytes.size(), 1'320'000);
+      }
+      const test::ValidatorReport report = test::runValidator(out.path);
+      EXPECT_EQ(report.exitCode, 0) << report.output;
+      EXPECT_EQ(report.errors, 0) << report.output;
+      EXPECT_EQ(report.warnings, 0) << report.output;
+
+      const json document = documentOf(out.bytes);
+      const auto required = document.at("extensionsRequired").get<std::vector<std::string>>();
+      EXPECT_NE(std::find(required.begin(), required.end(), "EXT_meshopt_compression"), required.end());
+      EXPECT_EQ(std::find(required.begin(), required.end(), "KHR_mesh_quantization") != required.end(),
+                package->mesh.has_value()); // the normals are 8-bit
+      for (const json& view : document.at("bufferViews"))
+        EXPECT_TRUE(view.at("extensions").contains("EXT_meshopt_compression")) << view.dump();
+      EXPECT_TRUE(
+          document.at("buffers").at(1).at("extensions").at("EXT_meshopt_compression").at("fallback").get<bool>());
+      // Assimp 5.2 cannot read it: the importer says why
+      const Result<Asset> back = importAsset(out.path.toStdString());
+      ASSERT_FALSE(back);
+      EXPECT_NE(back.message().find("EXT_meshopt_compression"), std::string::npos) << back.message();
+
+      const tinygltf::Model model = parseModel(plain.bytes);
+      const std::size_t animation = package->clips.size(); // LOD1's first clip
+      const Clip& clip = package->clips[0];
+      const double seconds = (std::min(100, clip.frameCount - 2) + 0.5) / clip.fps;
+      const test::LoaderReport played = test::runLoaders(out.path, int(animation), seconds);
+      ASSERT_EQ(played.exitCode, 0) << played.errors;
+      const json result = json::parse(played.output);
+      std::size_t vertices = 0;
+      if (!model.meshes.empty())
+        for (const tinygltf::Primitive& primitive : model.meshes[0].primitives)
+          vertices += model.accessors[std::size_t(primitive.attributes.at("POSITION"))].count;
+      for (const char* reader : {"three", "babylon"}) {
+        SCOPED_TRACE(reader);
+        const json& got = result.at(reader);
+        ASSERT_EQ(got.at("animations").size(), model.animations.size());
+        for (std::size_t a = 0; a < model.animations.size(); ++a)
+          EXPECT_EQ(got.at("animations")[a].get<std::string>(), model.animations[a].name);
+        EXPECT_EQ(got.at("vertices").get<std::size_t>(), vertices); // the finest level's mesh
+        double worst = 0.0;
+        int rotated = 0;
+        for (int j = 0; j < package->skeleton.jointCount(); ++j) {
+          const std::string& name = model.nodes[std::size_t(j)].name;
+          const std::optional<glm::quat> expected = sampledRotation(model, model.animations[animation], j, seconds);
+          if (!expected)
+            continue;
+          ASSERT_TRUE(got.at("rotations").contains(name)) << name;
+          const std::vector<double> q = got.at("rotations").at(name).get<std::vector<double>>();
+          ASSERT_EQ(q.size(), 4u);
+          worst = std::max(
+              worst, rotationAngleDegrees(glm::quat(float(q[3]), float(q[0]), float(q[1]), float(q[2])), *expected));
+          ++rotated;
+        }
+        EXPECT_EQ(rotated, package->skeleton.jointCount()); // every joint is keyed
+        EXPECT_LT(worst, 0.02);
+        std::cout << "[ " << reader << " ] " << package->name << " " << model.animations[animation].name << " at "
+                  << seconds << " s: " << rotated << " joints, at most " << worst
+                  << " degrees from the uncompressed file\n";
+      }
     }
-  }
 }
 
 // The claims about characters below run on every animated character of the shared fixture

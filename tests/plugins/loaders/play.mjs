@@ -18,6 +18,17 @@ import { NullEngine, Scene, LoadAssetContainerAsync, Logger } from '@babylonjs/c
 import { MeshoptCompression } from '@babylonjs/core/Meshes/Compression/meshoptCompression.js';
 import '@babylonjs/loaders/glTF/2.0/index.js';
 
+// three.js reads a .gltf's data URI with fetch() and reports progress with ProgressEvent,
+// which Node lacks
+if (typeof globalThis.ProgressEvent === 'undefined') {
+  globalThis.ProgressEvent = class extends Event {
+    constructor(type, init = {}) {
+      super(type);
+      Object.assign(this, init);
+    }
+  };
+}
+
 const [file, animationArg = '0', secondsArg = '0'] = process.argv.slice(2);
 if (!file) {
   console.error('usage: node play.mjs FILE.glb|FILE.gltf [ANIMATION] [SECONDS]');
@@ -66,7 +77,10 @@ async function babylon() {
   };
   const engine = new NullEngine();
   const scene = new Scene(engine);
-  const container = await LoadAssetContainerAsync(new Uint8Array(arrayBuffer), scene, { pluginExtension: '.glb' });
+  // a .glb as bytes; a .gltf (text, which Babylon does not take as bytes) as a data URL
+  const text = file.toLowerCase().endsWith('.gltf');
+  const source = text ? `data:model/gltf+json;base64,${bytes.toString('base64')}` : new Uint8Array(arrayBuffer);
+  const container = await LoadAssetContainerAsync(source, scene, { pluginExtension: text ? '.gltf' : '.glb' });
   container.addAllToScene();
   const groups = container.animationGroups;
   const vertices = container.meshes.reduce((n, m) => n + (m.getTotalVertices ? m.getTotalVertices() : 0), 0);
