@@ -57,12 +57,32 @@ glm::mat4 toMetres(const glm::mat4& m) {
   return out;
 }
 
+// How EXT_meshopt_compression encodes one buffer view (compressMeshopt()): element size,
+// TRIANGLES (an index buffer) or ATTRIBUTES, and the filter its bytes already went through.
+struct ViewCodec {
+  std::size_t stride = 0;
+  bool triangles = false;
+  const char* filter = nullptr; // "QUATERNION", "OCTAHEDRAL" or none
+};
+
+// Bits per quaternion component under meshopt's QUATERNION filter (4..16): the most it keeps.
+constexpr int kQuatFilterBits = 16;
+
 // Builds the one buffer, its views and accessors.
 class Builder {
 public:
-  explicit Builder(tinygltf::Model& model) : m_model(model) { m_model.buffers.emplace_back(); }
+  Builder(tinygltf::Model& model, Compression compression) : m_model(model), m_compression(compression) {
+    m_model.buffers.emplace_back();
+  }
 
-  int view(const void* data, std::size_t bytes, int target) {
+  Compression compression() const { return m_compression; }
+  const std::vector<ViewCodec>& codecs() const { return m_codecs; }
+  // The largest angle (degrees) between a rotation key and what a reader decodes from the file.
+  double rotationErrorDegrees() const { return m_rotationError; }
+
+  int view(const void* data, std::size_t bytes, int target, std::size_t stride = 4, bool triangles = false,
+           const char* filter = nullptr) {
+    m_codecs.push_back({stride, triangles, filter});
     std::vector<unsigned char>& buffer = m_model.buffers[0].data;
     buffer.resize((buffer.size() + 3) / 4 * 4, 0); // every component type here is at most 4 bytes
     tinygltf::BufferView v;
@@ -79,7 +99,8 @@ public:
   // Float elements of `components` each (type: TINYGLTF_TYPE_*); bounds where asked.
   int floats(const std::vector<float>& values, int components, int type, int target, bool bounds) {
     tinygltf::Accessor a;
-    a.bufferView = view(values.data(), values.size() * sizeof(float), target);
+    a.bufferView = view(values.data(), values.size() * sizeof(float), target,
+                        sizeof(float) * static_cast<std::size_t>(components));
     a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
     a.type = type;
     a.count = values.size() / static_cast<std::size_t>(components);
@@ -98,7 +119,8 @@ public:
   template <typename T>
   int integers(const std::vector<T>& values, int componentType, int components, int type, int target) {
     tinygltf::Accessor a;
-    a.bufferView = view(values.data(), values.size() * sizeof(T), target);
+    a.bufferView = view(values.data(), values.size() * sizeof(T), target,
+                        sizeof(T) * static_cast<std::size_t>(components), target == kElementArrayBuffer);
     a.componentType = componentType;
     a.type = type;
     a.count = values.size() / static_cast<std::size_t>(components);
@@ -118,18 +140,70 @@ public:
     return accessor;
   }
 
+  // Rotation keys (x, y, z, w, unit) as normalized signed 16-bit integers, shared like
+  // shared(): rounded (quantizeRotations(), core/lod/held_keys.h), or under meshopt's
+  // QUATERNION filter when compressing. Keeps the largest error a reader will see.
+  int rotations(const std::vector<float>& values) {
+    const std::size_t keys = values.size() / 4;
+    std::vector<std::int16_t> shorts(values.size());
+    std::vector<std::int16_t> decoded;
+    if (m_compression == Compression::Meshopt) {
+      meshopt_encodeFilterQuat(shorts.data(), keys, 8, kQuatFilterBits, values.data());
+      decoded = shorts;
+      meshopt_decodeFilterQuat(decoded.data(), keys, 8);
+    } else {
+      shorts = quantizeRotations(values);
+      decoded = shorts;
+    }
+    for (std::size_t k = 0; k < keys; ++k) {
+      const glm::quat key(values[4 * k + 3], values[4 * k], values[4 * k + 1], values[4 * k + 2]);
+      m_rotationError = std::max(m_rotationError, rotationAngleDegrees(key, dequantizeRotation(&decoded[4 * k])));
+    }
+    std::string key(reinterpret_cast<const char*>(shorts.data()), shorts.size() * sizeof(std::int16_t));
+    key += 'q';
+    const auto found = m_shared.find(key);
+    if (found != m_shared.end())
+      return found->second;
+    tinygltf::Accessor a;
+    a.bufferView = view(shorts.data(), shorts.size() * sizeof(std::int16_t), kNoTarget, 8, false,
+                        m_compression == Compression::Meshopt ? "QUATERNION" : nullptr);
+    a.componentType = TINYGLTF_COMPONENT_TYPE_SHORT;
+    a.normalized = true;
+    a.type = TINYGLTF_TYPE_VEC4;
+    a.count = keys;
+    const int accessor = push(std::move(a));
+    m_shared.emplace(std::move(key), accessor);
+    return accessor;
+  }
+
+  // Unit normals as 8-bit normalized integers under meshopt's OCTAHEDRAL filter, 4 bytes a
+  // vertex (x, y, z and a pad), a vertex buffer: KHR_mesh_quantization.
+  int octNormals(const std::vector<float>& xyz) {
+    const std::size_t n = xyz.size() / 3;
+    std::vector<float> xyzw;
+    xyzw.reserve(n * 4);
+    for (std::size_t i = 0; i < n; ++i)
+      xyzw.insert(xyzw.end(), {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], 0.0f});
+    std::vector<std::int8_t> bytes(n * 4);
+    meshopt_encodeFilterOct(bytes.data(), n, 4, 8, xyzw.data());
+    tinygltf::Accessor a;
+    a.bufferView = view(bytes.data(), bytes.size(), kArrayBuffer, 4, false, "OCTAHEDRAL");
+    m_model.bufferViews.back().byteStride = 4;
+    a.componentType = TINYGLTF_COMPONENT_TYPE_BYTE;
+    a.normalized = true;
+    a.type = TINYGLTF_TYPE_VEC3;
+    a.count = n;
+    m_quantizedMesh = true;
+    return push(std::move(a));
+  }
+  bool quantizedMesh() const { return m_quantizedMesh; }
+
   // Key times (seconds, with bounds) of `frames` at `fps`.
   int times(const std::vector<int>& frames, double fps) {
     std::vector<float> seconds(frames.size());
     for (std::size_t i = 0; i < frames.size(); ++i)
       seconds[i] = static_cast<float>(frames[i] / fps);
     return shared(seconds, 1, TINYGLTF_TYPE_SCALAR, true);
-  }
-
-  // Bytes of the data behind `accessor` (its buffer view).
-  std::size_t bytesOf(int accessor) const {
-    const tinygltf::Accessor& a = m_model.accessors[static_cast<std::size_t>(accessor)];
-    return m_model.bufferViews[static_cast<std::size_t>(a.bufferView)].byteLength;
   }
 
 private:
@@ -139,7 +213,11 @@ private:
   }
 
   tinygltf::Model& m_model;
+  Compression m_compression;
   std::unordered_map<std::string, int> m_shared;
+  std::vector<ViewCodec> m_codecs; // per buffer view
+  double m_rotationError = 0.0;
+  bool m_quantizedMesh = false;
 };
 
 void addChannel(tinygltf::Animation& animation, int node, const char* path, int input, int output) {
@@ -174,8 +252,8 @@ Result<tinygltf::Animation> levelAnimation(Builder& builder, const LodPackage& p
   animation.name = name;
   for (const LevelTrack& track : levelTracks(package, level, clipIndex)) {
     const bool rotation = track.path == TrackPath::Rotation;
-    const int output =
-        builder.shared(track.values, track.components(), rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, false);
+    const int output = rotation ? builder.rotations(track.values)
+                                : builder.shared(track.values, track.components(), TINYGLTF_TYPE_VEC3, false);
     const char* path = rotation ? "rotation" : track.path == TrackPath::Translation ? "translation" : "scale";
     addChannel(animation, track.joint, path, builder.times(track.frames, clip.fps), output);
   }
@@ -256,7 +334,9 @@ Result<tinygltf::Primitive> primitiveOf(Builder& builder, const SkinnedMesh& mes
           length > 1e-12 && std::isfinite(length) ? glm::vec3(glm::dvec3(m) / length) : glm::vec3(0.0f, 0.0f, 1.0f);
       values.insert(values.end(), {u.x, u.y, u.z});
     }
-    primitive.attributes["NORMAL"] = builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kArrayBuffer, false);
+    primitive.attributes["NORMAL"] = builder.compression() == Compression::Meshopt
+                                         ? builder.octNormals(values)
+                                         : builder.floats(values, 3, TINYGLTF_TYPE_VEC3, kArrayBuffer, false);
   }
   if (mesh.uvs.size() == total) {
     values.clear();
@@ -429,6 +509,132 @@ Result<std::string> withExtension(const std::string& bytes, const WriteOptions& 
   return out;
 }
 
+std::string base64Encoded(std::string_view bytes) {
+  static constexpr char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+    std::uint32_t bits = 0;
+    for (std::size_t k = 0; k < 3; ++k)
+      bits = (bits << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    for (std::size_t k = 0; k < 4; ++k)
+      out += k <= n ? kDigits[(bits >> (18 - 6 * k)) & 63u] : '=';
+  }
+  return out;
+}
+
+// The bytes of one buffer view as meshoptimizer's codecs encode them (EXT_meshopt_compression,
+// vertex codec version 0, index codec version 1), or empty where they fail.
+std::string encodedView(std::string_view data, const ViewCodec& codec) {
+  const std::size_t count = data.size() / codec.stride;
+  std::vector<unsigned char> out;
+  std::size_t size = 0;
+  if (codec.triangles) {
+    std::vector<unsigned int> indices(count);
+    unsigned int vertices = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      if (codec.stride == 2) {
+        std::uint16_t v = 0;
+        std::memcpy(&v, data.data() + 2 * i, 2);
+        indices[i] = v;
+      } else {
+        std::memcpy(&indices[i], data.data() + 4 * i, 4);
+      }
+      vertices = std::max(vertices, indices[i] + 1);
+    }
+    meshopt_encodeIndexVersion(1);
+    out.resize(meshopt_encodeIndexBufferBound(count, vertices));
+    size = meshopt_encodeIndexBuffer(out.data(), out.size(), indices.data(), count);
+  } else {
+    meshopt_encodeVertexVersion(0);
+    out.resize(meshopt_encodeVertexBufferBound(count, codec.stride));
+    size = meshopt_encodeVertexBuffer(out.data(), out.size(), data.data(), count, codec.stride);
+  }
+  return std::string(reinterpret_cast<const char*>(out.data()), size);
+}
+
+// The GLB `glb` (as tinygltf and withExtension() wrote it, `codecs` per buffer view) with
+// every buffer view meshopt-encoded (EXT_meshopt_compression): the views move to buffer 1, a
+// fallback buffer without data (their offsets into it as before), and their extension points
+// at the encoded bytes in buffer 0 (the BIN chunk, or the .gltf's data URI). `out_viewBytes`
+// receives the encoded size of each view.
+Result<std::string> compressMeshopt(const std::string& glb, const std::vector<ViewCodec>& codecs, bool quantizedMesh,
+                                    const WriteOptions& options, std::vector<std::size_t>& out_viewBytes) {
+  const auto u32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, glb.data() + at, 4);
+    return v;
+  };
+  if (glb.size() < 28 || glb.compare(0, 4, "glTF") != 0 || 28 + std::size_t(u32(12)) > glb.size())
+    return Error("the glTF serializer wrote an invalid GLB");
+  const std::size_t jsonLength = u32(12);
+  json document = json::parse(glb.begin() + 20, glb.begin() + 20 + std::ptrdiff_t(jsonLength), nullptr, false);
+  const std::size_t binAt = 20 + jsonLength;
+  if (document.is_discarded() || u32(binAt + 4) != 0x004E4942u || binAt + 8 + u32(binAt) > glb.size())
+    return Error("the glTF serializer wrote an invalid GLB");
+  const std::string_view bin(glb.data() + binAt + 8, u32(binAt));
+  json& views = document["bufferViews"];
+  if (!views.is_array() || views.size() != codecs.size())
+    return Error("the buffer views are not those written");
+  std::string packed;
+  out_viewBytes.assign(codecs.size(), 0);
+  for (std::size_t i = 0; i < codecs.size(); ++i) {
+    json& view = views[i];
+    const std::size_t offset = view.value("byteOffset", std::size_t(0));
+    const std::size_t length = view.value("byteLength", std::size_t(0));
+    const ViewCodec& codec = codecs[i];
+    if (offset + length > bin.size() || codec.stride == 0 || length % codec.stride != 0)
+      return Error("buffer view " + std::to_string(i) + " does not fit its codec");
+    const std::string encoded = encodedView(bin.substr(offset, length), codec);
+    if (encoded.empty())
+      return Error("meshoptimizer could not encode buffer view " + std::to_string(i));
+    packed.resize((packed.size() + 3) / 4 * 4, '\0');
+    json extension = {{"buffer", 0},
+                      {"byteOffset", packed.size()},
+                      {"byteLength", encoded.size()},
+                      {"byteStride", codec.stride},
+                      {"count", length / codec.stride},
+                      {"mode", codec.triangles ? "TRIANGLES" : "ATTRIBUTES"}};
+    if (codec.filter)
+      extension["filter"] = codec.filter;
+    packed += encoded;
+    out_viewBytes[i] = encoded.size();
+    view["buffer"] = 1;
+    view["extensions"]["EXT_meshopt_compression"] = std::move(extension);
+  }
+  packed.resize((packed.size() + 3) / 4 * 4, '\0');
+  json buffer = {{"byteLength", packed.size()}};
+  if (!options.binary)
+    buffer["uri"] = "data:application/octet-stream;base64," + base64Encoded(packed);
+  document["buffers"] =
+      json::array({std::move(buffer),
+                   {{"byteLength", bin.size()}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}});
+  for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
+    json& list = document[key];
+    list.push_back("EXT_meshopt_compression");
+    if (quantizedMesh)
+      list.push_back("KHR_mesh_quantization");
+  }
+  if (!options.binary)
+    return document.dump(options.pretty ? 2 : -1, ' ', false, json::error_handler_t::replace) + "\n";
+  std::string text = document.dump(-1, ' ', false, json::error_handler_t::replace);
+  text.resize((text.size() + 3) / 4 * 4, ' ');
+  std::string out;
+  const auto put = [&](std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+  out.reserve(28 + text.size() + packed.size());
+  out.append("glTF", 4);
+  put(2);
+  put(static_cast<std::uint32_t>(28 + text.size() + packed.size()));
+  put(static_cast<std::uint32_t>(text.size()));
+  put(0x4E4F534Au); // "JSON"
+  out += text;
+  put(static_cast<std::uint32_t>(packed.size()));
+  put(0x004E4942u); // "BIN\0"
+  out += packed;
+  return out;
+}
+
 bool step(const WriteProgress& progress, double fraction, std::string_view message) {
   return !progress || progress(std::clamp(fraction, 0.0, 1.0), message);
 }
@@ -460,7 +666,7 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = options.generator;
-  Builder builder(model);
+  Builder builder(model, options.compression);
   WriteStats stats;
 
   // Joints: nodes 0 .. J-1, the rest pose in metres.
@@ -570,6 +776,7 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
   // Nodes and animations are referred to by index and by name, so that a tool that renumbers
   // them leaves a way to find them.
   json levelsJson = json::array();
+  std::vector<std::vector<int>> levelViews; // per written level, the buffer views of its animations
   const std::size_t clipCount = jointCount > 0 ? package.clips.size() : 0;
   std::size_t done = 0;
   for (std::size_t k = 0; k < selected.size(); ++k) {
@@ -631,8 +838,10 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
       if (table >= 0)
         animations.back()["clusters"] = table;
     }
+    std::set<int> views; // accessors of one view (none here) count once
     for (int accessor : accessors)
-      levelStats.animationBytes += builder.bytesOf(accessor);
+      views.insert(model.accessors[static_cast<std::size_t>(accessor)].bufferView);
+    levelViews.emplace_back(views.begin(), views.end());
     stats.levels.push_back(std::move(levelStats));
     json entry = {{"level", level.index},
                   {"name", level.settings.name},
@@ -661,19 +870,40 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
 
   if (!step(progress, 0.9, "writing"))
     return Error(kWriteCancelled);
+  // compressed: a GLB first, which compressMeshopt() encodes and turns into what was asked
+  const bool compress = options.compression == Compression::Meshopt;
+  WriteOptions serialized = options;
+  serialized.binary = options.binary || compress;
   tinygltf::TinyGLTF writer;
   std::ostringstream stream;
-  if (!writer.WriteGltfSceneToStream(&model, stream, options.pretty && !options.binary, options.binary) || !stream)
+  if (!writer.WriteGltfSceneToStream(&model, stream, serialized.pretty && !serialized.binary, serialized.binary) ||
+      !stream)
     return Error("the glTF serializer failed");
   std::string bytes = stream.str();
   if (!extension.is_null()) {
     // tinygltf's extension values cannot hold an empty array: the vendor extension goes into
     // the serialized JSON with nlohmann-json instead.
-    Result<std::string> out = withExtension(bytes, options, kClusterExtension, std::move(extension));
+    Result<std::string> out = withExtension(bytes, serialized, kClusterExtension, std::move(extension));
     if (!out)
       return out.error();
     bytes = std::move(out).value();
   }
+  std::vector<std::size_t> viewBytes(model.bufferViews.size());
+  for (std::size_t i = 0; i < viewBytes.size(); ++i)
+    viewBytes[i] = model.bufferViews[i].byteLength;
+  if (compress) {
+    if (!step(progress, 0.95, "compressing"))
+      return Error(kWriteCancelled);
+    Result<std::string> out = compressMeshopt(bytes, builder.codecs(), builder.quantizedMesh(), options, viewBytes);
+    if (!out)
+      return out.error();
+    bytes = std::move(out).value();
+  }
+  for (std::size_t k = 0; k < stats.levels.size(); ++k)
+    for (int view : levelViews[k])
+      stats.levels[k].animationBytes += viewBytes[static_cast<std::size_t>(view)];
+  stats.rotationErrorDegrees = builder.rotationErrorDegrees();
+  stats.rotationErrorCm = rotationQuantizationBoundCm(skeleton, stats.rotationErrorDegrees);
   step(progress, 1.0, "done");
   if (out_stats)
     *out_stats = std::move(stats);

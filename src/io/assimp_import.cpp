@@ -994,6 +994,39 @@ void configure(Assimp::Importer& importer) {
   importer.SetIOHandler(new SideFileGuard); // the importer owns it
 }
 
+// Assimp 5.2.5 reads a glTF rotation output of normalized integers (SHORT, which the glTF
+// exporter writes, or BYTE) as if its bytes were floats: the keys that gltf_metadata.h decoded
+// from the file replace them, channel by channel (Assimp keeps the file's animations in order,
+// one channel per node, every key of the sampler). A file whose keys cannot be decoded, or
+// that Assimp read into other channels, is refused rather than played wrong.
+Error putNormalizedRotations(const std::vector<GltfAnimationInfo>& gltf, aiScene& scene) {
+  for (std::size_t a = 0; a < gltf.size(); ++a) {
+    const GltfAnimationInfo& info = gltf[a];
+    if (!info.normalizedRotationProblem.empty())
+      return Error(info.normalizedRotationProblem);
+    if (info.normalizedRotations.empty())
+      continue;
+    if (gltf.size() != scene.mNumAnimations)
+      return Error("Assimp read " + std::to_string(scene.mNumAnimations) + " of the file's " +
+                   std::to_string(gltf.size()) + " animations, so its normalized rotation keys cannot be placed");
+    const aiAnimation& animation = *scene.mAnimations[a];
+    for (const auto& [node, keys] : info.normalizedRotations) {
+      aiNodeAnim* channel = nullptr;
+      for (unsigned c = 0; c < animation.mNumChannels && !channel; ++c)
+        if (animation.mChannels[c] && node == animation.mChannels[c]->mNodeName.C_Str())
+          channel = animation.mChannels[c];
+      if (!channel || channel->mNumRotationKeys != keys.size())
+        return Error("the rotation keys of node '" + node + "' in animation '" + info.name +
+                     "' are normalized integers, and Assimp read " +
+                     (channel ? std::to_string(channel->mNumRotationKeys) + " keys of " + std::to_string(keys.size())
+                              : std::string("no such channel")));
+      for (std::size_t k = 0; k < keys.size(); ++k)
+        channel->mRotationKeys[k].mValue = aiQuaternion(keys[k].w, keys[k].x, keys[k].y, keys[k].z);
+    }
+  }
+  return {};
+}
+
 // The scene made ours and the importer (its loaders' buffers: a BVH's whole text and
 // channel values) let go before the conversion, so they do not sit beside the clips.
 Result<Asset> convert(std::unique_ptr<Assimp::Importer> importer, const aiScene* read, const std::string& sourcePath,
@@ -1003,6 +1036,12 @@ Result<Asset> convert(std::unique_ptr<Assimp::Importer> importer, const aiScene*
     std::string reason = importer->GetErrorString();
     if (reason.empty())
       reason = "Assimp could not read it";
+    // a glTF compressed with meshoptimizer (the glTF exporter's compress=meshopt): say so
+    // rather than Assimp's "buffer with non-zero length missing the uri attribute"
+    for (const std::string& required : requiredGltfExtensions(gltfBytes))
+      if (required == "EXT_meshopt_compression")
+        return Error("it is compressed with EXT_meshopt_compression, which Assimp 5.2 cannot read (three.js, "
+                     "Babylon.js and gltf-transform can; export it without compress=meshopt to read it here)");
     // Assimp catches the allocation failure itself and keeps only its what().
     if (reason.find("bad_alloc") != std::string::npos)
       reason = "it needs more memory than the import may use (the file may be broken)";
@@ -1017,6 +1056,8 @@ Result<Asset> convert(std::unique_ptr<Assimp::Importer> importer, const aiScene*
   try {
     std::vector<std::string> warnings;
     std::vector<GltfAnimationInfo> gltf = readGltfAnimationInfo(gltfBytes, warnings);
+    if (Error error = putNormalizedRotations(gltf, *scene))
+      return error;
     Result<Asset> asset = SceneConverter(*scene, options, sourcePath, extension, colladaMetres, std::move(gltf)).run();
     if (asset)
       asset->warnings.insert(asset->warnings.end(), warnings.begin(), warnings.end());
@@ -1062,8 +1103,8 @@ Result<Asset> importAsset(const std::string& path, const ImportOptions& options)
     const aiScene* scene = importer->ReadFile(path, kPostProcess);
     if (const std::string& refused = sideFileGuard(*importer).problem(); !refused.empty())
       return Error(refused);
-    std::string gltf; // a glTF's own JSON: what it states beyond what Assimp reads
-    if (scene && (extension == "glb" || extension == "gltf")) {
+    std::string gltf; // a glTF's own JSON: what it states beyond what Assimp reads (or why it failed)
+    if (extension == "glb" || extension == "gltf") {
       stream.clear();
       stream.seekg(0);
       gltf.resize(static_cast<std::size_t>(size));

@@ -195,7 +195,150 @@ Result<std::vector<std::uint32_t>> clusterRows(const json& document, const std::
   return rows;
 }
 
+// Whether `accessor` holds normalized integers.
+bool isNormalizedInteger(const json& document, const json* accessor) {
+  const json* accessors = member(document, "accessors");
+  if (!accessor || !accessor->is_number_integer() || !accessors || !accessors->is_array() ||
+      accessor->get<std::int64_t>() < 0 || accessor->get<std::size_t>() >= accessors->size())
+    return false;
+  const json& a = (*accessors)[accessor->get<std::size_t>()];
+  const json* normalized = member(a, "normalized");
+  const json* component = member(a, "componentType");
+  return normalized && normalized->is_boolean() && normalized->get<bool>() && component &&
+         component->is_number_integer() && component->get<int>() != 5126;
+}
+
+// The keys of the animation sampler output `accessor` when it holds normalized integers (VEC4
+// of BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT with "normalized": true): decoded and
+// normalized; nullopt for a float accessor (Assimp reads those right); an error saying why
+// they cannot be read.
+Result<std::optional<std::vector<glm::quat>>> normalizedKeys(const json& document, const std::string& buffer,
+                                                             const json* accessor) {
+  const json* accessors = member(document, "accessors");
+  const json* views = member(document, "bufferViews");
+  if (!isNormalizedInteger(document, accessor))
+    return std::optional<std::vector<glm::quat>>();
+  const json& a = (*accessors)[accessor->get<std::size_t>()];
+  const int type = member(a, "componentType")->get<int>();
+  const std::size_t size = type == 5120 || type == 5121 ? 1 : type == 5122 || type == 5123 ? 2 : 0;
+  const double scale = type == 5120 ? 127.0 : type == 5121 ? 255.0 : type == 5122 ? 32767.0 : 65535.0;
+  const json* view = member(a, "bufferView");
+  const json* count = member(a, "count");
+  if (size == 0 || stringOf(member(a, "type")) != "VEC4" || !count || !count->is_number_integer() ||
+      count->get<std::int64_t>() < 0)
+    return Error("accessor " + accessor->dump() + " is not a VEC4 of normalized integers");
+  if (member(a, "sparse"))
+    return Error("accessor " + accessor->dump() + " is sparse");
+  if (!view || !view->is_number_integer() || !views || !views->is_array() || view->get<std::int64_t>() < 0 ||
+      view->get<std::size_t>() >= views->size())
+    return Error("accessor " + accessor->dump() + " has no buffer view");
+  const json& v = (*views)[view->get<std::size_t>()];
+  const auto offsetOf = [](const json* value) {
+    return value && value->is_number_integer() && value->get<std::int64_t>() >= 0 ? value->get<std::size_t>() : 0;
+  };
+  const json* bufferIndex = member(v, "buffer");
+  if ((bufferIndex && offsetOf(bufferIndex) != 0) || buffer.empty())
+    return Error("accessor " + accessor->dump() + " is not in the file's own buffer (an external .bin is not read)");
+  const std::size_t n = count->get<std::size_t>();
+  const std::size_t stride = member(v, "byteStride") ? offsetOf(member(v, "byteStride")) : 4 * size;
+  const std::size_t begin = offsetOf(member(v, "byteOffset")) + offsetOf(member(a, "byteOffset"));
+  const std::size_t viewEnd = offsetOf(member(v, "byteOffset")) + offsetOf(member(v, "byteLength"));
+  if (stride < 4 * size || (n > 0 && (n - 1 > (buffer.size() / stride) ||
+                                      begin + (n - 1) * stride + 4 * size > viewEnd || viewEnd > buffer.size())))
+    return Error("accessor " + accessor->dump() + " lies outside its buffer");
+  std::vector<glm::quat> keys(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double c[4];
+    for (std::size_t k = 0; k < 4; ++k) {
+      const char* at = buffer.data() + begin + i * stride + k * size;
+      double value = 0.0;
+      if (type == 5120) {
+        std::int8_t x = 0;
+        std::memcpy(&x, at, 1);
+        value = x;
+      } else if (type == 5121) {
+        std::uint8_t x = 0;
+        std::memcpy(&x, at, 1);
+        value = x;
+      } else if (type == 5122) {
+        std::int16_t x = 0;
+        std::memcpy(&x, at, 2);
+        value = x;
+      } else {
+        std::uint16_t x = 0;
+        std::memcpy(&x, at, 2);
+        value = x;
+      }
+      c[k] = std::max(value / scale, -1.0); // glTF 2.0, "Animations": the decoding of normalized outputs
+    }
+    const double length = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + c[3] * c[3]);
+    keys[i] = length > 0.0
+                  ? glm::quat(float(c[3] / length), float(c[0] / length), float(c[1] / length), float(c[2] / length))
+                  : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+  }
+  return std::optional<std::vector<glm::quat>>(std::move(keys));
+}
+
+// Fills `out[a].normalizedRotations` (and the problem, if any) for every animation of `document`.
+void readNormalizedRotations(std::string_view bytes, const json& document, const json& animations,
+                             std::vector<GltfAnimationInfo>& out) {
+  const json* nodes = member(document, "nodes");
+  std::string buffer;
+  bool bufferRead = false;
+  for (std::size_t a = 0; a < out.size(); ++a) {
+    const json* channels = member(animations[a], "channels");
+    const json* samplers = member(animations[a], "samplers");
+    if (!channels || !channels->is_array() || !samplers || !samplers->is_array())
+      continue;
+    for (const json& channel : *channels) {
+      const json* target = member(channel, "target");
+      const json* sampler = member(channel, "sampler");
+      const json* node = target ? member(*target, "node") : nullptr;
+      if (!target || stringOf(member(*target, "path")) != "rotation" || !sampler || !sampler->is_number_integer() ||
+          sampler->get<std::int64_t>() < 0 || sampler->get<std::size_t>() >= samplers->size() || !node ||
+          !node->is_number_integer() || !nodes || !nodes->is_array() || node->get<std::int64_t>() < 0 ||
+          node->get<std::size_t>() >= nodes->size())
+        continue;
+      const json* output = member((*samplers)[sampler->get<std::size_t>()], "output");
+      if (!isNormalizedInteger(document, output))
+        continue; // floats: Assimp reads them right
+      if (!bufferRead) {
+        // only for files that need it
+        buffer = bufferZero(bytes, document);
+        bufferRead = true;
+      }
+      Result<std::optional<std::vector<glm::quat>>> keys = normalizedKeys(document, buffer, output);
+      if (!keys) {
+        if (out[a].normalizedRotationProblem.empty())
+          out[a].normalizedRotationProblem = "the rotation keys of animation '" + out[a].name +
+                                             "' are normalized integers that cannot be read: " + keys.message();
+        continue;
+      }
+      if (!keys->has_value())
+        continue;
+      std::string name = stringOf(member((*nodes)[node->get<std::size_t>()], "name"));
+      if (name.empty())
+        name = "nodes_" + std::to_string(node->get<std::size_t>());
+      out[a].normalizedRotations.emplace_back(std::move(name), std::move(**keys));
+    }
+  }
+}
+
 } // namespace
+
+std::vector<std::string> requiredGltfExtensions(std::string_view bytes) {
+  const std::string_view text = jsonText(bytes);
+  if (text.empty())
+    return {};
+  const json document = json::parse(text.begin(), text.end(), nullptr, false);
+  const json* required = member(document, "extensionsRequired");
+  std::vector<std::string> out;
+  if (!document.is_discarded() && required && required->is_array())
+    for (const json& name : *required)
+      if (name.is_string())
+        out.push_back(name.get<std::string>());
+  return out;
+}
 
 std::vector<GltfAnimationInfo> readGltfAnimationInfo(std::string_view bytes, std::vector<std::string>& out_warnings) {
   const std::string_view text = jsonText(bytes);
@@ -217,6 +360,7 @@ std::vector<GltfAnimationInfo> readGltfAnimationInfo(std::string_view bytes, std
     if (const json* looping = member(extras, "looping"); looping && looping->is_boolean())
       out[a].looping = looping->get<bool>();
   }
+  readNormalizedRotations(bytes, document, *animations, out);
 
   const json* extensions = member(document, "extensions");
   const json* clusters = extensions ? member(*extensions, "MLOD_joint_clusters") : nullptr;

@@ -92,6 +92,26 @@ ValidatorReport runValidator(const QString& file) {
   return report;
 }
 
+bool haveNode() {
+  const std::string node = MLOD_NODE;
+  return !node.empty() && node.find("NOTFOUND") == std::string::npos;
+}
+
+LoaderReport runLoaders(const QString& file, int animation, double seconds) {
+  LoaderReport report;
+  QProcess node;
+  node.start(QStringLiteral(MLOD_NODE),
+             {QStringLiteral(MLOD_LOADERS_JS), file, QString::number(animation), QString::number(seconds, 'g', 17)});
+  if (!node.waitForFinished(300000)) {
+    report.errors = "node did not finish: " + node.errorString().toStdString();
+    return report;
+  }
+  report.exitCode = node.exitStatus() == QProcess::NormalExit ? node.exitCode() : -1;
+  report.output = node.readAllStandardOutput().toStdString();
+  report.errors = node.readAllStandardError().toStdString();
+  return report;
+}
+
 QStringList filesIn(const QString& dir) {
   return QDir(dir).entryList(QDir::Files | QDir::Hidden | QDir::System | QDir::NoDotAndDotDot);
 }

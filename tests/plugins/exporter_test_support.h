@@ -36,6 +36,17 @@ struct ValidatorReport {
 // Runs tests/plugins/validator/validate.js (installed by the validator_setup fixture).
 ValidatorReport runValidator(const QString& file);
 
+// three.js and Babylon.js in Node (tests/plugins/loaders/play.mjs, installed beside the
+// validator) loading `file` and playing animation `animation` to `seconds`: exit code 0 when
+// both loaded, and the script's JSON document (or what it printed on failure).
+struct LoaderReport {
+  int exitCode = -1;
+  std::string output;
+  std::string errors; // its stderr
+};
+bool haveNode(); // false: the tests that need Node skip
+LoaderReport runLoaders(const QString& file, int animation, double seconds);
+
 // The files in `dir`, for checking that nothing was left behind.
 QStringList filesIn(const QString& dir);
 

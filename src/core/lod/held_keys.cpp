@@ -57,6 +57,13 @@ public:
     if (m_seen.insert(std::move(key)).second)
       m_bytes += values.size() * sizeof(float);
   }
+  void rotations(const std::vector<float>& values) {
+    const std::vector<std::int16_t> shorts = quantizeRotations(values);
+    std::string key(reinterpret_cast<const char*>(shorts.data()), shorts.size() * sizeof(std::int16_t));
+    key += 'q';
+    if (m_seen.insert(std::move(key)).second)
+      m_bytes += shorts.size() * sizeof(std::int16_t);
+  }
   void times(const std::vector<int>& frames, double fps) {
     std::vector<float> seconds(frames.size());
     for (std::size_t i = 0; i < frames.size(); ++i)
@@ -72,12 +79,51 @@ private:
 
 } // namespace
 
+std::vector<std::int16_t> quantizeRotations(std::span<const float> xyzw) {
+  std::vector<std::int16_t> out(xyzw.size());
+  for (std::size_t i = 0; i < xyzw.size(); ++i) {
+    const double c = std::clamp(static_cast<double>(xyzw[i]), -1.0, 1.0);
+    out[i] = static_cast<std::int16_t>(std::lround(c * kRotationQuantizationScale));
+  }
+  return out;
+}
+
+glm::quat dequantizeRotation(const std::int16_t* xyzw) {
+  const auto c = [&](int k) { return static_cast<float>(std::max(xyzw[k] / kRotationQuantizationScale, -1.0)); };
+  return unit(glm::quat(c(3), c(0), c(1), c(2)));
+}
+
+double rotationAngleDegrees(const glm::quat& a, const glm::quat& b) {
+  // 4 atan2(|a - s b|, |a + s b|) for unit a, b (DESIGN.md section 4: exact near 0)
+  const glm::dquat ua = glm::normalize(glm::dquat(a)), ub = glm::normalize(glm::dquat(b));
+  const double s = glm::dot(ua, ub) < 0.0 ? -1.0 : 1.0;
+  const glm::dquat d = ua - ub * s, e = ua + ub * s;
+  return glm::degrees(4.0 * std::atan2(std::sqrt(glm::dot(d, d)), std::sqrt(glm::dot(e, e))));
+}
+
+double rotationQuantizationBoundCm(const Skeleton& skeleton, double degrees) {
+  const std::size_t n = skeleton.joints.size();
+  std::vector<double> depthCm(n, 0.0); // path length from the root
+  double worst = 0.0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const int parent = skeleton.joints[j].parent;
+    if (parent < 0)
+      continue;
+    depthCm[j] = depthCm[static_cast<std::size_t>(parent)] + glm::length(skeleton.joints[j].rest.translation);
+    double sum = 0.0; // path lengths from j up to each strict ancestor
+    for (int a = parent; a >= 0; a = skeleton.joints[static_cast<std::size_t>(a)].parent)
+      sum += depthCm[j] - depthCm[static_cast<std::size_t>(a)];
+    worst = std::max(worst, sum);
+  }
+  return glm::radians(degrees) * worst;
+}
+
 HeldRotationTrack heldRotationTrack(const Clip& clip, int joint, std::span<const Cluster> clusters, bool removed,
                                     const glm::quat& frozen) {
   HeldRotationTrack held = track(clip, joint, clusters, removed, frozen, false);
   const std::size_t frames = static_cast<std::size_t>(std::max(clip.frameCount, 0));
-  // 20 bytes a key with times of its own against 16 a frame with shared times
-  if (held.frames.size() < frames && 5 * held.frames.size() >= 4 * frames)
+  // 12 bytes a key with times of its own against 8 a frame with shared times
+  if (held.frames.size() < frames && 3 * held.frames.size() >= 2 * frames)
     held = track(clip, joint, clusters, removed, frozen, true);
   return held;
 }
@@ -166,7 +212,10 @@ LevelKeyBytes levelKeyBytes(const LodPackage& package, const LodPackageLevel& le
     if (clip.jointCount != joints)
       continue;
     for (const LevelTrack& track : levelTracks(package, level, c)) {
-      arrays.add(track.values, track.path == TrackPath::Rotation ? '4' : '3');
+      if (track.path == TrackPath::Rotation)
+        arrays.rotations(track.values);
+      else
+        arrays.add(track.values, '3');
       arrays.times(track.frames, clip.fps);
       if (track.path == TrackPath::Rotation)
         out.rotationKeys += track.frames.size();

@@ -4,9 +4,11 @@
 // - a joint's rotation is keyed at every frame except inside a cluster [first, last], which
 //   is held by two keys (frames first and last) with the key posture's rotation; a joint
 //   removed by bone reduction holds its frozen rotation with two keys (first and last frame);
-// - such a track needs key times of its own (4 bytes a key besides the 16 of a rotation),
+// - rotations are stored as normalized signed 16-bit integers (glTF core allows them for
+//   rotation outputs; quantizeRotations()), 8 bytes a key;
+// - such a track needs key times of its own (4 bytes a key besides the 8 of a rotation),
 //   where a track keyed at every frame shares one time array with every other: when the
-//   held spans save less than a fifth of the frames, the track is keyed at every frame
+//   held spans save less than a third of the frames, the track is keyed at every frame
 //   instead, the held rotation repeated through each span (it plays the same, LINEAR);
 // - translations and scales are keyed at every frame where the clip animates them;
 // - every clip keys every joint of the character it plays on, so that one clip played after
@@ -19,7 +21,8 @@
 // those); clusterTable() is a clip's cluster table at a level as the writer stores it
 // (MLOD_joint_clusters version 2, binary); levelKeyBytes() is the figure a report states
 // beside the exporter's: the bytes of every distinct time and value array the level's
-// animations use, as 32-bit floats, plus the bytes of their cluster tables.
+// animations use (times, translations and scales as 32-bit floats, rotations as 16-bit
+// integers), plus the bytes of their cluster tables.
 
 #include "core/clip.h"
 #include "core/jpc/cluster_set.h"
@@ -43,6 +46,20 @@ struct HeldRotationTrack {
 // `frozen` throughout). Keyed at every frame where that takes fewer bytes (header comment).
 HeldRotationTrack heldRotationTrack(const Clip& clip, int joint, std::span<const Cluster> clusters, bool removed,
                                     const glm::quat& frozen);
+
+// Rotation keys as the glTF writer stores them: each component c of a unit quaternion (x, y,
+// z, w) as the normalized signed 16-bit integer round(c * 32767), which glTF readers decode as
+// max(i / 32767, -1) (glTF 2.0, "Animations": rotation outputs may be SHORT normalized).
+// note: each component moves by at most 0.5 / 32767, so the decoded 4-vector lies within
+// 1 / 32767 of the key and, normalized, turns by at most 2 asin(1 / 32767) = 0.0035 degrees
+// from it (kMaxRotationQuantizationDegrees); a joint's position moves by at most that angle
+// (radians) times its distance from each animated ancestor (rotationQuantizationBoundCm()).
+inline constexpr double kRotationQuantizationScale = 32767.0;
+inline constexpr double kMaxRotationQuantizationDegrees = 0.0034970; // 2 asin(1 / 32767), rounded up
+std::vector<std::int16_t> quantizeRotations(std::span<const float> xyzw);
+glm::quat dequantizeRotation(const std::int16_t* xyzw); // normalized, as a reader plays it
+// The rotation angle (degrees, the shorter way) between `a` and `b`, unit or not.
+double rotationAngleDegrees(const glm::quat& a, const glm::quat& b);
 
 enum class TrackPath { Rotation, Translation, Scale };
 
@@ -83,5 +100,11 @@ struct LevelKeyBytes {
 
 // What the level's animations of every clip of `package` hold (header comment).
 LevelKeyBytes levelKeyBytes(const LodPackage& package, const LodPackageLevel& level);
+
+// A bound (cm) of how far any joint of `skeleton` moves when every joint's rotation turns by
+// up to `degrees` (radians inside): the largest, over the joints, of the angle times the sum
+// of the path lengths (bone lengths, in rest pose; the same in every pose) to each strict
+// ancestor. First order in the angle, which at 0.0035 degrees is exact to 1e-9.
+double rotationQuantizationBoundCm(const Skeleton& skeleton, double degrees = kMaxRotationQuantizationDegrees);
 
 } // namespace mlod

@@ -4,8 +4,10 @@
 #include "io/importer.h"
 #include "test_files.h"
 
+#include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -188,6 +190,40 @@ TEST(BadInput, GltfBuffersStayInTheFilesFolder) {
   std::filesystem::remove(fifo);
   // a buffer inside the folder is Assimp's to read (real data: simple_skin's own .bin files)
   EXPECT_TRUE(importAsset(test::modelPath("glTF2/simple_skin/simple_skin.gltf")).ok());
+}
+
+// Guards rotation keys stored as normalized integers (glTF core allows BYTE and SHORT
+// normalized rotation outputs; the glTF exporter writes SHORT): Assimp 5.2.5 reads their bytes
+// as floats, so the importer decodes them from the file itself (io/gltf_metadata.h). A file of
+// another tool: node "a" turns from the identity to 90 degrees about z, keys as BYTE
+// (0, 0, 0, 127) and (0, 0, 90, 90). The same keys in an external .bin are not read: refused.
+TEST(BadInput, GltfNormalizedRotationKeysAreDecoded) {
+  const auto gltfWith = [](const std::string& uri) {
+    return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"name":"a"}],)"
+           R"("buffers":[{"byteLength":16,"uri":")" + uri + R"("}],)"
+           R"("bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":8},{"buffer":0,"byteOffset":8,"byteLength":8}],)"
+           R"("accessors":[{"bufferView":0,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]},)"
+           R"({"bufferView":1,"componentType":5120,"normalized":true,"count":2,"type":"VEC4"}],)"
+           R"("animations":[{"name":"turn","samplers":[{"input":0,"output":1}],)"
+           R"("channels":[{"sampler":0,"target":{"node":0,"path":"rotation"}}]}]})";
+  };
+  const Result<Asset> asset =
+      importAsset(test::writeTemp("byte_keys.gltf", gltfWith("data:application/octet-stream;base64,AAAAAAAAgD8AAAB/AABaWg==")));
+  ASSERT_TRUE(asset.ok()) << asset.message();
+  ASSERT_EQ(asset->clips.size(), 1u);
+  const Clip& clip = asset->clips[0];
+  const int a = asset->skeleton.find("a");
+  ASSERT_GE(a, 0);
+  const glm::quat first = clip.rotation(a, 0), last = clip.rotation(a, clip.frameCount - 1);
+  EXPECT_NEAR(std::abs(first.w), 1.0f, 1e-5f);
+  const glm::quat expected = glm::angleAxis(glm::radians(90.0f), glm::vec3(0.0f, 0.0f, 1.0f));
+  EXPECT_NEAR(std::abs(glm::dot(last, expected)), 1.0f, 1e-5f)
+      << last.x << " " << last.y << " " << last.z << " " << last.w;
+
+  const std::string external = test::writeTemp("byte_keys_bin.gltf", gltfWith("byte_keys.bin"));
+  std::ofstream(std::filesystem::path(external).parent_path() / "byte_keys.bin", std::ios::binary)
+      .write("\0\0\0\0\0\0\x80\x3F\0\0\0\x7F\0\0\x5A\x5A", 16);
+  expectRefused(external, "normalized integers that cannot be read");
 }
 
 // Guards names that are not UTF-8 (a Latin-1 BVH): they are replaced deliberately, and the
