@@ -5,12 +5,18 @@
 // 4 levels. One iteration = one whole generation.
 //   bench_budget --benchmark_filter=PixelBudget
 // Figures go in the issue note; nothing here asserts a time.
+//   bench_budget --print-levels
+// prints every field of the levels (17 significant digits) of both characters at (levels,
+// px) = (4, 1), (5, 1), (4, 2), (3, 0.5), (6, 4): compare before and after a change that must
+// leave the budget's result as it was.
 
 #include "core/lod/lod_set.h"
 #include "core/mapping/motion_mapping.h"
 #include "io/importer.h"
 
 #include <benchmark/benchmark.h>
+#include <cstdio>
+#include <cstring>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -75,7 +81,48 @@ BENCHMARK_CAPTURE(BM_PixelBudget, Testwuson_4, "X/Testwuson.X", 4)
     ->UseRealTime()
     ->Iterations(1);
 
+// Every field of every level, one line each, to 17 significant digits.
+int printLevels() {
+  for (const char* character : {"X/BCN_Epileptic.X", "X/Testwuson.X"}) {
+    const Asset& asset = imported(character);
+    const std::vector<Clip> clips = mappedClips(character, "BVH/01_03.bvh");
+    LodBudgetOptions options;
+    options.clips = clips;
+    options.jpc.zeroLength = 1e-6 * asset.unitScale;
+    for (const auto& [levels, pixels] : {std::pair{4, 1.0}, {5, 1.0}, {4, 2.0}, {3, 0.5}, {6, 4.0}}) {
+      LodBudgetReport report;
+      Result<LodSet> set = LodSet::fromPixelBudget(asset, pixels, levels, options, &report);
+      if (!set) {
+        std::printf("%s %d levels %g px: error: %s\n", character, levels, pixels, set.message().c_str());
+        continue;
+      }
+      std::printf("%s %d levels %g px: radius %.17g share %.17g\n", character, levels, pixels, set->boundingRadiusCm,
+                  report.motionShare);
+      for (std::size_t i = 0; i < set->levels.size(); ++i) {
+        const LodLevel& l = set->levels[i];
+        std::printf("  %s E %.17g ratio %.17g distance %.17g px %.17g size %.17g motion %.17g mesh %.17g tris %d "
+                    "joints %d simplified %.17g\n",
+                    l.name.c_str(), l.motionThreshold, l.meshRatio, l.switchDistanceCm, l.pixelError,
+                    l.screenSizePixels, l.motionErrorCm, l.meshErrorCm, l.triangles, l.activeJoints,
+                    report.simplifiedPercent[i]);
+      }
+      for (const std::string& line : report.dropped)
+        std::printf("  dropped: %s\n", line.c_str());
+    }
+  }
+  return 0;
+}
+
 } // namespace
 } // namespace mlod
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  if (argc == 2 && std::strcmp(argv[1], "--print-levels") == 0)
+    return mlod::printLevels();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv))
+    return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
