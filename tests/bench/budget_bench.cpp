@@ -101,6 +101,35 @@ void BM_PixelBudgetAgain(benchmark::State& state, const char* character, int lev
   state.counters["meshes_built"] = report.meshesBuilt;
 }
 
+// The preview after an edit of one joint (the alpha of the root's first child): that joint
+// is clustered again, the motions and meshes are made again (they depend on every joint).
+void BM_PixelBudgetAfterJointEdit(benchmark::State& state, const char* character, int levels) {
+  const Asset& asset = imported(character);
+  const std::vector<Clip> clips = mappedClips(character, "BVH/01_03.bvh");
+  LodBudgetCache cache;
+  LodBudgetOptions options;
+  options.clips = clips;
+  options.jpc.zeroLength = 1e-6 * asset.unitScale;
+  options.cache = &cache;
+  if (Result<LodSet> first = LodSet::fromPixelBudget(asset, 1.0, levels, options); !first) {
+    state.SkipWithError(first.message().c_str());
+    return;
+  }
+  options.jpc.joints[asset.skeleton.joints.at(1).name].alpha = 10.0;
+  LodBudgetReport report;
+  for (auto _ : state) {
+    Result<LodSet> set = LodSet::fromPixelBudget(asset, 1.0, levels, options, &report);
+    if (!set) {
+      state.SkipWithError(set.message().c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(set->levels.data());
+  }
+  state.counters["joints_clustered"] = report.jointsClustered;
+  state.counters["motions_made"] = report.motionsMade;
+  state.counters["meshes_built"] = report.meshesBuilt;
+}
+
 BENCHMARK_CAPTURE(BM_PixelBudget, BCN_Epileptic_4, "X/BCN_Epileptic.X", 4)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
@@ -149,6 +178,10 @@ BENCHMARK_CAPTURE(BM_PixelBudgetAgain, BCN_Epileptic_4, "X/BCN_Epileptic.X", 4)
     ->UseRealTime()
     ->Iterations(1);
 BENCHMARK_CAPTURE(BM_PixelBudgetAgain, Testwuson_4, "X/Testwuson.X", 4)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_PixelBudgetAfterJointEdit, BCN_Epileptic_4, "X/BCN_Epileptic.X", 4)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);
