@@ -5,6 +5,7 @@
 
 #include "core/lod/lod_set.h"
 #include "core/project.h"
+#include "core/project_package.h"
 #include "editor/document/document.h"
 #include "editor/document/edits.h"
 #include "editor/document/level_generator.h"
@@ -235,6 +236,68 @@ private slots:
     QTRY_VERIFY_WITH_TIMEOUT(dialog->isPreviewCurrent(), 60000);
     QCOMPARE(dialog->table()->rowCount(), int(document->levelGenerator()->plan().lods.levels.size()));
     dialog->reject();
+  }
+
+  // The generator keeps each character's search (core/lod/lod_budget_cache.h): the same
+  // preview asked again clusters, reduces and simplifies nothing; after a joint edit it
+  // clusters that joint again and previews what a search without the cache gives on the
+  // edited project, never the levels of before.
+  void previewAgainReusesTheSearchAndFollowsEdits() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    LevelGenerator* generator = document->levelGenerator();
+    const auto preview = [&] {
+      QSignalSpy done(generator, &LevelGenerator::previewed);
+      QString error;
+      return generator->preview(1.0, 3, document->lods().projection, &error) &&
+             (done.count() > 0 || done.wait(60000)) && done.first()[0].toBool();
+    };
+    // what LevelGenerator's worker does, without the cache
+    const auto fresh = [&](LodBudgetReport& out_report) {
+      const int index = document->currentAsset();
+      const Asset& asset = *document->asset(index);
+      std::vector<const Asset*> imported;
+      for (int i = 0; i < document->assetCount(); ++i)
+        imported.push_back(document->asset(i).get());
+      Result<std::vector<Clip>> clips = assignedClips(document->project(), imported, index);
+      LodBudgetOptions options;
+      options.jpc = document->project().jpcSettings(index, asset.unitScale);
+      options.projection = document->lods().projection;
+      options.clips = *clips;
+      Result<LodSet> set = LodSet::fromPixelBudget(asset, 1.0, 3, options, &out_report);
+      return set ? set.value() : LodSet{};
+    };
+
+    QVERIFY(preview());
+    const LevelPlan first = generator->plan();
+    QVERIFY(first.report.characterPrepared);
+    QVERIFY(first.report.jointsClustered > 0);
+    QVERIFY(first.report.motionsMade > 0);
+    QVERIFY(preview());
+    const LevelPlan again = generator->plan();
+    QCOMPARE(again.report.jointsClustered, 0);
+    QCOMPARE(again.report.motionsMade, 0);
+    QCOMPARE(again.report.meshesBuilt, 0);
+    QVERIFY(!again.report.characterPrepared);
+    QCOMPARE(again.lods, first.lods);
+    QCOMPARE(again.report.simplifiedPercent, first.report.simplifiedPercent);
+
+    // every joint but the root locked: other figures, from the cache's character
+    const Skeleton& skeleton = document->currentAssetPtr()->skeleton;
+    std::vector<int> joints;
+    for (int j = 1; j < skeleton.jointCount(); ++j)
+      joints.push_back(j);
+    edit::setJointsLocked(*document, joints, true);
+    QVERIFY(waitForFigures(document));
+    QVERIFY(preview());
+    const LevelPlan locked = generator->plan();
+    LodBudgetReport lockedReport;
+    QCOMPARE(locked.lods, fresh(lockedReport));
+    QCOMPARE(locked.report.simplifiedPercent, lockedReport.simplifiedPercent);
+    QVERIFY(locked.report.simplifiedPercent != first.report.simplifiedPercent);
+    QVERIFY(!locked.report.characterPrepared);
+    QVERIFY(locked.report.motionsMade > 0);
   }
 
   // A budget too tight for any motion simplification near the camera: the aimed levels left

@@ -48,6 +48,7 @@ struct JpcSettings {
   // unit scale.
   double zeroLength = 1e-6;
   std::map<std::string, JointSettings> joints; // by joint name; a joint not listed takes the defaults
+  friend bool operator==(const JpcSettings&, const JpcSettings&) = default;
 
   // alpha of joint `name` (JointSettings::alpha, else `alpha`).
   double alphaFor(const std::string& name) const;

@@ -1,5 +1,6 @@
 #include "core/lod/lod_character.h"
 
+#include "core/jpc/parallel_for.h"
 #include "core/jpc/simplified_motion.h"
 #include "core/mesh/skinning.h"
 
@@ -100,7 +101,7 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level, MotionEr
     const Clip& clip = m_clips[c];
     ClusterSet clusters;
     clusters.frameCount = clip.frameCount;
-    std::vector<JointClustering> joints = m_prepared[c].cluster(level, threshold, 0, cancel, m_work.get());
+    std::vector<JointClustering> joints = clusterClip(c, level, threshold);
     if (cancelled(cancel))
       return Error(kCancelled);
     if (m_work->exhausted())
@@ -146,6 +147,63 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level, MotionEr
   }
   out.simplifiedPercent = jointFrames > 0.0 ? 100.0 * clusteredJointFrames / jointFrames : 0.0;
   return out;
+}
+
+std::vector<JointClustering> LodCharacter::clusterClip(std::size_t c, int level, double threshold) const {
+  const JpcClip& prepared = m_prepared[c];
+  const std::atomic<bool>* cancel = m_meshSettings.cancel;
+  const int joints = prepared.jointCount();
+  std::vector<JointClustering> out(static_cast<std::size_t>(joints));
+  std::vector<ClusteringKey> keys(static_cast<std::size_t>(joints));
+  std::vector<int> missing;
+  {
+    const std::lock_guard<std::mutex> lock(m_clusterings->mutex);
+    for (int j = 0; j < joints; ++j) {
+      if (!prepared.clusterable(j) || prepared.locked(j))
+        continue; // no clusters
+      ClusteringKey& key = keys[std::size_t(j)];
+      key = {
+          int(c),           j,         prepared.threshold(j, level, threshold), m_jpc.alphaFor(prepared.jointName(j)),
+          m_jpc.zeroLength, m_jpc.mode};
+      const auto found = m_clusterings->kept.find(key);
+      if (found != m_clusterings->kept.end())
+        out[std::size_t(j)] = found->second;
+      else
+        missing.push_back(j);
+    }
+  }
+  parallelFor(static_cast<int>(missing.size()), 0, [&](int i) {
+    const int j = missing[std::size_t(i)];
+    if (!cancelled(cancel) && !exhausted(m_work.get())) // looked at per joint
+      out[std::size_t(j)] = prepared.clusterJoint(j, level, threshold, m_work.get());
+  });
+  if (cancelled(cancel) || m_work->exhausted())
+    return out; // some joints unclustered or cut short: the caller drops the result, nothing is kept
+  const std::lock_guard<std::mutex> lock(m_clusterings->mutex);
+  for (int j : missing)
+    m_clusterings->kept.emplace(keys[std::size_t(j)], out[std::size_t(j)]);
+  m_clusterings->made += static_cast<std::int64_t>(missing.size());
+  return out;
+}
+
+std::int64_t LodCharacter::jointsClustered() const {
+  const std::lock_guard<std::mutex> lock(m_clusterings->mutex);
+  return m_clusterings->made;
+}
+
+Error LodCharacter::setJpcSettings(const JpcSettings& jpc) {
+  std::vector<JpcClip> prepared;
+  for (const Clip& clip : m_clips) {
+    if (cancelled(m_meshSettings.cancel))
+      return Error(kCancelled);
+    Result<JpcClip> clipPrepared = JpcClip::prepare(m_skeleton, clip, jpc);
+    if (!clipPrepared)
+      return Error("clip '" + clip.name + "': " + clipPrepared.message());
+    prepared.push_back(std::move(clipPrepared).value());
+  }
+  m_prepared = std::move(prepared);
+  m_jpc = jpc;
+  return {};
 }
 
 Error LodCharacter::measureMotionError(LevelMotion& motion) const {

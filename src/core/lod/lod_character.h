@@ -30,9 +30,12 @@
 #include "core/skinned_mesh.h"
 
 #include <atomic>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
+#include <tuple>
 #include <vector>
 
 namespace mlod {
@@ -95,10 +98,41 @@ public:
   void setWorkLimit(std::int64_t units) { m_work = std::make_shared<JpcWorkBudget>(units); }
   // Step 4's progressive mesh for a level's motion (an error without a mesh).
   Result<MeshLod> meshLodFor(const LevelMotion& motion) const;
+
+  // The same character under other JPC settings (a pixel budget's cache after a joint edit,
+  // lod_budget_cache.h): the clips' JPC tracks prepared again, the rest kept, clusterings
+  // whose key is unchanged still reused (below). Errors: as prepare()'s for the settings.
+  Error setJpcSettings(const JpcSettings& jpc);
+  const JpcSettings& jpcSettings() const { return m_jpc; }
+  const MeshLodSettings& meshSettings() const { return m_meshSettings; }
+  // The flag that stops the work from now on (core/cancel.h, may be null; see prepare()).
+  void setCancel(const std::atomic<bool>* cancel) { m_meshSettings.cancel = cancel; }
+  // note: every joint clustering motionAt() makes is kept, keyed by what decides it (the
+  // clip, the joint, T_j, alpha_j, the mode and the zero-length tolerance; the joint's
+  // track is the clip's, fixed for the character), and reused by every later call that needs
+  // it, whatever the level and threshold asked: a search that tries a threshold twice, or
+  // again after one joint's settings changed, clusters only what it has not clustered.
+  // Copies of the character share them. Joint clusterings made so far (not reused):
+  std::int64_t jointsClustered() const;
   // A whole level: motion at E, mesh at ratio r in (0, 1].
   Result<LevelBuild> build(double threshold, double meshRatio, int level = 0) const;
 
 private:
+  struct ClusteringKey {
+    int clip = 0, joint = 0;
+    double threshold = 0.0, alpha = 0.0, zeroLength = 0.0;
+    JpcMode mode = JpcMode::Greedy;
+    friend auto operator<=>(const ClusteringKey&, const ClusteringKey&) = default;
+  };
+  struct Clusterings {
+    std::mutex mutex;
+    std::map<ClusteringKey, JointClustering> kept;
+    std::int64_t made = 0;
+  };
+  // Every joint of clip `c` at `level`, threshold E: kept clusterings, the others made (in
+  // parallel) and kept unless the run was cancelled or ran out of work.
+  std::vector<JointClustering> clusterClip(std::size_t c, int level, double threshold) const;
+
   Skeleton m_skeleton;
   std::optional<SkinnedMesh> m_mesh;
   std::vector<Clip> m_clips;
@@ -108,6 +142,7 @@ private:
   double m_radius = 0.0;
   SkinDeviation m_deviation;                                                 // of m_mesh, when it is skinned
   std::shared_ptr<JpcWorkBudget> m_work = std::make_shared<JpcWorkBudget>(); // shared by copies
+  std::shared_ptr<Clusterings> m_clusterings = std::make_shared<Clusterings>(); // shared by copies
 };
 
 } // namespace mlod

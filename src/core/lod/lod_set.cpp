@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 #include <span>
+#include <tuple>
 
 namespace mlod {
 
@@ -154,7 +155,77 @@ Result<LodSet> meshOnly(const Asset& asset, double pixels, int levels, const Lod
   return out;
 }
 
+// A level of a progressive mesh, as the search reads it.
+struct MeshFigures {
+  double maxErrorCm = 0.0;
+  std::size_t triangles = 0;
+};
+
+bool sameMeshSettings(const MeshLodSettings& a, const MeshLodSettings& b) {
+  const ProgressiveMeshSettings &x = a.simplification, &y = b.simplification;
+  return x.borderWeight == y.borderWeight && x.seamWeight == y.seamWeight && x.skinWeight == y.skinWeight &&
+         x.moveWeight == y.moveWeight && a.samplingSpacingCm == b.samplingSpacingCm &&
+         a.simplifyPoses == b.simplifyPoses && a.measurePoses == b.measurePoses &&
+         a.jointImportance == b.jointImportance;
+}
+
+bool sameSkeleton(const Skeleton& a, const Skeleton& b) {
+  return std::equal(
+      a.joints.begin(), a.joints.end(), b.joints.begin(), b.joints.end(), [](const Joint& x, const Joint& y) {
+        return x.name == y.name && x.parent == y.parent && x.rest.translation == y.rest.translation &&
+               x.rest.rotation == y.rest.rotation && x.rest.scale == y.rest.scale && x.inverseBind == y.inverseBind;
+      });
+}
+
+bool sameClip(const Clip& a, const Clip& b) {
+  return a.name == b.name && a.fps == b.fps && a.frameCount == b.frameCount && a.jointCount == b.jointCount &&
+         a.looping == b.looping && a.rotations == b.rotations && a.translations == b.translations &&
+         a.scales == b.scales && a.hasRotation == b.hasRotation && a.hasTranslation == b.hasTranslation &&
+         a.hasScale == b.hasScale;
+}
+
+bool sameMesh(const SkinnedMesh* a, const std::optional<SkinnedMesh>& b) {
+  if (!a || !b)
+    return !a && !b;
+  return a->positions == b->positions && a->normals == b->normals && a->uvs == b->uvs && a->indices == b->indices &&
+         a->joints == b->joints && a->weights == b->weights;
+}
+
 } // namespace
+
+struct LodBudgetCache::State {
+  LodCharacter character;
+  std::map<std::pair<int, double>, LevelMotion> motions;         // by (level slot, threshold), as the search keys them
+  std::map<std::pair<int, double>, MeshLod> meshes;              // of the motion of the same key
+  std::map<std::tuple<int, double, double>, MeshFigures> levels; // (slot, threshold, ratio)
+
+  // Holds what a run with these inputs computes.
+  bool answers(const Skeleton& skeleton, const SkinnedMesh* mesh, std::span<const Clip> clips,
+               const MeshLodSettings& meshSettings) const {
+    return sameSkeleton(character.skeleton(), skeleton) && sameMesh(mesh, character.mesh()) &&
+           std::equal(clips.begin(), clips.end(), character.clips().begin(), character.clips().end(), sameClip) &&
+           sameMeshSettings(character.meshSettings(), meshSettings);
+  }
+  // Nothing kept refers to a run's cancel flag once the run is over.
+  void setCancel(const std::atomic<bool>* cancel) {
+    character.setCancel(cancel);
+    for (auto& entry : meshes)
+      entry.second.setCancel(cancel);
+  }
+};
+
+LodBudgetCache::LodBudgetCache() = default;
+LodBudgetCache::~LodBudgetCache() = default;
+LodBudgetCache::LodBudgetCache(LodBudgetCache&&) noexcept = default;
+LodBudgetCache& LodBudgetCache::operator=(LodBudgetCache&&) noexcept = default;
+void LodBudgetCache::clear() {
+  m_state.reset();
+}
+
+class LodBudgetRun {
+public:
+  static std::unique_ptr<LodBudgetCache::State>& state(LodBudgetCache& cache) { return cache.m_state; }
+};
 
 double motionShareByCost(int joints, std::size_t vertices) {
   const double pose = kPoseCostPerJoint * std::max(joints, 0);
@@ -189,11 +260,62 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
     return Error(kLodBudgetCancelled);
   if (clips.empty() || asset.skeleton.empty())
     return meshOnly(asset, pixels, levels, options, report, progress);
-  Result<LodCharacter> character =
-      LodCharacter::prepare(asset.skeleton, characterMesh(asset), clips, options.jpc, options.mesh);
-  if (!character)
-    return character.error();
+  // The character, its motions and meshes: kept from an earlier run where its inputs were the same.
+  std::unique_ptr<LodBudgetCache::State> fresh;
+  std::unique_ptr<LodBudgetCache::State>* kept = options.cache ? &LodBudgetRun::state(*options.cache) : nullptr;
+  if (kept && *kept && (*kept)->answers(asset.skeleton, characterMesh(asset), clips, options.mesh)) {
+    LodBudgetCache::State& state = **kept;
+    state.setCancel(options.mesh.cancel);
+    if (!(state.character.jpcSettings() == options.jpc)) { // the motions and meshes depend on every joint
+      if (Error error = state.character.setJpcSettings(options.jpc))
+        return error;
+      state.motions.clear();
+      state.meshes.clear();
+      state.levels.clear();
+    }
+  } else {
+    Result<LodCharacter> prepared =
+        LodCharacter::prepare(asset.skeleton, characterMesh(asset), clips, options.jpc, options.mesh);
+    if (!prepared)
+      return prepared.error();
+    fresh = std::make_unique<LodBudgetCache::State>(LodBudgetCache::State{std::move(prepared).value(), {}, {}, {}});
+    if (report)
+      report->characterPrepared = true;
+    if (kept)
+      *kept = std::move(fresh); // (a failed run leaves it prepared: that part is finished)
+  }
+  LodBudgetCache::State& state = kept ? **kept : *fresh;
+  LodCharacter* const character = &state.character;
   character->setWorkLimit(options.workLimit);
+  const std::int64_t clusteredBefore = character->jointsClustered();
+  const auto count = [&] {
+    if (report)
+      report->jointsClustered = static_cast<int>(character->jointsClustered() - clusteredBefore);
+  };
+  // Step 4's progressive mesh of the motion of `key`, built once.
+  const auto meshFor = [&](std::pair<int, double> key, const LevelMotion& motion) -> Result<MeshLod*> {
+    auto found = state.meshes.find(key);
+    if (found == state.meshes.end()) {
+      Result<MeshLod> lod = character->meshLodFor(motion);
+      if (!lod)
+        return lod.error();
+      if (report)
+        ++report->meshesBuilt;
+      found = state.meshes.emplace(key, std::move(lod).value()).first;
+    }
+    return &found->second;
+  };
+  // Its level at `ratio`, measured once (a measurement after a cancel is not kept).
+  const auto levelOf = [&](std::pair<int, double> key, const MeshLod& lod, double ratio) {
+    const std::tuple<int, double, double> at{key.first, key.second, ratio};
+    if (const auto found = state.levels.find(at); found != state.levels.end())
+      return found->second;
+    const MeshLodLevel level = lod.levelForRatio(ratio);
+    const MeshFigures figures{level.maxErrorCm, level.triangles()};
+    if (!cancelled(options.mesh.cancel))
+      state.levels.emplace(at, figures);
+    return figures;
+  };
 
   LodSet out;
   out.projection = options.projection;
@@ -221,7 +343,7 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
   std::vector<double> candidates = options.thresholds;
   std::sort(candidates.begin(), candidates.end());
   const bool perLevel = hasThresholdOverrides(options.jpc);
-  std::map<std::pair<int, double>, LevelMotion> motions; // by (level for overrides, threshold)
+  std::map<std::pair<int, double>, LevelMotion>& motions = state.motions; // by (level for overrides, threshold)
   double previousThreshold = 0.0; // (the previous distance: out.levels.back().switchDistanceCm)
   // note: with a mesh, the mesh leads (docs/architecture.md section 5): each level's ratio
   // comes from levelRatios(), its error is measured on the full motion's mesh LOD, and the
@@ -236,26 +358,33 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
                                  : motionShareByCost(asset.skeleton.jointCount(), character->mesh()->vertexCount());
   if (report)
     report->motionShare = motionShare;
-  std::optional<MeshLod> fullMotionMesh;
+  const MeshLod* fullMotionMesh = nullptr;
+  const std::pair<int, double> fullKey{0, 0.0}; // the search's E = 0 at slot 0
   if (character->mesh()) {
     // note: E = 0's motion error is float noise, and measuring it exactly skins every frame;
     // the search mostly compares it with a budget far above it, so it takes the bound first
     // and measures only where the bound decides nothing (settled() below)
-    Result<LevelMotion> full = character->motionAt(0.0, 0, LodCharacter::MotionError::Bound);
-    if (!full)
-      return full.error();
-    Result<MeshLod> lod = character->meshLodFor(*full);
+    auto full = motions.find(fullKey);
+    if (full == motions.end()) {
+      Result<LevelMotion> made = character->motionAt(0.0, 0, LodCharacter::MotionError::Bound);
+      count();
+      if (!made)
+        return made.error();
+      if (report)
+        ++report->motionsMade;
+      full = motions.emplace(fullKey, std::move(made).value()).first;
+    }
+    Result<MeshLod*> lod = meshFor(fullKey, full->second);
     if (!lod)
       return lod.error();
-    fullMotionMesh.emplace(std::move(lod).value());
-    motions.emplace(std::pair<int, double>{0, 0.0}, std::move(full).value()); // the search's E = 0 at slot 0
+    fullMotionMesh = *lod;
   }
   if (!done(1, 0.0))
     return Error(kLodBudgetCancelled);
   for (int i = 1; i < levels; ++i) {
     double budget = 0.0;
     if (fullMotionMesh) {
-      const double meshErrorCm = fullMotionMesh->levelForRatio(ratios[std::size_t(i - 1)]).maxErrorCm;
+      const double meshErrorCm = levelOf(fullKey, *fullMotionMesh, ratios[std::size_t(i - 1)]).maxErrorCm;
       budget = meshErrorCm / std::max(1.0 - motionShare, 0.05);
     } else {
       // the level's aim: the character at height / 2^i pixels, and the deviation N pixels allow there
@@ -277,6 +406,9 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
           return nullptr;
         }
         Result<LevelMotion> motion = character->motionAt(threshold, slot);
+        count();
+        if (report && motion)
+          ++report->motionsMade;
         if (!motion) {
           failed = motion.error();
           return nullptr;
@@ -359,13 +491,14 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
     level.motionErrorCm = chosen->motionErrorCm;
     level.activeJoints = chosen->bones.skeleton.jointCount();
     if (chosen->mesh) {
-      Result<MeshLod> lod = character->meshLodFor(*chosen);
+      const std::pair<int, double> key{slot, chosen->threshold};
+      Result<MeshLod*> lod = meshFor(key, *chosen);
       if (!lod)
         return lod.error();
-      const MeshLodLevel mesh = lod->levelForRatio(ratios[std::size_t(i - 1)]);
-      level.meshRatio = double(mesh.triangles()) / double(lod->original().triangleCount());
+      const MeshFigures mesh = levelOf(key, **lod, ratios[std::size_t(i - 1)]);
+      level.meshRatio = double(mesh.triangles) / double((*lod)->original().triangleCount());
       level.meshErrorCm = mesh.maxErrorCm;
-      level.triangles = static_cast<int>(mesh.triangles());
+      level.triangles = static_cast<int>(mesh.triangles);
     }
     const double own = distanceForPixels(level.deviationCm(), pixels, radius, options.projection);
     // A level that may switch in no farther than the one before it (coarser, yet within its
@@ -408,6 +541,8 @@ Result<LodSet> LodSet::fromPixelBudget(const Asset& asset, double pixels, int le
   if (run.cancel)
     run.mesh.cancel = run.cancel;
   Result<LodSet> out = generateLevels(asset, pixels, levels, run, report);
+  if (run.cache && !run.cache->empty())
+    LodBudgetRun::state(*run.cache)->setCancel(nullptr); // the run's flag may go with it
   // note: a cancel anywhere below ends in an error of its own (kCancelled) or in levels
   // measured after it (their errors unmeasured): either way the run is the budget's cancel
   if (cancelled(run.mesh.cancel)) {

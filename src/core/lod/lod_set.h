@@ -31,6 +31,7 @@
 #include "core/jpc/jpc_settings.h"
 #include "core/jpc/work_budget.h"
 #include "core/lod/error_budget.h"
+#include "core/lod/lod_budget_cache.h"
 #include "core/mesh/mesh_lod.h"
 
 #include <atomic>
@@ -90,6 +91,9 @@ struct LodBudgetOptions {
   // threshold tried, every clip and joint together); past it fromPixelBudget() refuses the
   // character, naming the limit (LodCharacter::motionAt()).
   std::int64_t workLimit = kMaxJpcWork;
+  // Run-time only, never saved or compared (may be null): what earlier runs on this character
+  // computed, reused and added to (lod_budget_cache.h); the levels are the same either way.
+  LodBudgetCache* cache = nullptr;
 };
 
 // The deviation a level may spend goes where it buys frame time (docs/architecture.md
@@ -119,6 +123,11 @@ struct LodBudgetReport {
   // The motion's share of each level's deviation that was used (LodBudgetOptions::motionShare;
   // 1 without a mesh: the motion takes all of it; 0 without a clip).
   double motionShare = 0.0;
+  // The work this run did (statistics; with LodBudgetOptions::cache, what it could not reuse):
+  int jointsClustered = 0;        // joint clusterings made
+  int motionsMade = 0;            // level motions made (bone reduction, clips, motion error)
+  int meshesBuilt = 0;            // progressive meshes built
+  bool characterPrepared = false; // the character's JPC tracks and bounding radius computed
 };
 
 class LodSet {

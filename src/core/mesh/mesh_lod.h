@@ -91,6 +91,9 @@ public:
   const SkinnedMesh& original() const { return m_original; }
   const ProgressiveMesh& progressive() const { return m_progressive; }
   const MeshLodSettings& settings() const { return m_settings; }
+  // The flag that stops the measurements from now on (MeshLodSettings::cancel; may be null):
+  // for a MeshLod kept longer than the flag it was built with.
+  void setCancel(const std::atomic<bool>* cancel) { m_settings.cancel = cancel; }
   double samplingSpacingCm() const { return m_spacing; }
   // Skinned positions of the original vertices in the poses the collapse costs saw: [0] the
   // bind pose; and which clip and frame each is (-1, -1 for the bind pose).

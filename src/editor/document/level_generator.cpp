@@ -74,8 +74,11 @@ bool LevelGenerator::launch(double pixels, int levels, const LodProjection& proj
           Qt::QueuedConnection);
     return !cancel->load();
   };
+  std::shared_ptr<LodBudgetCache>& cache = m_caches[index];
+  if (!cache)
+    cache = std::make_shared<LodBudgetCache>();
   m_watcher.setFuture(QtConcurrent::run(
-      [project, assets, index, options, pixels, levels, report, cancel = m_cancel, hook = m_hook]() mutable {
+      [project, assets, index, options, pixels, levels, report, cache, cancel = m_cancel, hook = m_hook]() mutable {
         auto out = std::make_shared<Outcome>();
         if (hook)
           hook(*cancel);
@@ -93,6 +96,7 @@ bool LevelGenerator::launch(double pixels, int levels, const LodProjection& proj
         options.clips = *clips;
         options.progress = report;
         options.cancel = cancel.get(); // the search's own loops stop within a fraction of a second
+        options.cache = cache.get();   // (one generation at a time: no other worker uses it)
         out->lods = LodSet::fromPixelBudget(*assets[std::size_t(index)], pixels, levels, options, &out->report);
         return out;
       }));

@@ -8,6 +8,10 @@
 //   result (the set, LodBudgetReport, the overrides above its levels); apply() lands exactly
 //   that set, so what the dialog shows is what the project gets.
 // Either way the new levels are one undo step (per-joint overrides kept by level index).
+// Each character's search keeps what it computed (core/lod/lod_budget_cache.h, one cache per
+// asset index, checked against the inputs of each run): a preview asked again with another
+// budget, level count or projection reuses the motions and meshes already made, and after a
+// joint edit re-clusters that joint alone; the levels are the same as without it.
 // One generation at a time; it reports its progress in percent and stops at the core's next
 // cancel point after cancel(), which drops the result at once and leaves the document as it
 // was (the worker may still run briefly: isBusy()).
@@ -21,6 +25,7 @@
 #include <QString>
 #include <atomic>
 #include <functional>
+#include <map>
 #include <memory>
 
 namespace mlod {
@@ -87,6 +92,7 @@ private:
   bool m_land = false; // the running generation lands when done (start()), else it is a preview
   LevelPlan m_pending; // the running generation's request
   LevelPlan m_plan;
+  std::map<int, std::shared_ptr<LodBudgetCache>> m_caches; // by asset index; the worker's while it runs
 };
 
 } // namespace mlod
