@@ -92,7 +92,7 @@ private:
   bool m_land = false; // the running generation lands when done (start()), else it is a preview
   LevelPlan m_pending; // the running generation's request
   LevelPlan m_plan;
-  std::map<int, std::shared_ptr<LodBudgetCache>> m_caches; // by asset index; the worker's while it runs
+  std::map<int, std::shared_ptr<LodBudgetCache>> m_caches; // the last previewed asset's (by index); the worker's while it runs
 };
 
 } // namespace mlod
