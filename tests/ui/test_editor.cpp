@@ -273,6 +273,61 @@ private slots:
              qPrintable(window->statusBar()->currentMessage()));
   }
 
+  // A cell editor shows its whole text: the threshold spin box of the Skeleton dock showed
+  // "5.00 c" of "5.00 cm·°" (issue 26, item 7), its column being sized for the values alone.
+  // Each spin box editor of the Skeleton and LOD Levels docks fits its text, suffix included.
+  void cellEditorsFitTheirText() {
+    QSettings().remove("mainWindow"); // the first run's layout
+    auto window = openSample();
+    QVERIFY(window);
+    const auto fits = [](QWidget* editor, const QString& where) -> QString {
+      auto* box = qobject_cast<QDoubleSpinBox*>(editor);
+      if (!box)
+        return where + ": no spin box editor";
+      QLineEdit* line = box->findChild<QLineEdit*>();
+      const QString text = line->text();
+      const int needs = line->fontMetrics().horizontalAdvance(text);
+      const QMargins margins = line->textMargins();
+      const int room = line->contentsRect().width() - margins.left() - margins.right() - 4; // QLineEdit's 2 px a side
+      if (!text.contains(box->suffix()) || needs > room)
+        return QString("%1: '%2' needs %3 px, has %4 (editor %5 px)")
+            .arg(where, text)
+            .arg(needs)
+            .arg(room)
+            .arg(box->width());
+      return {};
+    };
+    const int joint = jointIndex(*window, "LeftUpLeg");
+    for (const int column : {int(JointTreeModel::ThresholdColumn), int(JointTreeModel::AlphaColumn)}) {
+      QTreeView* view = window->skeletonView();
+      const QModelIndex index = window->jointModel()->indexOfJoint(joint, column);
+      view->scrollTo(index);
+      view->setFocus();
+      view->selectionModel()->setCurrentIndex(index, QItemSelectionModel::ClearAndSelect | QItemSelectionModel::Rows);
+      QTest::keyClick(view, Qt::Key_F2);
+      QWidget* editor = view->indexWidget(index);
+      QVERIFY(editor);
+      QTRY_VERIFY(editor->isVisible());
+      const QString failure = fits(editor, QString("skeleton column %1").arg(column));
+      QVERIFY2(failure.isEmpty(), qPrintable(failure));
+      QVERIFY(editor->geometry().right() < view->viewport()->width()); // inside the view
+      QTest::keyClick(editor, Qt::Key_Escape);
+    }
+    QTableView* levels = window->levelsView();
+    for (const int column : {int(LevelsModel::ThresholdColumn), int(LevelsModel::SwitchDistanceColumn)}) {
+      const QModelIndex index = levels->model()->index(1, column);
+      levels->setFocus();
+      levels->selectionModel()->setCurrentIndex(index, QItemSelectionModel::ClearAndSelect | QItemSelectionModel::Rows);
+      QTest::keyClick(levels, Qt::Key_F2);
+      QWidget* editor = levels->indexWidget(index);
+      QVERIFY(editor);
+      QTRY_VERIFY(editor->isVisible());
+      const QString failure = fits(editor, QString("levels column %1").arg(column));
+      QVERIFY2(failure.isEmpty(), qPrintable(failure));
+      QTest::keyClick(editor, Qt::Key_Escape);
+    }
+  }
+
   // Undo and redo (by their shortcuts) restore the exact figures.
   void undoRedoRestoreExactFigures() {
     auto window = openSample();
