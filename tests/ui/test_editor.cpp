@@ -31,6 +31,7 @@
 #include <QFile>
 #include <memory>
 #include <QFont>
+#include <QGraphicsTextItem>
 #include <QGraphicsView>
 #include <QHeaderView>
 #include <QInputDialog>
@@ -744,6 +745,68 @@ private slots:
                       Qt::ScrollUpdate, false);
     QApplication::sendEvent(view, &still);
     QCOMPARE(view->visibleFrames(), 480.0);
+  }
+
+  // The per-joint chart names its joints readably (issue 26, item 7: every label was "⋮", a
+  // rotated "…", at 31 and 54 clusterable joints): the labels shown are joint names, whole or
+  // cut after at least three characters, thinned to one every jointLabelStep() bars where a
+  // name each would not fit, and most of them whole; for the sample (a CMU skeleton) and
+  // BCN_Epileptic, in the window's first layout.
+  void perJointChartNamesItsJoints() {
+    QSettings().remove("mainWindow"); // the first run's layout
+    const QList<QPair<QString, double>> files = {{MLOD_SAMPLE, 2.54 / 0.45},
+                                                 {QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0}};
+    for (const auto& [file, unit] : files) {
+      MainWindow window;
+      window.resize(1600, 1000);
+      window.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&window));
+      QSignalSpy imported(&window, &MainWindow::importFinished);
+      window.importFileWithUnit(file, unit);
+      QVERIFY(imported.wait(60000));
+      QVERIFY(waitForFigures(window.document()));
+      StatisticsView* statistics = window.statisticsView();
+      const QStringList names = statistics->jointNames();
+      QVERIFY2(names.size() >= 30, qPrintable(QString::number(names.size())));
+      QChart* chart = statistics->jointChart();
+      // the labels the chart shows: its rotated text items below the plot
+      const auto shown = [&] {
+        QStringList out;
+        for (QGraphicsItem* item : chart->scene()->items())
+          if (auto* text = dynamic_cast<QGraphicsTextItem*>(item);
+              text && text->isVisible() && text->rotation() != 0.0 && !text->toPlainText().isEmpty() &&
+              text->mapToScene(text->boundingRect().center()).y() > chart->plotArea().bottom())
+            out << text->toPlainText();
+        return out;
+      };
+      QTRY_VERIFY(shown().size() >= 8);
+      QVERIFY(mlod::test::settles([&] { return shown(); }));
+      const QStringList labels = shown();
+      int whole = 0;
+      for (const QString& label : labels) {
+        if (names.contains(label)) {
+          ++whole;
+          continue;
+        }
+        const QString cut = label.endsWith("...")           ? label.chopped(3)
+                            : label.endsWith(QChar(0x2026)) ? label.chopped(1)
+                                                            : QString();
+        const bool prefix = cut.size() >= 3 && std::any_of(names.begin(), names.end(),
+                                                           [&](const QString& n) { return n.startsWith(cut); });
+        QVERIFY2(prefix, qPrintable(QString("%1: label '%2' is no joint's name").arg(file, label)));
+      }
+      const int step = statistics->jointLabelStep();
+      QVERIFY2(labels.size() >= (names.size() + step - 1) / step - 1,
+               qPrintable(QString("%1: %2 labels shown of %3 joints, one every %4")
+                              .arg(file)
+                              .arg(labels.size())
+                              .arg(names.size())
+                              .arg(step)));
+      QVERIFY2(
+          2 * whole >= labels.size(),
+          qPrintable(
+              QString("%1: %2 of %3 labels whole: %4").arg(file).arg(whole).arg(labels.size()).arg(labels.join(", "))));
+    }
   }
 
   // The per-frame chart carries a playhead at the frame the 3D views show.
