@@ -479,9 +479,9 @@ void remapJointThresholds(std::map<std::string, JointSettings>& joints, const st
 void remapLevels(Project& project, const std::vector<int>& order, const std::vector<LodLevel>& levels) {
   assert(order.size() == levels.size());
   // only the assets that play with the project's set: an asset's own set has its own levels
-  for (ProjectAsset& asset : project.assets)
-    if (!asset.lods)
-      remapJointThresholds(asset.joints, order);
+  for (std::size_t a = 0; a < project.assets.size(); ++a)
+    if (!project.assets[std::size_t(lodSetOwner(project, int(a)))].lods)
+      remapJointThresholds(project.assets[a].joints, order);
   project.lods.levels = levels;
 }
 
@@ -490,9 +490,20 @@ void applyLodSetEdit(Project& project, const LodSetEdit& edit) {
   project.lods = edit.lods;
 }
 
+int lodSetOwner(const Project& project, int asset) {
+  const int count = static_cast<int>(project.assets.size());
+  if (asset < 0 || asset >= count)
+    return -1;
+  for (const ProjectMapping& mapping : project.mappings)
+    if (mapping.motion == asset && mapping.character >= 0 && mapping.character < count)
+      return mapping.character;
+  return asset;
+}
+
 const LodSet& lodSetFor(const Project& project, int asset) {
-  if (asset >= 0 && asset < static_cast<int>(project.assets.size()) && project.assets[std::size_t(asset)].lods)
-    return *project.assets[std::size_t(asset)].lods;
+  const int owner = lodSetOwner(project, asset);
+  if (owner >= 0 && project.assets[std::size_t(owner)].lods)
+    return *project.assets[std::size_t(owner)].lods;
   return project.lods;
 }
 
@@ -508,9 +519,11 @@ void applyLodSetEdit(Project& project, int asset, const LodSetEdit& edit) {
     applyLodSetEdit(project, edit);
     return;
   }
-  ProjectAsset& entry = project.assets[std::size_t(asset)];
-  remapJointThresholds(entry.joints, edit.order);
-  entry.lods = edit.lods;
+  const int owner = lodSetOwner(project, asset);
+  for (std::size_t a = 0; a < project.assets.size(); ++a) // the owner and the motions mapped onto it
+    if (lodSetOwner(project, int(a)) == owner)
+      remapJointThresholds(project.assets[a].joints, edit.order);
+  project.assets[std::size_t(owner)].lods = edit.lods;
 }
 
 } // namespace mlod

@@ -599,6 +599,32 @@ private slots:
       QVERIFY(lodSetFor(reopened.document()->project(), 1) == *document->project().assets[1].lods);
       QVERIFY(lodSetFor(reopened.document()->project(), 0) == shared);
     }
+    // The sample mapped onto BCN plays with BCN's levels (issue 26, item 7: it kept its own),
+    // in view when it is assigned as when it is chosen again: levels dock, figures, viewport.
+    document->setCurrentLevel(4);
+    QVERIFY(edit::assignMotion(*document, 0, 1));
+    QVERIFY(waitForFigures(document));
+    QVERIFY(document->lods() == *document->project().assets[1].lods);
+    QCOMPARE(document->levelCount(), 4);
+    QCOMPARE(document->currentLevel(), 3);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 4);
+    QTRY_COMPARE(document->analysis()->levelCount(), 4);
+    QVERIFY(!document->project().assets[0].lods);
+    // a level edit with the motion in view edits the character's set, and the figures follow
+    QVERIFY(edit::setLevelThreshold(*document, 3, 77.0));
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->project().assets[1].lods->levels[3].motionThreshold, 77.0);
+    QVERIFY(document->project().lods == shared);
+    QTRY_COMPARE(document->analysis()->levels[3].threshold, 77.0);
+    document->setCurrentAsset(1);
+    document->setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->analysis()->levels[3].threshold, 77.0);
+    document->undoStack()->undo(); // the threshold
+    document->undoStack()->undo(); // the assignment: the sample's own levels again
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->levelCount(), 5);
+    QTRY_COMPARE(document->analysis()->levelCount(), 5);
     // undo both: BCN plays with the project's set again
     document->undoStack()->undo();
     document->undoStack()->undo();
