@@ -3,6 +3,7 @@
 // relink), cancel, the Table 1 view against `motionlod simplify`, layout restore.
 // Every figure compared is the document's own (no timed assertions).
 
+#include "core/mapping/motion_mapping.h"
 #include "core/project.h"
 #include "core/project_package.h"
 #include "editor/charts/statistics_view.h"
@@ -1625,6 +1626,7 @@ private slots:
     QVERIFY(!mapping.mapping.validate(document->asset(0)->skeleton, document->asset(1)->skeleton));
     const QString detail = window->assetModel()->index(0, AssetTreeModel::DetailColumn).data().toString();
     QVERIFY2(detail.startsWith("drives BCN_Epileptic.X"), qPrintable(detail));
+    QVERIFY(!window->findChild<QMessageBox*>("warningBox")); // 24 of its 33 joints with a child: it fits
 
     QTemporaryDir dir;
     QVERIFY(window->saveProject(dir.filePath("assigned.mlod")));
@@ -1646,6 +1648,40 @@ private slots:
     QVERIFY(document->project().mappings[0] == mapping);
     document->undoStack()->undo(); // the assignment
     QVERIFY(document->project().mappings.empty());
+  }
+
+  // A biped clip assigned to a quadruped (the sample onto Testwuson: 7 joint pairs) is
+  // assigned, but the user is told it drives too little of the character, by the rule
+  // `motionlod export --motion` refuses by (core's drivesTooLittle()): a warning box, the log
+  // and the status bar (issue 26, item 7: it stood the quadruped upright without a word).
+  void assigningAForeignRigWarns() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QSignalSpy spy(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0);
+    QVERIFY(spy.wait(60000));
+    QCOMPARE(spy.first()[0].toBool(), true);
+    document->setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    const int steps = document->undoStack()->count();
+    press(*window, Qt::Key_M, Qt::ControlModifier | Qt::ShiftModifier);
+    QCOMPARE(document->undoStack()->count(), steps + 1); // assigned all the same: the user may edit the table
+    QCOMPARE(document->project().mappings.size(), std::size_t(1));
+    const MappingCoverage coverage =
+        mappingCoverage(document->project().mappings[0].mapping, document->asset(1)->skeleton);
+    QVERIFY(drivesTooLittle(coverage));
+    const QString reach = QString::fromStdString(mappingReach(coverage, "Testwuson.X"));
+    auto* box = window->findChild<QMessageBox*>("warningBox");
+    QVERIFY(box);
+    QTRY_VERIFY(box->isVisible());
+    QVERIFY2(box->informativeText().contains(reach) && box->informativeText().contains("below 50%"),
+             qPrintable(box->informativeText()));
+    QVERIFY2(window->logText().contains("warning: cmu_01_01_excerpt.bvh on Testwuson.X: the automatic mapping drives " +
+                                        reach),
+             qPrintable(window->logText()));
+    QVERIFY2(window->statusBar()->currentMessage().contains(reach), qPrintable(window->statusBar()->currentMessage()));
+    box->accept();
   }
 
   // The joint-mapping table: a combo box per character joint edits the pair through the
