@@ -10,6 +10,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <tuple>
 
 namespace mlod {
 
@@ -512,6 +513,45 @@ std::vector<double> levelThresholdsFor(const Project& project, int asset) {
   for (const LodLevel& level : lodSetFor(project, asset).levels)
     out.push_back(level.motionThreshold);
   return out;
+}
+
+std::vector<LodOverrideAbove> overridesAboveGeneratedLevels(const Project& project, int asset,
+                                                            const LodSet& generated) {
+  std::vector<LodOverrideAbove> out;
+  const int owner = lodSetOwner(project, asset);
+  if (owner < 0)
+    return out;
+  for (std::size_t a = 0; a < project.assets.size(); ++a) {
+    if (lodSetOwner(project, int(a)) != owner)
+      continue;
+    const ProjectAsset& entry = project.assets[a];
+    const std::string name = std::filesystem::path(entry.path).filename().string();
+    JpcSettings settings;
+    settings.joints = entry.joints;
+    for (LodOverrideAbove& above : overridesAboveLevels(settings, generated)) {
+      above.asset = name;
+      out.push_back(std::move(above));
+    }
+    for (const auto& [joint, own] : entry.joints) // a std::map: by name
+      for (std::size_t level = generated.levels.size(); level < own.thresholds.size(); ++level)
+        if (own.thresholds[level])
+          out.push_back({joint, int(level), *own.thresholds[level], 0.0, name, true});
+  }
+  std::stable_sort(out.begin(), out.end(), [](const LodOverrideAbove& x, const LodOverrideAbove& y) {
+    return std::tie(x.asset, x.level) < std::tie(y.asset, y.level);
+  });
+  return out;
+}
+
+int overrideCountFor(const Project& project, int asset) {
+  const int owner = lodSetOwner(project, asset);
+  int count = 0;
+  for (std::size_t a = 0; owner >= 0 && a < project.assets.size(); ++a)
+    if (lodSetOwner(project, int(a)) == owner)
+      for (const auto& [joint, own] : project.assets[a].joints)
+        for (const std::optional<double>& threshold : own.thresholds)
+          count += threshold ? 1 : 0;
+  return count;
 }
 
 void applyLodSetEdit(Project& project, int asset, const LodSetEdit& edit) {

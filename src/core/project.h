@@ -180,6 +180,16 @@ int lodSetOwner(const Project& project, int asset);
 const LodSet& lodSetFor(const Project& project, int asset);
 // Every level's motion threshold of lodSetFor(project, asset) (level 0's is 0), cm·degrees.
 std::vector<double> levelThresholdsFor(const Project& project, int asset);
+// The per-joint overrides that `generated` (levels made for asset `asset`, to replace the set
+// it plays with: LodSet::fromPixelBudget()) leaves above their level's E, for the Budget
+// dialog to list: of every asset that plays with that set (lodSetOwner(): the character and
+// the motions mapped onto it; issue 26: a mapped clip's overrides of 30 and 50 above a
+// level of E = 2 went unlisted), each override above the E of its own level in `generated`
+// (overridesAboveLevels()), and each at a level `generated` has not (`beyond`: dropped with
+// it). By asset, then level, then joint name; `asset` named by its file name.
+std::vector<LodOverrideAbove> overridesAboveGeneratedLevels(const Project& project, int asset, const LodSet& generated);
+// Every per-joint threshold override of the assets that play with asset `asset`'s set, at any level.
+int overrideCountFor(const Project& project, int asset);
 // A level edit of the set asset `asset` plays with: its owner (lodSetOwner(): a mapped
 // motion's character) gets its own set (a copy of what it played with, edited), and the
 // per-joint overrides of every asset playing with that set follow their level; other assets
