@@ -775,13 +775,14 @@ private slots:
   }
 
   // The per-joint chart names its joints readably (issue 26, item 7: every label was "⋮", a
-  // rotated "…", at 31 and 54 clusterable joints): the labels shown are joint names, whole or
+  // rotated "…", at 38 and 54 clusterable joints): the labels shown are joint names, whole or
   // cut after at least three characters, thinned to one every jointLabelStep() bars where a
-  // name each would not fit, and most of them whole; for the sample (a CMU skeleton) and
-  // BCN_Epileptic, in the window's first layout.
+  // name each would not fit, and most of them whole; for the sample (a CMU skeleton),
+  // Testwuson and BCN_Epileptic, in the window's first layout.
   void perJointChartNamesItsJoints() {
     QSettings().remove("mainWindow"); // the first run's layout
     const QList<QPair<QString, double>> files = {{MLOD_SAMPLE, 2.54 / 0.45},
+                                                 {QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0},
                                                  {QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0}};
     for (const auto& [file, unit] : files) {
       MainWindow window;
@@ -909,6 +910,7 @@ private slots:
   void skeletonAndLevelsDocksAreReadable() {
     QSettings().remove("mainWindow"); // the first run's layout, whatever a test saved
     const QList<QPair<QString, double>> files = {{MLOD_SAMPLE, 2.54 / 0.45},
+                                                 {QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0},
                                                  {QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0}};
     for (const auto& [file, unit] : files) {
       MainWindow window;

@@ -188,11 +188,12 @@ void StatisticsView::labelJoints() {
   const int count = static_cast<int>(m_jointNames.size());
   if (!axis || count == 0)
     return;
-  // A label (rotated) takes a line of text across; one in `step` bars is named so that each
-  // named bar has a line and a half of room. Before the first layout the plot area is empty:
+  // A label (rotated) takes a line of text across, and Qt Charts adds its text margins and
+  // padding; one in `step` bars is named so that each named bar has two lines of room (at 1.5,
+  // Testwuson's 38 bars were all "…"). Before the first layout the plot area is empty:
   // the view's width stands in for it (plotAreaChanged() relabels).
   const qreal width = chart->plotArea().width() > 1.0 ? chart->plotArea().width() : 0.8 * m_jointView->width();
-  const qreal line = 1.5 * QFontMetricsF(axis->labelsFont()).height();
+  const qreal line = 2.0 * QFontMetricsF(axis->labelsFont()).height();
   const qreal perBar = std::max(1.0, width / count);
   const int step = std::clamp(static_cast<int>(std::ceil(line / perBar)), 1, count);
   if (step == m_jointLabelStep)
