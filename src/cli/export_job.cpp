@@ -337,14 +337,10 @@ std::optional<ExportOutcome> mapMotions(JobRun& run, const Asset& character, std
     if (!mapped)
       return failure(kExitBadInput, file, mapped.message());
     const MappingCoverage& coverage = mapped->coverage;
-    const std::string reach = std::to_string(coverage.mapped) + " of " + name + "'s " +
-                              std::to_string(coverage.joints) + " joints with a child (" +
-                              std::to_string(int(std::lround(100.0 * coverage.share()))) + "%)";
-    if (coverage.share() < kMinMappedShare && !job.allowPartial)
+    const std::string reach = mappingReach(coverage, name);
+    if (drivesTooLittle(coverage) && !job.allowPartial)
       return failure(kExitBadInput, file,
-                     "the automatic mapping drives " + reach + ", below " +
-                         std::to_string(int(std::lround(100.0 * kMinMappedShare))) +
-                         "%: the rest of the body would hold its rest pose (--allow-partial exports it anyway)");
+                     tooLittleMappedReason(coverage, name) + " (--allow-partial exports it anyway)");
     const std::string stem = std::filesystem::path(file).stem().string();
     for (Clip& clip : mapped->clips) {
       // named after its file (a BVH clip is "Motion"): animations <file>_LOD<n>, or

@@ -53,13 +53,16 @@ int describeProject(const std::string& file, bool json, const ImportArguments& i
   doc["version"] = kProjectVersion;
   doc["alpha"] = project.alpha;
   doc["mode"] = toString(project.mode);
-  nlohmann::json levels = nlohmann::json::array();
-  for (const LodLevel& level : project.lods.levels)
-    levels.push_back({{"name", level.name},
-                      {"threshold", level.motionThreshold},
-                      {"mesh_ratio", level.meshRatio},
-                      {"switch_distance_cm", level.switchDistanceCm}});
-  doc["levels"] = levels;
+  const auto levelsJson = [](const LodSet& lods) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const LodLevel& level : lods.levels)
+      levels.push_back({{"name", level.name},
+                        {"threshold", level.motionThreshold},
+                        {"mesh_ratio", level.meshRatio},
+                        {"switch_distance_cm", level.switchDistanceCm}});
+    return levels;
+  };
+  doc["levels"] = levelsJson(project.lods); // of every asset that plays with the project's set
   bool allFound = true;
   nlohmann::json assets = nlohmann::json::array();
   for (std::size_t a = 0; a < project.assets.size(); ++a) {
@@ -68,8 +71,16 @@ int describeProject(const std::string& file, bool json, const ImportArguments& i
     int tuned = 0;
     for (const auto& [name, joint] : entry.joints)
       tuned += joint.alpha || joint.locked || !joint.thresholds.empty() ? 1 : 0;
-    nlohmann::json item = {{"path", entry.path}, {"resolved", path}, {"unit_scale", entry.unitScale},
-                           {"tuned_joints", tuned}, {"asset", nullptr}};
+    // The levels it plays with (lodSetFor()): "own" (a character's own set), "project", or
+    // "asset N" (a motion mapped onto character N plays with N's).
+    const int owner = lodSetOwner(project, int(a));
+    const std::string levelsOf = owner != int(a) ? "asset " + std::to_string(owner)
+                                 : entry.lods    ? std::string("own")
+                                                 : std::string("project");
+    nlohmann::json item = {
+        {"path", entry.path},    {"resolved", path},      {"unit_scale", entry.unitScale},
+        {"tuned_joints", tuned}, {"levels_of", levelsOf}, {"levels", levelsJson(lodSetFor(project, int(a)))},
+        {"asset", nullptr}};
     std::error_code error;
     if (!std::filesystem::exists(path, error)) {
       item["error"] = "missing";
@@ -129,7 +140,9 @@ int describeProject(const std::string& file, bool json, const ImportArguments& i
       for (const nlohmann::json& clip : asset["clips"])
         std::printf(" %s (%d frames)", clip.value("name", std::string()).c_str(), clip.value("frames", 0));
     std::printf("; meshes: %zu\n", asset.contains("meshes") ? asset["meshes"].size() : std::size_t(0));
-    if (const std::optional<LodSet>& own = project.assets[a].lods) { // version 4: a character's own levels
+    if (const int owner = lodSetOwner(project, int(a)); owner != int(a)) { // a mapped motion
+      std::printf("       plays with asset %d's LOD set (its character)\n", owner);
+    } else if (const std::optional<LodSet>& own = project.assets[a].lods) { // version 4: a character's own levels
       std::printf("       its own LOD set, %zu levels:", own->levels.size());
       for (const LodLevel& level : own->levels)
         std::printf(" %s (E=%g, mesh %.1f%%, from %g m)", level.name.c_str(), level.motionThreshold,

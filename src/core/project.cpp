@@ -10,6 +10,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <tuple>
 
 namespace mlod {
 
@@ -479,9 +480,9 @@ void remapJointThresholds(std::map<std::string, JointSettings>& joints, const st
 void remapLevels(Project& project, const std::vector<int>& order, const std::vector<LodLevel>& levels) {
   assert(order.size() == levels.size());
   // only the assets that play with the project's set: an asset's own set has its own levels
-  for (ProjectAsset& asset : project.assets)
-    if (!asset.lods)
-      remapJointThresholds(asset.joints, order);
+  for (std::size_t a = 0; a < project.assets.size(); ++a)
+    if (!project.assets[std::size_t(lodSetOwner(project, int(a)))].lods)
+      remapJointThresholds(project.assets[a].joints, order);
   project.lods.levels = levels;
 }
 
@@ -490,9 +491,20 @@ void applyLodSetEdit(Project& project, const LodSetEdit& edit) {
   project.lods = edit.lods;
 }
 
+int lodSetOwner(const Project& project, int asset) {
+  const int count = static_cast<int>(project.assets.size());
+  if (asset < 0 || asset >= count)
+    return -1;
+  for (const ProjectMapping& mapping : project.mappings)
+    if (mapping.motion == asset && mapping.character >= 0 && mapping.character < count)
+      return mapping.character;
+  return asset;
+}
+
 const LodSet& lodSetFor(const Project& project, int asset) {
-  if (asset >= 0 && asset < static_cast<int>(project.assets.size()) && project.assets[std::size_t(asset)].lods)
-    return *project.assets[std::size_t(asset)].lods;
+  const int owner = lodSetOwner(project, asset);
+  if (owner >= 0 && project.assets[std::size_t(owner)].lods)
+    return *project.assets[std::size_t(owner)].lods;
   return project.lods;
 }
 
@@ -503,14 +515,55 @@ std::vector<double> levelThresholdsFor(const Project& project, int asset) {
   return out;
 }
 
+std::vector<LodOverrideAbove> overridesAboveGeneratedLevels(const Project& project, int asset,
+                                                            const LodSet& generated) {
+  std::vector<LodOverrideAbove> out;
+  const int owner = lodSetOwner(project, asset);
+  if (owner < 0)
+    return out;
+  for (std::size_t a = 0; a < project.assets.size(); ++a) {
+    if (lodSetOwner(project, int(a)) != owner)
+      continue;
+    const ProjectAsset& entry = project.assets[a];
+    const std::string name = std::filesystem::path(entry.path).filename().string();
+    JpcSettings settings;
+    settings.joints = entry.joints;
+    for (LodOverrideAbove& above : overridesAboveLevels(settings, generated)) {
+      above.asset = name;
+      out.push_back(std::move(above));
+    }
+    for (const auto& [joint, own] : entry.joints) // a std::map: by name
+      for (std::size_t level = generated.levels.size(); level < own.thresholds.size(); ++level)
+        if (own.thresholds[level])
+          out.push_back({joint, int(level), *own.thresholds[level], 0.0, name, true});
+  }
+  std::stable_sort(out.begin(), out.end(), [](const LodOverrideAbove& x, const LodOverrideAbove& y) {
+    return std::tie(x.asset, x.level) < std::tie(y.asset, y.level);
+  });
+  return out;
+}
+
+int overrideCountFor(const Project& project, int asset) {
+  const int owner = lodSetOwner(project, asset);
+  int count = 0;
+  for (std::size_t a = 0; owner >= 0 && a < project.assets.size(); ++a)
+    if (lodSetOwner(project, int(a)) == owner)
+      for (const auto& [joint, own] : project.assets[a].joints)
+        for (const std::optional<double>& threshold : own.thresholds)
+          count += threshold ? 1 : 0;
+  return count;
+}
+
 void applyLodSetEdit(Project& project, int asset, const LodSetEdit& edit) {
   if (asset < 0 || asset >= static_cast<int>(project.assets.size())) {
     applyLodSetEdit(project, edit);
     return;
   }
-  ProjectAsset& entry = project.assets[std::size_t(asset)];
-  remapJointThresholds(entry.joints, edit.order);
-  entry.lods = edit.lods;
+  const int owner = lodSetOwner(project, asset);
+  for (std::size_t a = 0; a < project.assets.size(); ++a) // the owner and the motions mapped onto it
+    if (lodSetOwner(project, int(a)) == owner)
+      remapJointThresholds(project.assets[a].joints, edit.order);
+  project.assets[std::size_t(owner)].lods = edit.lods;
 }
 
 } // namespace mlod

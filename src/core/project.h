@@ -27,7 +27,8 @@ namespace mlod {
 
 // Version 4: as version 3, and an asset may carry its own LOD set, "lods" (the same object as
 // the project's): a character's levels, switch distances and mesh ratios are its own
-// (docs/architecture.md section 3). An asset without one plays with the project's "lods".
+// (docs/architecture.md section 3). An asset without one plays with the project's "lods"; a
+// motion mapped onto a character plays with the character's (lodSetOwner()).
 // Version 3 (read, never written): {"format":"motionlod-project","version":3,"alpha","mode",
 //             "lods":{"projection":{"vertical_fov_degrees","viewport_height_pixels"},"bounding_radius_cm",
 //                     "levels":[{"name","threshold","mesh_ratio","switch_distance_cm","pixel_error",
@@ -167,15 +168,33 @@ inline bool isProjectFile(std::string_view file) {
 // edit.lods, the per-joint overrides following their level through edit.order.
 void applyLodSetEdit(Project& project, const LodSetEdit& edit);
 
+// The asset whose LOD set `asset` plays with (docs/architecture.md section 3: a clip plays
+// with the set of the character it is mapped to): for a motion mapped onto a character, that
+// character (its first mapping's, as the viewport shows it first); for any other asset, the
+// asset itself; -1 for an index out of range.
+int lodSetOwner(const Project& project, int asset);
 // The LOD set asset `asset` plays with (docs/architecture.md section 3: a character owns its
-// set): its own, else the project's (also for an index out of range, -1 included). The one
-// place that rule lives: packages, the studio's level docks, crowd and viewport read it.
+// set): its owner's own (lodSetOwner()), else the project's (also for an index out of range,
+// -1 included). The one place that rule lives: packages, the studio's level docks, crowd and
+// viewport read it.
 const LodSet& lodSetFor(const Project& project, int asset);
 // Every level's motion threshold of lodSetFor(project, asset) (level 0's is 0), cm·degrees.
 std::vector<double> levelThresholdsFor(const Project& project, int asset);
-// A level edit of asset `asset`'s set: the asset gets its own set (a copy of what it played
-// with, edited), its per-joint overrides follow their level; other assets keep theirs. An
-// asset out of range (-1: none in view) edits the project's set, as applyLodSetEdit().
+// The per-joint overrides that `generated` (levels made for asset `asset`, to replace the set
+// it plays with: LodSet::fromPixelBudget()) leaves above their level's E, for the Budget
+// dialog to list: of every asset that plays with that set (lodSetOwner(): the character and
+// the motions mapped onto it; issue 26: a mapped clip's overrides of 30 and 50 above a
+// level of E = 2 went unlisted), each override above the E of its own level in `generated`
+// (overridesAboveLevels()), and each at a level `generated` has not (`beyond`: dropped with
+// it). By asset, then level, then joint name; `asset` named by its file name.
+std::vector<LodOverrideAbove> overridesAboveGeneratedLevels(const Project& project, int asset, const LodSet& generated);
+// Every per-joint threshold override of the assets that play with asset `asset`'s set, at any level.
+int overrideCountFor(const Project& project, int asset);
+// A level edit of the set asset `asset` plays with: its owner (lodSetOwner(): a mapped
+// motion's character) gets its own set (a copy of what it played with, edited), and the
+// per-joint overrides of every asset playing with that set follow their level; other assets
+// keep theirs. An asset out of range (-1: none in view) edits the project's set, as
+// applyLodSetEdit().
 void applyLodSetEdit(Project& project, int asset, const LodSetEdit& edit);
 
 } // namespace mlod

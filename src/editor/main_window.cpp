@@ -792,11 +792,17 @@ void MainWindow::buildActions() {
                return;
              chosen = characters[std::size_t(names.indexOf(name))];
            }
-           QString error;
-           if (!edit::assignMotion(*m_document, motion, chosen, &error))
+           QString error, warning;
+           if (!edit::assignMotion(*m_document, motion, chosen, &error, &warning)) {
              showError(tr("Cannot assign the motion"), tr("The motion was not assigned."), error);
-           else
-             log(m_document->undoStack()->text(m_document->undoStack()->index() - 1));
+             return;
+           }
+           log(m_document->undoStack()->text(m_document->undoStack()->index() - 1));
+           if (!warning.isEmpty())
+             showWarning(tr("The motion hardly fits the character"),
+                         tr("The automatic joint mapping drives little of the character: it may stand or move "
+                            "unlike the motion. Check it in Edit > Edit Joint Mapping… (Ctrl+Alt+M), or undo."),
+                         warning);
          });
   m_generateLevelsAction = action(edit, "actionGenerateLevels", tr("&Generate Levels from Pixel Budget…"), QKeySequence("Ctrl+Shift+G"),
          tr("Compute every level's threshold, mesh ratio and switch distance so that each stays within N pixels on "
@@ -1040,6 +1046,16 @@ void MainWindow::addRecent(const QString& path) {
   settings.setValue("project/recent", recent);
   settings.setValue("project/lastDir", QFileInfo(path).absolutePath());
   refreshRecentMenu();
+}
+
+void MainWindow::showWarning(const QString& title, const QString& text, const QString& detail) {
+  log(tr("warning: %1").arg(detail));
+  statusBar()->showMessage(tr("Warning: %1").arg(detail), 10000);
+  auto* box = new QMessageBox(QMessageBox::Warning, title, text, QMessageBox::Ok, this);
+  box->setObjectName("warningBox");
+  box->setInformativeText(detail);
+  box->setAttribute(Qt::WA_DeleteOnClose);
+  box->open(); // non-modal, as showError()'s
 }
 
 void MainWindow::showError(const QString& title, const QString& text, const QString& detail) {

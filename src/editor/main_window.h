@@ -139,6 +139,8 @@ private:
   void refreshRecentMenu();
   void addRecent(const QString& path);
   void showError(const QString& title, const QString& text, const QString& detail);
+  // A warning the user sees (a non-modal box, objectName "warningBox"), also in the log and status bar.
+  void showWarning(const QString& title, const QString& text, const QString& detail);
   std::vector<int> selectedJoints() const;
   QDockWidget* addDock(const QString& name, const QString& title, QWidget* widget, Qt::DockWidgetArea area);
 

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 namespace mlod {
 namespace {
@@ -120,6 +122,72 @@ std::string projectWithAsset(const std::filesystem::path& folder, const std::str
   const std::filesystem::path file = folder / "p.mlod";
   std::ofstream(file) << project.dump();
   return file.string();
+}
+
+// Guards `info PROJECT --json` listing the levels each asset plays with (issue 26, item 7:
+// it listed the project's set alone): a character's own set ("own"), the project's for a
+// character without one, and for a motion mapped onto a character that character's set.
+TEST(Cli, InfoJsonListsEachAssetsLevels) {
+  namespace fs = std::filesystem;
+  const fs::path dir = test::freshFolder("cli", "info_levels");
+  const auto levelJson = [](const std::string& name, double threshold, double ratio, double cm) {
+    return nlohmann::json{
+        {"name", name},     {"threshold", threshold},  {"mesh_ratio", ratio},  {"switch_distance_cm", cm},
+        {"pixel_error", 0}, {"screen_size_pixels", 0}, {"motion_error_cm", 0}, {"mesh_error_cm", 0},
+        {"triangles", 0},   {"active_joints", 0}};
+  };
+  const auto lods = [](nlohmann::json levels) {
+    return nlohmann::json{{"projection", {{"vertical_fov_degrees", 60}, {"viewport_height_pixels", 1080}}},
+                          {"bounding_radius_cm", 0},
+                          {"levels", std::move(levels)}};
+  };
+  const nlohmann::json shared =
+      lods({levelJson("LOD0", 0, 1, 0), levelJson("LOD1", 5, 1, 0), levelJson("LOD2", 50, 1, 0)});
+  const nlohmann::json own = lods({levelJson("LOD0", 0, 1, 0), levelJson("Close", 2, 0.5, 900),
+                                   levelJson("Away", 30, 0.1, 4700), levelJson("Gone", 300, 0.05, 9000)});
+  const nlohmann::json table = {{"format", "motionlod-mapping"},
+                                {"version", 1},
+                                {"motion", "01_01.bvh"},
+                                {"character", "BCN_Epileptic.X"},
+                                {"pairs", {{{"character", "B_Root_Pelvis_L"}, {"motion", "Hips"}}}}};
+  const nlohmann::json project = {
+      {"format", "motionlod-project"},
+      {"version", 4},
+      {"alpha", 5},
+      {"mode", "greedy"},
+      {"lods", shared},
+      {"assets",
+       {{{"path", test::modelPath("X/BCN_Epileptic.X")}, {"joints", nlohmann::json::object()}, {"lods", own}},
+        {{"path", test::modelPath("BVH/01_01.bvh")}, {"unit_scale", 2.54 / 0.45}, {"joints", nlohmann::json::object()}},
+        {{"path", test::modelPath("X/Testwuson.X")}, {"joints", nlohmann::json::object()}}}},
+      {"mappings", {{{"motion", 1}, {"character", 0}, {"table", table}}}}};
+  const fs::path file = dir / "characters.mlod";
+  std::ofstream(file) << project.dump();
+  const test::CliRun run = runMotionlod({"info", file.string(), "--json"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json doc = nlohmann::json::parse(run.out);
+  ASSERT_EQ(doc["assets"].size(), 3u);
+  const auto names = [](const nlohmann::json& levels) {
+    std::vector<std::string> out;
+    for (const nlohmann::json& level : levels)
+      out.push_back(level["name"]);
+    return out;
+  };
+  const std::vector<std::string> ownNames{"LOD0", "Close", "Away", "Gone"};
+  EXPECT_EQ(doc["assets"][0]["levels_of"], "own");
+  EXPECT_EQ(names(doc["assets"][0]["levels"]), ownNames);
+  EXPECT_EQ(doc["assets"][0]["levels"][2]["mesh_ratio"], 0.1);
+  EXPECT_EQ(doc["assets"][0]["levels"][2]["switch_distance_cm"], 4700);
+  EXPECT_EQ(doc["assets"][1]["levels_of"], "asset 0"); // the motion plays with its character's
+  EXPECT_EQ(names(doc["assets"][1]["levels"]), ownNames);
+  EXPECT_EQ(doc["assets"][2]["levels_of"], "project");
+  EXPECT_EQ(names(doc["assets"][2]["levels"]), (std::vector<std::string>{"LOD0", "LOD1", "LOD2"}));
+  EXPECT_EQ(names(doc["levels"]), (std::vector<std::string>{"LOD0", "LOD1", "LOD2"}));
+  // the human output says it too
+  const test::CliRun text = runMotionlod({"info", file.string()});
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("its own LOD set, 4 levels"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("plays with asset 0's LOD set"), std::string::npos) << text.out;
 }
 
 // Guards issue 29's `../../../../../../etc/passwd` in a project: it was followed and read.

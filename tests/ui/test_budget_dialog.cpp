@@ -25,6 +25,7 @@
 #include <QTest>
 #include <QThread>
 #include <QUndoStack>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -298,6 +299,60 @@ private slots:
     QVERIFY(locked.report.simplifiedPercent != first.report.simplifiedPercent);
     QVERIFY(!locked.report.characterPrepared);
     QVERIFY(locked.report.motionsMade > 0);
+  }
+
+  // The overrides of a motion assigned to the character play with the character's levels
+  // and are listed with their asset, level and both values (issue 26, item 7: overrides of 30
+  // and 50 on a mapped clip sat above generated levels of E = 2 and 5 while the dialog said
+  // "No per-joint override exceeds a generated level's E"); one at a level the preview lacks
+  // is listed as dropped with Apply; the title counts them.
+  void overridesOfAnAssignedMotionAreListed() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QSignalSpy imported(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0);
+    QVERIFY(imported.wait(60000));
+    QVERIFY(edit::assignMotion(*document, 0, 1));
+    document->setCurrentAsset(0); // the clip: its joints' overrides, at its character's levels
+    QVERIFY(waitForFigures(document));
+    const Skeleton& skeleton = document->currentAssetPtr()->skeleton;
+    const int arm = skeleton.find("RightArm"), head = skeleton.find("Head"), hips = skeleton.find("Hips");
+    QVERIFY(arm >= 0 && head >= 0 && hips >= 0);
+    edit::setJointThreshold(*document, {arm}, 1, 30.0);
+    edit::setJointThreshold(*document, {head}, 2, 50.0);
+    edit::setJointThreshold(*document, {hips}, 4, 400.0);
+    document->setCurrentAsset(1);
+    QVERIFY(waitForFigures(document));
+    BudgetDialog* dialog = previewed(*window, 1.0, 4);
+    QVERIFY(dialog);
+    const LevelPlan& plan = document->levelGenerator()->plan();
+    QCOMPARE(int(plan.lods.levels.size()), 4);
+    QVERIFY(plan.lods.levels[1].motionThreshold < 30.0 && plan.lods.levels[2].motionThreshold < 50.0);
+    QCOMPARE(plan.overrideCount, 3);
+    QCOMPARE(int(plan.overrides.size()), 3);
+    QStringList lines;
+    for (int row = 0; row < dialog->overridesList()->count(); ++row)
+      lines << dialog->overridesList()->item(row)->text();
+    const QString e1 =
+        QString::number(plan.lods.levels[1].motionThreshold, 'f',
+                        plan.lods.levels[1].motionThreshold == std::floor(plan.lods.levels[1].motionThreshold) ? 0 : 1);
+    QVERIFY2(lines.contains(
+                 QString("cmu_01_01_excerpt.bvh › RightArm at LOD1: 30 cm·° — above LOD1's E of %1 cm·°").arg(e1)),
+             qPrintable(lines.join('\n')));
+    QVERIFY2(std::any_of(lines.begin(), lines.end(),
+                         [](const QString& l) {
+                           return l.startsWith("cmu_01_01_excerpt.bvh › Head at LOD2: 50 cm·° — above LOD2's E of");
+                         }),
+             qPrintable(lines.join('\n')));
+    QVERIFY2(lines.contains(
+                 "cmu_01_01_excerpt.bvh › Hips at level 4: 400 cm·° — these levels end at LOD3: dropped with Apply"),
+             qPrintable(lines.join('\n')));
+    const QString title = dialog->findChild<QLabel*>("overridesTitle")->text();
+    QVERIFY2(title.startsWith(
+                 "Of the 3 per-joint overrides, 2 above the E of their own level (kept as they are) and 1 at levels"),
+             qPrintable(title));
+    dialog->reject();
   }
 
   // A budget too tight for any motion simplification near the camera: the aimed levels left

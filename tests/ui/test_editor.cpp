@@ -3,6 +3,7 @@
 // relink), cancel, the Table 1 view against `motionlod simplify`, layout restore.
 // Every figure compared is the document's own (no timed assertions).
 
+#include "core/mapping/motion_mapping.h"
 #include "core/project.h"
 #include "core/project_package.h"
 #include "editor/charts/statistics_view.h"
@@ -31,6 +32,7 @@
 #include <QFile>
 #include <memory>
 #include <QFont>
+#include <QGraphicsTextItem>
 #include <QGraphicsView>
 #include <QHeaderView>
 #include <QInputDialog>
@@ -271,6 +273,61 @@ private slots:
     QCOMPARE(document->analysis()->clusteredPairs, 1);
     QVERIFY2(window->statusBar()->currentMessage().startsWith("1 joint clustering in "),
              qPrintable(window->statusBar()->currentMessage()));
+  }
+
+  // A cell editor shows its whole text: the threshold spin box of the Skeleton dock showed
+  // "5.00 c" of "5.00 cm·°" (issue 26, item 7), its column being sized for the values alone.
+  // Each spin box editor of the Skeleton and LOD Levels docks fits its text, suffix included.
+  void cellEditorsFitTheirText() {
+    QSettings().remove("mainWindow"); // the first run's layout
+    auto window = openSample();
+    QVERIFY(window);
+    const auto fits = [](QWidget* editor, const QString& where) -> QString {
+      auto* box = qobject_cast<QDoubleSpinBox*>(editor);
+      if (!box)
+        return where + ": no spin box editor";
+      QLineEdit* line = box->findChild<QLineEdit*>();
+      const QString text = line->text();
+      const int needs = line->fontMetrics().horizontalAdvance(text);
+      const QMargins margins = line->textMargins();
+      const int room = line->contentsRect().width() - margins.left() - margins.right() - 4; // QLineEdit's 2 px a side
+      if (!text.contains(box->suffix()) || needs > room)
+        return QString("%1: '%2' needs %3 px, has %4 (editor %5 px)")
+            .arg(where, text)
+            .arg(needs)
+            .arg(room)
+            .arg(box->width());
+      return {};
+    };
+    const int joint = jointIndex(*window, "LeftUpLeg");
+    for (const int column : {int(JointTreeModel::ThresholdColumn), int(JointTreeModel::AlphaColumn)}) {
+      QTreeView* view = window->skeletonView();
+      const QModelIndex index = window->jointModel()->indexOfJoint(joint, column);
+      view->scrollTo(index);
+      view->setFocus();
+      view->selectionModel()->setCurrentIndex(index, QItemSelectionModel::ClearAndSelect | QItemSelectionModel::Rows);
+      QTest::keyClick(view, Qt::Key_F2);
+      QWidget* editor = view->indexWidget(index);
+      QVERIFY(editor);
+      QTRY_VERIFY(editor->isVisible());
+      const QString failure = fits(editor, QString("skeleton column %1").arg(column));
+      QVERIFY2(failure.isEmpty(), qPrintable(failure));
+      QVERIFY(editor->geometry().right() < view->viewport()->width()); // inside the view
+      QTest::keyClick(editor, Qt::Key_Escape);
+    }
+    QTableView* levels = window->levelsView();
+    for (const int column : {int(LevelsModel::ThresholdColumn), int(LevelsModel::SwitchDistanceColumn)}) {
+      const QModelIndex index = levels->model()->index(1, column);
+      levels->setFocus();
+      levels->selectionModel()->setCurrentIndex(index, QItemSelectionModel::ClearAndSelect | QItemSelectionModel::Rows);
+      QTest::keyClick(levels, Qt::Key_F2);
+      QWidget* editor = levels->indexWidget(index);
+      QVERIFY(editor);
+      QTRY_VERIFY(editor->isVisible());
+      const QString failure = fits(editor, QString("levels column %1").arg(column));
+      QVERIFY2(failure.isEmpty(), qPrintable(failure));
+      QTest::keyClick(editor, Qt::Key_Escape);
+    }
   }
 
   // Undo and redo (by their shortcuts) restore the exact figures.
@@ -543,6 +600,32 @@ private slots:
       QVERIFY(lodSetFor(reopened.document()->project(), 1) == *document->project().assets[1].lods);
       QVERIFY(lodSetFor(reopened.document()->project(), 0) == shared);
     }
+    // The sample mapped onto BCN plays with BCN's levels (issue 26, item 7: it kept its own),
+    // in view when it is assigned as when it is chosen again: levels dock, figures, viewport.
+    document->setCurrentLevel(4);
+    QVERIFY(edit::assignMotion(*document, 0, 1));
+    QVERIFY(waitForFigures(document));
+    QVERIFY(document->lods() == *document->project().assets[1].lods);
+    QCOMPARE(document->levelCount(), 4);
+    QCOMPARE(document->currentLevel(), 3);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 4);
+    QTRY_COMPARE(document->analysis()->levelCount(), 4);
+    QVERIFY(!document->project().assets[0].lods);
+    // a level edit with the motion in view edits the character's set, and the figures follow
+    QVERIFY(edit::setLevelThreshold(*document, 3, 77.0));
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->project().assets[1].lods->levels[3].motionThreshold, 77.0);
+    QVERIFY(document->project().lods == shared);
+    QTRY_COMPARE(document->analysis()->levels[3].threshold, 77.0);
+    document->setCurrentAsset(1);
+    document->setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->analysis()->levels[3].threshold, 77.0);
+    document->undoStack()->undo(); // the threshold
+    document->undoStack()->undo(); // the assignment: the sample's own levels again
+    QVERIFY(waitForFigures(document));
+    QCOMPARE(document->levelCount(), 5);
+    QTRY_COMPARE(document->analysis()->levelCount(), 5);
     // undo both: BCN plays with the project's set again
     document->undoStack()->undo();
     document->undoStack()->undo();
@@ -691,6 +774,69 @@ private slots:
     QCOMPARE(view->visibleFrames(), 480.0);
   }
 
+  // The per-joint chart names its joints readably (issue 26, item 7: every label was "⋮", a
+  // rotated "…", at 38 and 54 clusterable joints): the labels shown are joint names, whole or
+  // cut after at least three characters, thinned to one every jointLabelStep() bars where a
+  // name each would not fit, and most of them whole; for the sample (a CMU skeleton),
+  // Testwuson and BCN_Epileptic, in the window's first layout.
+  void perJointChartNamesItsJoints() {
+    QSettings().remove("mainWindow"); // the first run's layout
+    const QList<QPair<QString, double>> files = {{MLOD_SAMPLE, 2.54 / 0.45},
+                                                 {QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0},
+                                                 {QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0}};
+    for (const auto& [file, unit] : files) {
+      MainWindow window;
+      window.resize(1600, 1000);
+      window.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&window));
+      QSignalSpy imported(&window, &MainWindow::importFinished);
+      window.importFileWithUnit(file, unit);
+      QVERIFY(imported.wait(60000));
+      QVERIFY(waitForFigures(window.document()));
+      StatisticsView* statistics = window.statisticsView();
+      const QStringList names = statistics->jointNames();
+      QVERIFY2(names.size() >= 30, qPrintable(QString::number(names.size())));
+      QChart* chart = statistics->jointChart();
+      // the labels the chart shows: its rotated text items below the plot
+      const auto shown = [&] {
+        QStringList out;
+        for (QGraphicsItem* item : chart->scene()->items())
+          if (auto* text = dynamic_cast<QGraphicsTextItem*>(item);
+              text && text->isVisible() && text->rotation() != 0.0 && !text->toPlainText().isEmpty() &&
+              text->mapToScene(text->boundingRect().center()).y() > chart->plotArea().bottom())
+            out << text->toPlainText();
+        return out;
+      };
+      QTRY_VERIFY(shown().size() >= 8);
+      QVERIFY(mlod::test::settles([&] { return shown(); }));
+      const QStringList labels = shown();
+      int whole = 0;
+      for (const QString& label : labels) {
+        if (names.contains(label)) {
+          ++whole;
+          continue;
+        }
+        const QString cut = label.endsWith("...")           ? label.chopped(3)
+                            : label.endsWith(QChar(0x2026)) ? label.chopped(1)
+                                                            : QString();
+        const bool prefix = cut.size() >= 3 && std::any_of(names.begin(), names.end(),
+                                                           [&](const QString& n) { return n.startsWith(cut); });
+        QVERIFY2(prefix, qPrintable(QString("%1: label '%2' is no joint's name").arg(file, label)));
+      }
+      const int step = statistics->jointLabelStep();
+      QVERIFY2(labels.size() >= (names.size() + step - 1) / step - 1,
+               qPrintable(QString("%1: %2 labels shown of %3 joints, one every %4")
+                              .arg(file)
+                              .arg(labels.size())
+                              .arg(names.size())
+                              .arg(step)));
+      QVERIFY2(
+          2 * whole >= labels.size(),
+          qPrintable(
+              QString("%1: %2 of %3 labels whole: %4").arg(file).arg(whole).arg(labels.size()).arg(labels.join(", "))));
+    }
+  }
+
   // The per-frame chart carries a playhead at the frame the 3D views show.
   void perFrameChartHasThePlayhead() {
     auto window = openSample();
@@ -764,6 +910,7 @@ private slots:
   void skeletonAndLevelsDocksAreReadable() {
     QSettings().remove("mainWindow"); // the first run's layout, whatever a test saved
     const QList<QPair<QString, double>> files = {{MLOD_SAMPLE, 2.54 / 0.45},
+                                                 {QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0},
                                                  {QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0}};
     for (const auto& [file, unit] : files) {
       MainWindow window;
@@ -1481,6 +1628,7 @@ private slots:
     QVERIFY(!mapping.mapping.validate(document->asset(0)->skeleton, document->asset(1)->skeleton));
     const QString detail = window->assetModel()->index(0, AssetTreeModel::DetailColumn).data().toString();
     QVERIFY2(detail.startsWith("drives BCN_Epileptic.X"), qPrintable(detail));
+    QVERIFY(!window->findChild<QMessageBox*>("warningBox")); // 24 of its 33 joints with a child: it fits
 
     QTemporaryDir dir;
     QVERIFY(window->saveProject(dir.filePath("assigned.mlod")));
@@ -1502,6 +1650,40 @@ private slots:
     QVERIFY(document->project().mappings[0] == mapping);
     document->undoStack()->undo(); // the assignment
     QVERIFY(document->project().mappings.empty());
+  }
+
+  // A biped clip assigned to a quadruped (the sample onto Testwuson: 7 joint pairs) is
+  // assigned, but the user is told it drives too little of the character, by the rule
+  // `motionlod export --motion` refuses by (core's drivesTooLittle()): a warning box, the log
+  // and the status bar (issue 26, item 7: it stood the quadruped upright without a word).
+  void assigningAForeignRigWarns() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QSignalSpy spy(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0);
+    QVERIFY(spy.wait(60000));
+    QCOMPARE(spy.first()[0].toBool(), true);
+    document->setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    const int steps = document->undoStack()->count();
+    press(*window, Qt::Key_M, Qt::ControlModifier | Qt::ShiftModifier);
+    QCOMPARE(document->undoStack()->count(), steps + 1); // assigned all the same: the user may edit the table
+    QCOMPARE(document->project().mappings.size(), std::size_t(1));
+    const MappingCoverage coverage =
+        mappingCoverage(document->project().mappings[0].mapping, document->asset(1)->skeleton);
+    QVERIFY(drivesTooLittle(coverage));
+    const QString reach = QString::fromStdString(mappingReach(coverage, "Testwuson.X"));
+    auto* box = window->findChild<QMessageBox*>("warningBox");
+    QVERIFY(box);
+    QTRY_VERIFY(box->isVisible());
+    QVERIFY2(box->informativeText().contains(reach) && box->informativeText().contains("below 50%"),
+             qPrintable(box->informativeText()));
+    QVERIFY2(window->logText().contains("warning: cmu_01_01_excerpt.bvh on Testwuson.X: the automatic mapping drives " +
+                                        reach),
+             qPrintable(window->logText()));
+    QVERIFY2(window->statusBar()->currentMessage().contains(reach), qPrintable(window->statusBar()->currentMessage()));
+    box->accept();
   }
 
   // The joint-mapping table: a combo box per character joint edits the pair through the

@@ -5,6 +5,7 @@
 #include "editor/import_job.h"
 #include "editor/main_window.h"
 #include "editor/models/asset_tree.h"
+#include "editor/studio/window_fit.h"
 #include "editor/views/help_browser.h"
 #include "editor/views/job_progress.h"
 #include "test_files.h"
@@ -13,7 +14,9 @@
 #include <QAction>
 #include <QDockWidget>
 #include <QImage>
+#include <QMainWindow>
 #include <QMessageBox>
+#include <QScreen>
 #include <QSignalSpy>
 #include <QStatusBar>
 #include <QTemporaryDir>
@@ -328,6 +331,55 @@ private slots:
     QCOMPARE(open->shortcut(), QKeySequence(QKeySequence::Open));
     QCOMPARE(quit->shortcut(), QKeySequence("Ctrl+Q"));
     QVERIFY(!open->toolTip().isEmpty());
+  }
+
+  // The first window fits the screen, its frame included (issue 26, item 7: 1600 x 1000 plus
+  // a title bar on a 1600 x 1000 screen hid the status bar). The rule on the issue's screen
+  // and a larger one, then the studio's window shown by it on this screen.
+  void firstWindowFitsTheScreen() {
+    const QMargins titleBar(1, 30, 1, 1);
+    const QRect small = mlod::firstWindowGeometry({1600, 1000}, QRect(0, 0, 1600, 1000), titleBar);
+    QCOMPARE(small, QRect(1, 30, 1598, 969));
+    QVERIFY(QRect(0, 0, 1600, 1000).contains(small.marginsAdded(titleBar)));
+    const QRect large = mlod::firstWindowGeometry({1600, 1000}, QRect(0, 24, 2560, 1416), titleBar);
+    QCOMPARE(large.size(), QSize(1600, 1000)); // room enough: the size it is designed for, centred
+    QCOMPARE(large.left() - titleBar.left() - 0, (2560 - 1602) / 2);
+    QCOMPARE(large.top() - titleBar.top() - 24, (1416 - 1031) / 2);
+    QVERIFY(QRect(0, 24, 2560, 1416).contains(large.marginsAdded(titleBar)));
+
+    // A main window with a status bar shown by it on this screen (offscreen: 800 x 800, so
+    // 1600 x 1000 must shrink): its frame inside the available area, the status bar on screen.
+    // The studio's own window too, where the screen is at least its minimum size.
+    QMainWindow plain;
+    plain.statusBar()->showMessage("Ready");
+    MainWindow studio;
+    for (QMainWindow* window : {&plain, static_cast<QMainWindow*>(&studio)}) {
+      const QRect available = window->screen()->availableGeometry();
+      const QSize least = window->minimumSizeHint().expandedTo(window->minimumSize());
+      if (least.width() > available.width() || least.height() > available.height()) {
+        qInfo("the studio's window needs at least %d x %d, the screen has %d x %d: not shown", least.width(),
+              least.height(), available.width(), available.height());
+        continue;
+      }
+      mlod::showFitted(window, {1600, 1000});
+      QVERIFY(QTest::qWaitForWindowExposed(window));
+      const QRect frame = window->frameGeometry();
+      QTRY_VERIFY2(available.contains(window->frameGeometry()),
+                   qPrintable(QString("frame %1,%2 %3 x %4 on %5,%6 %7 x %8")
+                                  .arg(frame.x())
+                                  .arg(frame.y())
+                                  .arg(frame.width())
+                                  .arg(frame.height())
+                                  .arg(available.x())
+                                  .arg(available.y())
+                                  .arg(available.width())
+                                  .arg(available.height())));
+      // shrunk by a frame at most, not more
+      QVERIFY(window->width() >= std::min(1600, available.width()) - 64);
+      QVERIFY(window->height() >= std::min(1000, available.height()) - 64);
+      QVERIFY(window->statusBar()->isVisible());
+      QVERIFY(available.contains(window->statusBar()->mapToGlobal(window->statusBar()->rect().bottomRight())));
+    }
   }
 
   // The window renders: the grabbed image is not blank after an import.

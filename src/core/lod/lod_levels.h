@@ -74,7 +74,9 @@ struct LodOverrideAbove {
   std::string joint;
   int level = 0;
   double overrideThreshold = 0.0; // cm·degrees
-  double levelThreshold = 0.0;    // cm·degrees
+  double levelThreshold = 0.0;    // cm·degrees; 0 where `beyond`
+  std::string asset = {};         // the file name of the asset whose joint it is; empty where not told
+  bool beyond = false;            // at a level the set has not: replaceLodLevels() drops it
   friend bool operator==(const LodOverrideAbove&, const LodOverrideAbove&) = default;
 };
 // Every override of `settings` at a level of `lods` above that level's threshold, by level

@@ -415,6 +415,17 @@ MappingCoverage mappingCoverage(const MotionMapping& mapping, const Skeleton& ch
   return out;
 }
 
+std::string mappingReach(const MappingCoverage& coverage, std::string_view characterName) {
+  return std::to_string(coverage.mapped) + " of " + std::string(characterName) + "'s " +
+         std::to_string(coverage.joints) + " joints with a child (" +
+         std::to_string(int(std::lround(100.0 * coverage.share()))) + "%)";
+}
+
+std::string tooLittleMappedReason(const MappingCoverage& coverage, std::string_view characterName) {
+  return "the automatic mapping drives " + mappingReach(coverage, characterName) + ", below " +
+         std::to_string(int(std::lround(100.0 * kMinMappedShare))) + "%: the rest of the body would hold its rest pose";
+}
+
 Result<MappedMotion> mapMotionAutomatically(const Skeleton& motion, std::span<const Clip> clips,
                                             const Skeleton& character, std::string_view characterName) {
   if (clips.empty() || motion.empty())

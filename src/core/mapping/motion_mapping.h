@@ -121,6 +121,16 @@ MappingCoverage mappingCoverage(const MotionMapping& mapping, const Skeleton& ch
 // checked table of tests/data/mappings 25 (76%), Boxing_Toes 15 (45%); onto Testwuson, CMU
 // 01_03 drives 7 of 30 (23%). `export --motion` refuses less unless told.
 inline constexpr double kMinMappedShare = 0.5;
+// Whether a mapping drives less than kMinMappedShare of its character.
+inline bool drivesTooLittle(const MappingCoverage& coverage) {
+  return coverage.share() < kMinMappedShare;
+}
+// What a mapping drives, in words: "7 of Testwuson's 30 joints with a child (23%)".
+std::string mappingReach(const MappingCoverage& coverage, std::string_view characterName);
+// Why a mapping that drivesTooLittle() hardly fits (the CLI's refusal and the studio's warning
+// say the same): "the automatic mapping drives <mappingReach()>, below 50%: the rest of the
+// body would hold its rest pose".
+std::string tooLittleMappedReason(const MappingCoverage& coverage, std::string_view characterName);
 
 // A motion played on a character through the automatic mapping: what
 // `motionlod bench-crowd --scene --motion` and `motionlod export --motion` do.

@@ -3,8 +3,11 @@
 #include <QBarCategoryAxis>
 #include <QBarSeries>
 #include <QBarSet>
+#include <QCategoryAxis>
 #include <QChart>
 #include <QChartView>
+#include <QCursor>
+#include <QFontMetricsF>
 #include <QHeaderView>
 #include <QLineSeries>
 #include <QMouseEvent>
@@ -12,6 +15,7 @@
 #include <QSplitter>
 #include <QTabWidget>
 #include <QTableWidget>
+#include <QToolTip>
 #include <QVBoxLayout>
 #include <QWheelEvent>
 #include <QValueAxis>
@@ -54,6 +58,7 @@ StatisticsView::StatisticsView(QWidget* parent)
   m_frameView->setToolTip(tr("Joints frozen at a key posture per frame, at the current level "
                               "(wheel: zoom towards the cursor; right click: the whole clip)"));
   m_frameView->viewport()->installEventFilter(this);
+  connect(m_jointView->chart(), &QChart::plotAreaChanged, this, [this] { labelJoints(); });
   m_errorView->setToolTip(tr("Max joint-position error of each level, cm (forward kinematics)"));
 }
 
@@ -176,6 +181,32 @@ void StatisticsView::fillTable() {
   }
 }
 
+void StatisticsView::labelJoints() {
+  QChart* chart = m_jointView->chart();
+  const auto axes = chart->axes(Qt::Horizontal);
+  auto* axis = axes.isEmpty() ? nullptr : qobject_cast<QCategoryAxis*>(axes.first());
+  const int count = static_cast<int>(m_jointNames.size());
+  if (!axis || count == 0)
+    return;
+  // A label (rotated) takes a line of text across, and Qt Charts adds its text margins and
+  // padding; one in `step` bars is named so that each named bar has two lines of room (at 1.5,
+  // Testwuson's 38 bars were all "…"). Before the first layout the plot area is empty:
+  // the view's width stands in for it (plotAreaChanged() relabels).
+  const qreal width = chart->plotArea().width() > 1.0 ? chart->plotArea().width() : 0.8 * m_jointView->width();
+  const qreal line = 2.0 * QFontMetricsF(axis->labelsFont()).height();
+  const qreal perBar = std::max(1.0, width / count);
+  const int step = std::clamp(static_cast<int>(std::ceil(line / perBar)), 1, count);
+  if (step == m_jointLabelStep)
+    return;
+  m_jointLabelStep = step;
+  for (const QString& label : axis->categoriesLabels())
+    axis->remove(label);
+  axis->setStartValue(-0.5);
+  for (int j = 0; j < count; j += step)
+    axis->append(m_jointNames[j], j);
+  axis->setRange(-0.5, count - 0.5);
+}
+
 void StatisticsView::fillCharts() {
   m_playheadLine = nullptr; // removeAllSeries() deletes it
   for (QChartView* view : {m_jointView, m_frameView, m_errorView}) {
@@ -188,31 +219,47 @@ void StatisticsView::fillCharts() {
   const JpcLevelResult& level = m_analysis->levels[static_cast<std::size_t>(m_level)];
   const JpcClip& jpc = *m_analysis->prepared;
 
-  // Simplified % per clusterable joint.
+  // Simplified % per clusterable joint. The joints' axis is a category axis over the bars'
+  // positions (0, 1, …) so that its labels can be thinned: a QBarCategoryAxis names every bar,
+  // and at 38 or 54 joints each name had less room than a line of text, so every label was
+  // elided to "…" (shown rotated as "⋮").
   auto* perJoint = new QBarSet(tr("simplified %"));
-  QStringList names;
+  m_jointNames.clear();
   for (int j = 0; j < jpc.jointCount(); ++j)
     if (jpc.clusterable(j)) {
       *perJoint << level.joints[static_cast<std::size_t>(j)].simplifiedPercent;
-      names << QString::fromStdString(jpc.jointName(j));
+      m_jointNames << QString::fromStdString(jpc.jointName(j));
     }
   auto* bars = new QBarSeries;
   bars->append(perJoint);
+  connect(bars, &QBarSeries::hovered, this, [this, perJoint](bool inside, int index) {
+    if (!inside || index < 0 || index >= m_jointNames.size()) {
+      QToolTip::hideText();
+      return;
+    }
+    QToolTip::showText(QCursor::pos(), tr("%1: %2% of the frames simplified")
+                                           .arg(m_jointNames[index])
+                                           .arg(QString::number(perJoint->at(index), 'f', 1)));
+  });
   QChart* chart = m_jointView->chart();
   chart->addSeries(bars);
-  auto* categories = new QBarCategoryAxis;
-  categories->append(names);
-  categories->setLabelsAngle(-90);
-  QFont small = categories->labelsFont();
+  auto* jointAxis = new QCategoryAxis;
+  jointAxis->setObjectName("jointAxis");
+  jointAxis->setLabelsPosition(QCategoryAxis::AxisLabelsPositionOnValue);
+  jointAxis->setGridLineVisible(false);
+  jointAxis->setLabelsAngle(-90);
+  QFont small = jointAxis->labelsFont();
   small.setPointSizeF(6.5);
-  categories->setLabelsFont(small);
+  jointAxis->setLabelsFont(small);
   auto* percent = new QValueAxis;
   percent->setRange(0, 100);
   percent->setTitleText(tr("%"));
-  chart->addAxis(categories, Qt::AlignBottom);
+  chart->addAxis(jointAxis, Qt::AlignBottom);
   chart->addAxis(percent, Qt::AlignLeft);
-  bars->attachAxis(categories);
+  bars->attachAxis(jointAxis);
   bars->attachAxis(percent);
+  m_jointLabelStep = 0; // none yet
+  labelJoints();
   chart->setTitle(tr("Simplified %, level %1 (E = %2)").arg(m_level).arg(level.threshold));
 
   // Joints frozen per frame.

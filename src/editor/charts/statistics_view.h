@@ -30,6 +30,11 @@ public:
   QChart* jointChart() const;
   QChart* frameChart() const;
   QChart* errorChart() const;
+  // The per-joint chart's joint names (its bars', in order), and the step between the names
+  // its axis labels: 1 where every label fits beside the next, else every step-th joint is
+  // named (thinned to fit the chart's width; each bar's tooltip names its joint).
+  const QStringList& jointNames() const { return m_jointNames; }
+  int jointLabelStep() const { return m_jointLabelStep; }
   // The frame the 3D views show, drawn as a vertical line on the per-frame chart; -1: none.
   void setPlayhead(int frame);
   int playhead() const { return m_playhead; }
@@ -49,12 +54,16 @@ private:
   void showAllFrames();
   void fillTable();
   void fillCharts();
+  // (Re)labels the per-joint chart's axis for the chart's current plot width.
+  void labelJoints();
 
   std::shared_ptr<const JpcAnalysis> m_analysis;
   int m_level = 0;
   int m_playhead = -1;
   int m_frameCount = 0; // of the per-frame chart
   QStringList m_names;
+  QStringList m_jointNames;
+  int m_jointLabelStep = 1;
   QTableWidget* m_table;
   QTabWidget* m_tabs;
   QChartView* m_jointView;

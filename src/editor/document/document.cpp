@@ -236,9 +236,18 @@ void Document::applyLevels(const LodSet& lods, const std::vector<std::optional<L
 }
 
 void Document::applyMappings(const std::vector<ProjectMapping>& mappings) {
+  const LodSet before = lods();
   m_project.mappings = mappings;
   emit mappingsChanged();
   emit assetsChanged(); // the Assets dock shows what drives what
+  if (lods() == before)
+    return;
+  // The motion in view now plays with another set (its character's, or its own again when
+  // unassigned): other levels, so other figures.
+  m_project.view.level = std::clamp(m_project.view.level, 0, levelCount() - 1);
+  emit settingsChanged();
+  emit currentChanged();
+  m_analysis->request(true);
 }
 
 void Document::insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset) {

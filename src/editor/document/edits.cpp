@@ -1,6 +1,7 @@
 #include "editor/document/edits.h"
 
 #include "core/jpc/joint_settings_edits.h"
+#include "core/mapping/motion_mapping.h"
 #include "core/project_mappings.h"
 #include "editor/document/commands.h"
 #include "editor/document/document.h"
@@ -193,7 +194,7 @@ bool setLevelSwitchDistance(Document& document, int level, double cm, QString* o
                         kCommandSetLevelSwitchDistance, level);
 }
 
-bool assignMotion(Document& document, int motion, int character, QString* out_error) {
+bool assignMotion(Document& document, int motion, int character, QString* out_error, QString* out_warning) {
   const Result<std::vector<ProjectMapping>> after =
       withMotionAssigned(document.project(), document.importedAssets(), motion, character,
                          fileName(document, motion).toStdString(), fileName(document, character).toStdString());
@@ -201,7 +202,17 @@ bool assignMotion(Document& document, int motion, int character, QString* out_er
                                    .arg(fileName(document, motion), fileName(document, character))
                                    .arg(after->back().mapping.pairs.size())
                              : QString();
-  return pushMappings(document, after, text, out_error);
+  if (out_warning)
+    out_warning->clear();
+  if (!pushMappings(document, after, text, out_error))
+    return false;
+  const MappingCoverage coverage = mappingCoverage(after->back().mapping, document.asset(character)->skeleton);
+  if (out_warning && drivesTooLittle(coverage))
+    *out_warning =
+        tr("%1 on %2: %3.")
+            .arg(fileName(document, motion), fileName(document, character),
+                 QString::fromStdString(tooLittleMappedReason(coverage, fileName(document, character).toStdString())));
+  return true;
 }
 
 void unassignMotion(Document& document, int mapping) {

@@ -54,7 +54,11 @@ bool applyLevelEdit(Document& document, const Result<LodSetEdit>& edit, const QS
 // Motion mappings: motion asset `motion` played on character asset `character` with the
 // automatic joint table; a table's pair (`motionJoint` empty: the character joint at rest);
 // the automatic table again. setMappingPair() returns false when nothing changes too.
-bool assignMotion(Document& document, int motion, int character, QString* out_error = nullptr);
+// assignMotion() sets *out_warning (when given; else clears it) where the automatic table
+// drives too little of the character (core's drivesTooLittle(), the rule `motionlod export
+// --motion` refuses by): a motion of another rig, most of the body at rest.
+bool assignMotion(Document& document, int motion, int character, QString* out_error = nullptr,
+                  QString* out_warning = nullptr);
 void unassignMotion(Document& document, int mapping);
 bool setMappingPair(Document& document, int mapping, const QString& characterJoint, const QString& motionJoint);
 void resetMapping(Document& document, int mapping);

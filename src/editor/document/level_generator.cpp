@@ -141,9 +141,8 @@ void LevelGenerator::onDone() {
   m_plan = std::move(m_pending);
   m_plan.lods = result->lods.value();
   m_plan.report = std::move(result->report);
-  const Asset* character = m_document->currentAssetPtr();
-  m_plan.overrides = overridesAboveLevels(
-      m_document->project().jpcSettings(m_plan.asset, character ? character->unitScale : 1.0), m_plan.lods);
+  m_plan.overrides = overridesAboveGeneratedLevels(m_document->project(), m_plan.asset, m_plan.lods);
+  m_plan.overrideCount = overrideCountFor(m_document->project(), m_plan.asset);
   emit previewed(true, tr("%n level(s)", nullptr, static_cast<int>(m_plan.lods.levels.size())));
 }
 

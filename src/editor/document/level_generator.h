@@ -39,7 +39,8 @@ struct LevelPlan {
   int levels = 0; // asked for; lods may hold fewer (report.dropped says why)
   LodSet lods;
   LodBudgetReport report;
-  std::vector<LodOverrideAbove> overrides; // per-joint overrides above a generated level's E
+  std::vector<LodOverrideAbove> overrides; // overridesAboveGeneratedLevels(): above their level's E, or dropped
+  int overrideCount = 0;                   // overrideCountFor(): every per-joint override of the set
 };
 
 class LevelGenerator : public QObject {

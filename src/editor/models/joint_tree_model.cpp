@@ -2,6 +2,7 @@
 
 #include "editor/document/document.h"
 #include "editor/document/edits.h"
+#include "editor/models/cell_editor.h"
 
 #include <QDoubleSpinBox>
 #include <QFont>
@@ -306,6 +307,11 @@ void JointDelegate::setModelData(QWidget* editor, QAbstractItemModel* model, con
   } else {
     QStyledItemDelegate::setModelData(editor, model, index);
   }
+}
+
+void JointDelegate::updateEditorGeometry(QWidget* editor, const QStyleOptionViewItem& option,
+                                         const QModelIndex&) const {
+  placeCellEditor(editor, option);
 }
 
 } // namespace mlod

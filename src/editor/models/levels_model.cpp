@@ -2,6 +2,7 @@
 
 #include "editor/document/document.h"
 #include "editor/document/edits.h"
+#include "editor/models/cell_editor.h"
 
 #include <QDoubleSpinBox>
 #include <QFont>
@@ -167,6 +168,11 @@ void LevelDelegate::setModelData(QWidget* editor, QAbstractItemModel* model, con
     return;
   }
   QStyledItemDelegate::setModelData(editor, model, index);
+}
+
+void LevelDelegate::updateEditorGeometry(QWidget* editor, const QStyleOptionViewItem& option,
+                                         const QModelIndex&) const {
+  placeCellEditor(editor, option);
 }
 
 } // namespace mlod

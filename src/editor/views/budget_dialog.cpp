@@ -251,21 +251,46 @@ void BudgetDialog::showPlan() {
     notes << QString::fromStdString(line);
   m_notes->setText(notes.join('\n'));
   m_notes->setVisible(!notes.isEmpty());
+  // Each override named with its asset (a motion mapped onto the character plays with its
+  // levels too), its level and that level's E: an override applies at its own level only.
   m_overrides->clear();
+  int above = 0;
   for (const LodOverrideAbove& o : plan.overrides) {
-    const QString name = o.level < static_cast<int>(levels.size())
-                             ? QString::fromStdString(levels[static_cast<std::size_t>(o.level)].name)
-                             : tr("level %1").arg(o.level);
-    m_overrides->addItem(
-        tr("%1 at %2: %3 cm·° — above the level's E of %4 cm·°")
-            .arg(QString::fromStdString(o.joint), name, threshold(o.overrideThreshold), threshold(o.levelThreshold)));
+    const QString joint = o.asset.empty()
+                              ? QString::fromStdString(o.joint)
+                              : tr("%1 › %2").arg(QString::fromStdString(o.asset), QString::fromStdString(o.joint));
+    if (o.beyond) {
+      m_overrides->addItem(tr("%1 at level %2: %3 cm·° — these levels end at %4: dropped with Apply")
+                               .arg(joint)
+                               .arg(o.level)
+                               .arg(threshold(o.overrideThreshold), QString::fromStdString(levels.back().name)));
+      continue;
+    }
+    ++above;
+    const QString name = QString::fromStdString(levels[static_cast<std::size_t>(o.level)].name);
+    m_overrides->addItem(tr("%1 at %2: %3 cm·° — above %2's E of %4 cm·°")
+                             .arg(joint, name, threshold(o.overrideThreshold), threshold(o.levelThreshold)));
   }
   m_overrides->setVisible(!plan.overrides.empty());
-  m_overridesTitle->setText(
-      plan.overrides.empty() ? tr("No per-joint override exceeds a generated level's E.")
-                             : tr("Per-joint overrides above their level's E: %1, kept as they are (edit them in the "
-                                  "Skeleton dock):")
-                                   .arg(plan.overrides.size()));
+  const int dropped = static_cast<int>(plan.overrides.size()) - above;
+  const QString overrides =
+      plan.overrideCount == 1 ? tr("1 per-joint override") : tr("%1 per-joint overrides").arg(plan.overrideCount);
+  QString title;
+  if (plan.overrideCount == 0)
+    title = tr("No per-joint override: every joint takes its level's E.");
+  else if (plan.overrides.empty())
+    title = tr("Of the %1, none is above the E of its own level here.").arg(overrides);
+  else if (dropped == 0)
+    title = tr("Of the %1, %2 above the E of their own level, kept as they are (edit them in the Skeleton dock):")
+                .arg(overrides)
+                .arg(above);
+  else
+    title = tr("Of the %1, %2 above the E of their own level (kept as they are) and %3 at levels these levels do not "
+               "have (dropped with Apply):")
+                .arg(overrides)
+                .arg(above)
+                .arg(dropped);
+  m_overridesTitle->setText(title);
   const QString share =
       plan.report.motionShare > 0.0 && plan.report.motionShare < 1.0
           ? tr(" The motion takes %1% of each level's deviation (its share of the frame cost), the mesh the rest.")

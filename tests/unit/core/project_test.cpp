@@ -76,11 +76,12 @@ TEST(Project, EachCharacterOwnsItsLodSet) {
   own.boundingRadiusCm = 31.25;
   project.assets[1].lods = own;
   EXPECT_EQ(&lodSetFor(project, 1), &*project.assets[1].lods);
-  EXPECT_EQ(&lodSetFor(project, 0), &project.lods);
+  EXPECT_EQ(&lodSetFor(project, 0), &*project.assets[1].lods); // the motion mapped onto it
   EXPECT_EQ(&lodSetFor(project, -1), &project.lods);
   EXPECT_EQ(&lodSetFor(project, 7), &project.lods);
   EXPECT_EQ(levelThresholdsFor(project, 1), (std::vector<double>{0.0, 2.0, 5.0}));
-  EXPECT_EQ(levelThresholdsFor(project, 0), project.levelThresholds());
+  EXPECT_EQ(levelThresholdsFor(project, 0), (std::vector<double>{0.0, 2.0, 5.0}));
+  EXPECT_EQ(levelThresholdsFor(project, -1), project.levelThresholds());
   ASSERT_FALSE(project.validate());
   const nlohmann::json written = nlohmann::json::parse(projectToJson(project));
   EXPECT_EQ(written["version"], 4);
@@ -114,30 +115,69 @@ TEST(Project, EachCharacterOwnsItsLodSet) {
 }
 
 // Guards level edits of one character (issue 26: levels generated for one character were
-// offered for another): the edited asset gets its own set, copied from what it played with,
-// and its per-joint overrides follow their level; the other assets and the project's set
-// are untouched. With no asset (-1) the project's set is edited, as before.
+// offered for another): the edited character gets its own set, copied from what it played
+// with, and the per-joint overrides of what plays with it (the motion mapped onto it) follow
+// their level; the other assets and the project's set are untouched. With no asset (-1) the
+// project's set is edited, as before.
 TEST(Project, ALevelEditChangesOneCharactersSet) {
-  Project project = sampleProject(); // asset 0 overrides LeftUpLeg at level 2
+  Project project = sampleProject(); // asset 0 (mapped onto asset 1) overrides LeftUpLeg at level 2
+  ProjectAsset other;
+  other.path = "characters/Testwuson.X";
+  other.joints["Body"].thresholds = {std::nullopt, std::nullopt, 7.0};
+  project.assets.push_back(other);
   const LodSet shared = project.lods;
-  Result<LodSetEdit> removed = removeLodLevel(lodSetFor(project, 0), 1);
+  Result<LodSetEdit> removed = removeLodLevel(lodSetFor(project, 1), 1);
   ASSERT_TRUE(removed) << removed.message();
-  applyLodSetEdit(project, 0, *removed);
-  ASSERT_TRUE(project.assets[0].lods);
-  EXPECT_EQ(project.assets[0].lods->levels.size(), shared.levels.size() - 1);
+  applyLodSetEdit(project, 1, *removed);
+  ASSERT_TRUE(project.assets[1].lods);
+  EXPECT_EQ(project.assets[1].lods->levels.size(), shared.levels.size() - 1);
   EXPECT_EQ(project.lods, shared);
-  EXPECT_FALSE(project.assets[1].lods);
-  EXPECT_EQ(&lodSetFor(project, 1), &project.lods);
-  // LeftUpLeg's override of old level 2 is now at level 1
+  EXPECT_FALSE(project.assets[0].lods);
+  EXPECT_FALSE(project.assets[2].lods);
+  EXPECT_EQ(&lodSetFor(project, 0), &*project.assets[1].lods); // the motion plays with its character's
+  EXPECT_EQ(&lodSetFor(project, 2), &project.lods);
+  // the motion's LeftUpLeg override of old level 2 is now at level 1; the other character's stays
   EXPECT_EQ(project.assets[0].joints["LeftUpLeg"].thresholds, (std::vector<std::optional<double>>{std::nullopt, 12.5}));
+  EXPECT_EQ(project.assets[2].joints["Body"].thresholds,
+            (std::vector<std::optional<double>>{std::nullopt, std::nullopt, 7.0}));
   EXPECT_FALSE(project.validate());
-  // an edit of the project's set leaves the asset with its own set, overrides and all
+  // an edit of the project's set leaves the character with its own set, overrides and all
   Result<LodSetEdit> renamed = renameLodLevel(project.lods, 1, "Nearby");
   ASSERT_TRUE(renamed);
   applyLodSetEdit(project, -1, *renamed);
   EXPECT_EQ(project.lods.levels[1].name, "Nearby");
-  EXPECT_EQ(project.assets[0].lods->levels[1].name, "Mid");
+  EXPECT_EQ(project.assets[1].lods->levels[1].name, "Mid");
   EXPECT_EQ(project.assets[0].joints["LeftUpLeg"].thresholds, (std::vector<std::optional<double>>{std::nullopt, 12.5}));
+}
+
+// Guards the rule "a clip plays with the set of the character it is mapped to" (issue 26,
+// item 7: the studio showed a mapped motion with the motion's own levels): lodSetOwner() of
+// a mapped motion is its character, of anything else the asset itself; a level edit made
+// with the motion in view edits the character's set; unmapped, the motion keeps its own.
+TEST(Project, AMappedMotionPlaysWithItsCharactersSet) {
+  Project project = sampleProject(); // motion 0 mapped onto character 1
+  EXPECT_EQ(lodSetOwner(project, 0), 1);
+  EXPECT_EQ(lodSetOwner(project, 1), 1);
+  EXPECT_EQ(lodSetOwner(project, -1), -1);
+  EXPECT_EQ(lodSetOwner(project, 2), -1);
+  LodSet motionOwn = project.lods;
+  motionOwn.levels.pop_back();
+  project.assets[0].lods = motionOwn; // a set the motion made before it was mapped
+  LodSet characterOwn = project.lods;
+  characterOwn.levels[1].motionThreshold = 2.0;
+  project.assets[1].lods = characterOwn;
+  EXPECT_EQ(lodSetFor(project, 0), characterOwn);
+  EXPECT_EQ(levelThresholdsFor(project, 0), levelThresholdsFor(project, 1));
+
+  Result<LodSetEdit> edited = setLodLevelThreshold(lodSetFor(project, 0), 1, 3.5);
+  ASSERT_TRUE(edited) << edited.message();
+  applyLodSetEdit(project, 0, *edited); // with the motion in view
+  EXPECT_EQ(project.assets[1].lods->levels[1].motionThreshold, 3.5);
+  EXPECT_EQ(project.assets[0].lods, motionOwn);
+
+  project.mappings.clear(); // unassigned: the motion plays with its own again
+  EXPECT_EQ(lodSetOwner(project, 0), 0);
+  EXPECT_EQ(lodSetFor(project, 0), motionOwn);
 }
 
 // Guards JpcSettings from a project: alpha, mode, joints, and the zero-length rule in file units.
