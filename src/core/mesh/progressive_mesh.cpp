@@ -212,6 +212,7 @@ Topology buildTopology(const SkinnedMesh& mesh) {
   // (fans that meet at a point, an edge of three triangles or of two in one direction).
   const auto next = [](std::uint32_t c) { return c - c % 3 + (c + 1) % 3; };
   std::unordered_map<std::uint64_t, std::pair<std::uint32_t, int>> edges; // welded a -> b: a corner at a, triangles
+  edges.reserve(mesh.indices.size());
   for (std::uint32_t c = 0; c < mesh.indices.size(); ++c)
     if (auto& [corner, count] = edges[std::uint64_t(weld[mesh.indices[c]]) << 32 | weld[mesh.indices[next(c)]]];
         !degenerate(weld, mesh.indices, c / 3))
@@ -253,7 +254,7 @@ Topology buildTopology(const SkinnedMesh& mesh) {
 }
 
 // Whether the triangles on either side of `h` lie back to back in the bind pose, their normals
-// within 18 degrees of opposite: a fold, where a thin sheet ends (WusonSMD's halves meet along
+// within 8 degrees of opposite: a fold, where a thin sheet ends (WusonSMD's halves meet along
 // its middle in a slit 3e-5 cm wide). The two planes' quadrics let a vertex slide along the
 // fold for free, so it keeps its line as a border does (bench_meshlod's notes).
 bool folded(const WeldedMesh& m, HalfedgeHandle h) {
@@ -263,7 +264,7 @@ bool folded(const WeldedMesh& m, HalfedgeHandle h) {
     return glm::cross(b - a, m.data(m.to_vertex_handle(m.next_halfedge_handle(g))).positions[0] - a);
   };
   const glm::dvec3 n = normal(h), across = normal(m.opposite_halfedge_handle(h));
-  return glm::dot(n, across) < -0.95 * glm::length(n) * glm::length(across);
+  return glm::dot(n, across) < -0.99 * glm::length(n) * glm::length(across);
 }
 
 // Where each wedge of u goes when u collapses onto v.
