@@ -10,7 +10,9 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <queue>
+#include <unordered_map>
 
 namespace mlod {
 
@@ -137,6 +139,27 @@ using VertexHandle = OpenMesh::VertexHandle;
 using HalfedgeHandle = OpenMesh::HalfedgeHandle;
 using FaceHandle = OpenMesh::FaceHandle;
 
+// Whether triangle t has two corners welded together.
+bool degenerate(const std::vector<std::uint32_t>& weld, const std::vector<std::uint32_t>& indices, std::size_t t) {
+  const std::uint32_t a = weld[indices[t * 3]], b = weld[indices[t * 3 + 1]], c = weld[indices[t * 3 + 2]];
+  return a == b || b == c || c == a;
+}
+
+// Union-find over 0 .. n-1 (path halving); a set is named by its lowest member.
+struct DisjointSets {
+  std::vector<std::uint32_t> parent;
+  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::size_t x) {
+    while (parent[x] != x)
+      x = parent[x] = parent[parent[x]];
+    return std::uint32_t(x);
+  }
+  void unite(std::size_t a, std::size_t b) {
+    const std::uint32_t ra = find(a), rb = find(b);
+    parent[std::max(ra, rb)] = std::min(ra, rb);
+  }
+};
+
 // Per vertex: the lowest vertex index with the same position bits and, on a skinned mesh, the
 // same influences (corners at one position that a different skin moves apart are not one
 // surface point).
@@ -156,8 +179,7 @@ std::vector<std::uint32_t> weldVertices(const SkinnedMesh& mesh) {
   return weld;
 }
 
-// The welded mesh of `mesh`: one OpenMesh vertex per welded vertex (vertexOf), and copies of
-// them for the triangles add_face refuses.
+// The welded mesh of `mesh`: an OpenMesh vertex per fan of a welded vertex (buildTopology()).
 struct Topology {
   WeldedMesh mesh;
   std::vector<std::uint32_t> weld;        // per vertex: its welded vertex (weldVertices())
@@ -165,34 +187,6 @@ struct Topology {
   std::vector<std::uint32_t> degenerate;  // input triangles with two corners welded together: kept, never in `mesh`
   std::vector<std::uint8_t> lockedWelded; // per welded vertex
 };
-
-// The corners of `v` at which OpenMesh's add_face would refuse the triangle: a vertex whose fan
-// is closed; both ends of an edge that has a triangle on this side; a vertex whose separate
-// fans it would join with no other gap left to move one into. Asked first, so that a refusal
-// is ours to handle rather than a line on stderr.
-std::array<bool, 3> refusedCorners(const WeldedMesh& m, const std::array<VertexHandle, 3>& v) {
-  std::array<bool, 3> out{};
-  std::array<HalfedgeHandle, 3> h;
-  for (int k = 0; k < 3; ++k) {
-    out[k] = out[k] || !m.is_boundary(v[k]);
-    h[k] = m.find_halfedge(v[k], v[(k + 1) % 3]);
-    if (h[k].is_valid() && !m.is_boundary(h[k]))
-      out[k] = out[(k + 1) % 3] = true;
-  }
-  if (out[0] || out[1] || out[2])
-    return out;
-  for (int k = 0; k < 3; ++k) {
-    const HalfedgeHandle in = h[k], next = h[(k + 1) % 3]; // into and out of v[k + 1]
-    if (!in.is_valid() || !next.is_valid() || m.next_halfedge_handle(in) == next)
-      continue;
-    HalfedgeHandle gap = m.opposite_halfedge_handle(next);
-    do
-      gap = m.opposite_halfedge_handle(m.next_halfedge_handle(gap));
-    while (!m.is_boundary(gap));
-    out[(k + 1) % 3] = gap == in;
-  }
-  return out;
-}
 
 Topology buildTopology(const SkinnedMesh& mesh) {
   Topology out;
@@ -211,32 +205,43 @@ Topology buildTopology(const SkinnedMesh& mesh) {
   for (std::uint32_t v = 0; v < n; ++v)
     if (weld[v] == v)
       out.vertexOf[v] = addVertex(v);
-  // adds triangle t; where add_face would refuse it, on copies of the welded vertices it may
-  // not share (the first copy that takes it, or a new one)
-  std::map<std::uint32_t, std::vector<VertexHandle>> copies; // per welded vertex
+  // A welded vertex's fans: its corners joined through edges that two triangles share in
+  // opposite directions and no other uses. Each fan gets a vertex (the first fan the welded one,
+  // the others locked copies), so a halfedge vertex has one fan and an edge one triangle a side,
+  // and add_face refuses nothing, whatever the triangles' order: the split is the input's alone
+  // (fans that meet at a point, an edge of three triangles or of two in one direction).
+  const auto next = [](std::uint32_t c) { return c - c % 3 + (c + 1) % 3; };
+  std::unordered_map<std::uint64_t, std::pair<std::uint32_t, int>> edges; // welded a -> b: a corner at a, triangles
+  edges.reserve(mesh.indices.size());
+  for (std::uint32_t c = 0; c < mesh.indices.size(); ++c)
+    if (auto& [corner, count] = edges[std::uint64_t(weld[mesh.indices[c]]) << 32 | weld[mesh.indices[next(c)]]];
+        !degenerate(weld, mesh.indices, c / 3))
+      corner = c, ++count;
+  DisjointSets fans(mesh.indices.size());
+  for (const auto& [ab, e] : edges)
+    if (const auto ba = edges.find(ab << 32 | ab >> 32); e.second == 1 && ba != edges.end() && ba->second.second == 1)
+      fans.unite(e.first, next(ba->second.first)), fans.unite(next(e.first), ba->second.first);
+  std::vector<VertexHandle> fanVertex(mesh.indices.size()); // per fan (its lowest corner)
+  std::vector<std::uint32_t> taken(n, 0);                   // per welded vertex: its fans with a vertex
   for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
     const std::uint32_t* corners = &mesh.indices[std::size_t(t) * 3];
-    const std::array<std::uint32_t, 3> w = {weld[corners[0]], weld[corners[1]], weld[corners[2]]};
-    std::array<VertexHandle, 3> v = {out.vertexOf[w[0]], out.vertexOf[w[1]], out.vertexOf[w[2]]};
-    std::array<std::size_t, 3> tried = {};
+    std::array<VertexHandle, 3> v;
     FaceHandle f;
-    if (w[0] != w[1] && w[1] != w[2] && w[2] != w[0]) {
-      for (std::array<bool, 3> refused; refused = refusedCorners(m, v), refused[0] || refused[1] || refused[2];)
-        for (int k = 0; k < 3; ++k) {
-          if (!refused[k])
-            continue;
-          std::vector<VertexHandle>& others = copies[w[k]];
-          if (tried[k] == others.size())
-            others.push_back(addVertex(w[k]));
-          v[k] = others[tried[k]++];
-          out.lockedWelded[w[k]] = 1;
-        }
+    if (!degenerate(weld, mesh.indices, t)) {
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t w = weld[corners[k]];
+        VertexHandle& fan = fanVertex[fans.find(3 * t + k)];
+        if (!fan.is_valid())
+          fan = taken[w]++ ? addVertex(w) : out.vertexOf[w];
+        v[k] = fan;
+        out.lockedWelded[w] |= taken[w] > 1;
+      }
       f = m.add_face(v[0], v[1], v[2]);
-      assert(f.is_valid()); // refusedCorners() foresees every refusal
+      assert(f.is_valid()); // one fan a vertex, one triangle an edge side: nothing to refuse
     }
     if (!f.is_valid()) { // degenerate: kept as it is, its vertices locked
       out.degenerate.push_back(t);
-      out.lockedWelded[w[0]] = out.lockedWelded[w[1]] = out.lockedWelded[w[2]] = 1;
+      out.lockedWelded[weld[corners[0]]] = out.lockedWelded[weld[corners[1]]] = out.lockedWelded[weld[corners[2]]] = 1;
       continue;
     }
     m.data(f).triangle = t;
@@ -244,11 +249,22 @@ Topology buildTopology(const SkinnedMesh& mesh) {
       m.data(h).wedge = corners[std::find(v.begin(), v.end(), m.from_vertex_handle(h)) - v.begin()];
   }
   for (const VertexHandle v : m.vertices())
-    if (!m.is_manifold(v))
-      out.lockedWelded[m.data(v).welded] = 1;
-  for (const VertexHandle v : m.vertices())
     m.data(v).locked = out.lockedWelded[m.data(v).welded] != 0;
   return out;
+}
+
+// Whether the triangles on either side of `h` lie back to back in the bind pose, their normals
+// within 8 degrees of opposite: a fold, where a thin sheet ends (WusonSMD's halves meet along
+// its middle in a slit 3e-5 cm wide). The two planes' quadrics let a vertex slide along the
+// fold for free, so it keeps its line as a border does (bench_meshlod's notes).
+bool folded(const WeldedMesh& m, HalfedgeHandle h) {
+  const auto normal = [&](HalfedgeHandle g) {
+    const glm::dvec3& a = m.data(m.from_vertex_handle(g)).positions[0];
+    const glm::dvec3& b = m.data(m.to_vertex_handle(g)).positions[0];
+    return glm::cross(b - a, m.data(m.to_vertex_handle(m.next_halfedge_handle(g))).positions[0] - a);
+  };
+  const glm::dvec3 n = normal(h), across = normal(m.opposite_halfedge_handle(h));
+  return glm::dot(n, across) < -0.99 * glm::length(n) * glm::length(across);
 }
 
 // Where each wedge of u goes when u collapses onto v.
@@ -509,11 +525,12 @@ void ProgressiveMeshBuilder::accumulateQuadrics(std::span<const std::vector<glm:
     const double area = 0.5 * glm::length(glm::cross(position(1, 0) - position(0, 0), position(2, 0) - position(0, 0)));
     for (int k = 0; k < 3; ++k)
       m_m.data(v[k]).weight += std::sqrt(area);
-    // edge quadrics: open borders, and seams (the triangle across meets this one in other wedges)
+    // edge quadrics: open borders and folds, and seams (the triangle across meets this one in
+    // other wedges)
     for (int k = 0; k < 3; ++k) {
       const HalfedgeHandle across = m_m.opposite_halfedge_handle(h[k]);
       double weight = 0.0;
-      if (m_m.is_boundary(across))
+      if (m_m.is_boundary(across) || folded(m_m, h[k]))
         weight = m_settings.borderWeight;
       else if (m_m.data(across).wedge != m_m.data(h[(k + 1) % 3]).wedge ||
                m_m.data(m_m.next_halfedge_handle(across)).wedge != m_m.data(h[k]).wedge)
@@ -531,19 +548,7 @@ void ProgressiveMeshBuilder::accumulateQuadrics(std::span<const std::vector<glm:
 
 void ProgressiveMeshBuilder::findComponents() {
   const std::size_t n = m_m.n_vertices();
-  std::vector<std::uint32_t> parent(n);
-  for (std::size_t v = 0; v < n; ++v)
-    parent[v] = static_cast<std::uint32_t>(v);
-  const auto find = [&](std::uint32_t x) {
-    while (parent[x] != x)
-      x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  const auto unite = [&](VertexHandle a, VertexHandle b) {
-    const std::uint32_t ra = find(std::uint32_t(a.idx())), rb = find(std::uint32_t(b.idx()));
-    if (ra != rb)
-      parent[std::max(ra, rb)] = std::min(ra, rb);
-  };
+  DisjointSets sets(n);
   // per triangle its vertices, the degenerate ones (outside m_m) last; a copy joins its welded
   // vertex's component
   std::vector<std::array<VertexHandle, 3>> triangles;
@@ -553,13 +558,13 @@ void ProgressiveMeshBuilder::findComponents() {
     for (std::array<VertexHandle, 3>& corners = triangles.emplace_back(); int k : {0, 1, 2})
       corners[k] = m_topology.vertexOf[m_out.m_weld[m_mesh.indices[t * 3 + std::size_t(k)]]];
   for (const auto& t : triangles)
-    unite(t[0], t[1]), unite(t[0], t[2]);
+    sets.unite(t[0].idx(), t[1].idx()), sets.unite(t[0].idx(), t[2].idx());
   for (const VertexHandle v : m_m.vertices())
-    unite(v, m_topology.vertexOf[m_m.data(v).welded]);
+    sets.unite(v.idx(), m_topology.vertexOf[m_m.data(v).welded].idx());
   m_component.assign(n, kNone);
   std::vector<std::uint32_t> index(n, kNone); // per root: its component
   for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const std::uint32_t root = find(std::uint32_t(triangles[t][0].idx()));
+    const std::uint32_t root = sets.find(triangles[t][0].idx());
     if (index[root] == kNone) {
       index[root] = static_cast<std::uint32_t>(m_components.size());
       m_components.emplace_back();
@@ -790,10 +795,7 @@ MeshLevelIndices ProgressiveMesh::level(std::size_t collapses) const {
       continue;
     const std::uint32_t a = remap[m_indices[t * 3]], b = remap[m_indices[t * 3 + 1]], c = remap[m_indices[t * 3 + 2]];
     const std::uint32_t wa = m_weld[a], wb = m_weld[b], wc = m_weld[c];
-    const bool degenerateBefore = m_weld[m_indices[t * 3]] == m_weld[m_indices[t * 3 + 1]] ||
-                                  m_weld[m_indices[t * 3 + 1]] == m_weld[m_indices[t * 3 + 2]] ||
-                                  m_weld[m_indices[t * 3 + 2]] == m_weld[m_indices[t * 3]];
-    if (!degenerateBefore && (wa == wb || wb == wc || wc == wa))
+    if (!degenerate(m_weld, m_indices, t) && (wa == wb || wb == wc || wc == wa))
       continue;
     out.indices.insert(out.indices.end(), {a, b, c});
     out.triangles.push_back(static_cast<std::uint32_t>(t));

@@ -34,14 +34,12 @@
 //    welded, so they open no crack either, only an attribute discontinuity;
 //  - a vertex on an open border only along the border, onto a border vertex, so no interior edge
 //    becomes a border; the border is kept by edge quadrics of `borderWeight` (planes through each
-//    border edge, perpendicular to its triangle), a cost rather than a wall; seam edges get the
-//    same with `seamWeight`, so a seam keeps its line;
-//  - hard locks are non-manifold guards only: where OpenMesh's add_face refuses a triangle (an
-//    edge with three or more triangles or used twice in one direction, a vertex whose fan is
-//    already closed) the triangle gets its own copies of the vertices it cannot share, and every
-//    copy of those welded vertices is locked; so are vertices that OpenMesh finds non-manifold
-//    (bowties: two fans through one vertex) and those of a degenerate input triangle (kept as it
-//    is);
+//    border edge, perpendicular to its triangle), a cost rather than a wall, and so is a fold (two
+//    triangles back to back, the end of a thin sheet); seam edges get the same with `seamWeight`;
+//  - hard locks are non-manifold guards only: a welded vertex of several fans (triangles around it
+//    joined through edges that two triangles share in opposite directions, and no other: a bowtie,
+//    an edge of three triangles, or of two in one direction) is one OpenMesh vertex per fan, and
+//    every copy is locked, as are the vertices of a degenerate input triangle (kept as it is);
 //  - a collapse must keep the mesh manifold (OpenMesh's is_collapse_ok: the link condition; a
 //    triangle standing alone, which OpenMesh will not collapse, is removed by ours) and flip no
 //    triangle's normal in any pose.
@@ -75,8 +73,8 @@
 namespace mlod {
 
 struct ProgressiveMeshSettings {
-  // Edge quadric weight of open borders, relative to the triangles' plane quadrics (>= 0;
-  // 0 lets a border shrink freely).
+  // Edge quadric weight of open borders and folds, relative to the triangles' plane quadrics
+  // (>= 0; 0 lets a border shrink freely).
   // note: triangles weigh sqrt(area) and edges their length, as in meshoptimizer, whose 10 and
   // 1 assume that its error divides by the edges' weight too; ours divides by the triangles'
   // alone, and 1 and 0.1 measure best on every character of bench_meshlod (its notes)

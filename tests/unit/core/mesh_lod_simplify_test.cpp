@@ -446,6 +446,70 @@ TEST(MeshLodGuards, NonManifoldInputSimplifiesAndKeepsItsGuards) {
   EXPECT_LT(lod->levelForRatio(0.25).triangles(), mesh.triangleCount() / 2);
 }
 
+// Two closed cones sharing their apex: the apex has two closed fans, which one vertex of the
+// halfedge mesh cannot hold, so it is split and locked; nothing else is non-manifold. Built in
+// two triangle orders: one cone after the other, and the second cone's triangles on both sides
+// of the first's. Splitting where add_face refused a triangle locked the apex alone in the first
+// order, and in the second also the four ring vertices of the triangle that closed the second
+// cone (WusonSMD had such a vertex).
+TEST(MeshLodGuards, AVertexIsSplitByItsFansWhateverTheTriangleOrder) {
+  SkinnedMesh mesh;
+  mesh.positions.push_back(glm::vec3(0.0f));
+  for (const float z : {1.0f, -1.0f})
+    for (int i = 0; i < 4; ++i)
+      mesh.positions.push_back(glm::vec3(std::cos(1.5708f * float(i)), std::sin(1.5708f * float(i)), z));
+  mesh.normals.assign(mesh.positions.size(), glm::vec3(0.0f, 0.0f, 1.0f));
+  const auto upper = [](std::uint32_t i) { return std::vector<std::uint32_t>{0, 1 + i, 1 + (i + 1) % 4}; };
+  const auto lower = [](std::uint32_t i) { return std::vector<std::uint32_t>{0, 5 + (i + 1) % 4, 5 + i}; };
+  const std::vector<std::vector<std::uint32_t>> orders[] = {
+      {upper(0), upper(1), upper(2), upper(3), lower(0), lower(1), lower(2), lower(3)},
+      {lower(0), lower(1), upper(0), upper(1), upper(2), upper(3), lower(2), lower(3)}};
+  for (const auto& order : orders) {
+    mesh.indices.clear();
+    for (const auto& triangle : order)
+      mesh.indices.insert(mesh.indices.end(), triangle.begin(), triangle.end());
+    const std::vector<std::vector<glm::vec3>> poses = {mesh.positions};
+    const ProgressiveMesh pm = ProgressiveMesh::build(mesh, poses);
+    EXPECT_EQ(pm.lockedCount(), 1);
+    EXPECT_TRUE(pm.locked()[0]);
+    EXPECT_LT(pm.minTriangleCount(), mesh.triangleCount());
+  }
+}
+
+// A sheet folded back onto itself (two layers 0.001 apart, joined along a fold that curves in
+// their plane): the layers' planes barely constrain a vertex sliding along the fold, so without
+// the fold's edge quadrics (a border's) it was cut across at 50% (0.07 of a unit square).
+TEST(MeshLodGuards, AFoldKeepsItsLineAsABorderDoes) {
+  SkinnedMesh mesh;
+  constexpr int kCells = 12;
+  const auto vertex = [](int i, int j, int layer) {
+    return std::uint32_t(((j == 0 ? 0 : layer) * (kCells + 1) + j) * (kCells + 1) + i);
+  };
+  for (int layer = 0; layer < 2; ++layer)
+    for (int j = 0; j <= kCells; ++j)
+      for (int i = 0; i <= kCells; ++i) {
+        const float x = float(i) / kCells, y = float(j) / kCells;
+        const float z = j == 0 || layer == 0 ? 0.0f : -0.001f;
+        mesh.positions.push_back(glm::vec3(x, y - 0.3f * std::sin(3.14159f * x) * (1.0f - y), z));
+        mesh.normals.push_back(glm::vec3(0.0f, 0.0f, layer == 0 ? 1.0f : -1.0f));
+      }
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      const std::uint32_t a = vertex(i, j, 0), b = vertex(i + 1, j, 0), c = vertex(i + 1, j + 1, 0),
+                          d = vertex(i, j + 1, 0);
+      const std::uint32_t e = vertex(i, j, 1), f = vertex(i + 1, j, 1), g = vertex(i + 1, j + 1, 1),
+                          h = vertex(i, j + 1, 1);
+      mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d, e, g, f, e, h, g});
+    }
+  const std::vector<std::vector<glm::vec3>> poses = {mesh.positions};
+  const ProgressiveMesh pm = ProgressiveMesh::build(mesh, poses);
+  EXPECT_EQ(pm.lockedCount(), 0);
+  for (const double ratio : {0.5, 0.25}) {
+    const MeshLevelIndices level = pm.level(pm.collapsesFor(std::size_t(ratio * double(mesh.triangleCount()))));
+    EXPECT_LT(symmetricMaxDistance(mesh.positions, mesh.indices, level.indices, 0.01), 0.005) << ratio;
+  }
+}
+
 class MeshLodBcn : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
