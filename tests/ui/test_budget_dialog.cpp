@@ -301,6 +301,32 @@ private slots:
     QVERIFY(locked.report.motionsMade > 0);
   }
 
+  // With a motion mapped onto a character in view, the budget makes the character's levels
+  // (the set the motion plays with) and Apply lands them there: the plan is the character's,
+  // and both assets then play with it (a budget made for the clip itself was landed in the
+  // character's set).
+  void budgetOfAMappedMotionIsItsCharacters() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QSignalSpy imported(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0);
+    QVERIFY(imported.wait(60000));
+    QVERIFY(edit::assignMotion(*document, 0, 1));
+    document->setCurrentAsset(0); // the clip in view
+    QVERIFY(waitForFigures(document));
+    BudgetDialog* dialog = previewed(*window, 1.0, 3);
+    QVERIFY(dialog);
+    const LevelPlan plan = document->levelGenerator()->plan();
+    QCOMPARE(plan.asset, 1);
+    QSignalSpy finished(document->levelGenerator(), &LevelGenerator::finished);
+    QTest::mouseClick(dialog->applyButton(), Qt::LeftButton);
+    QCOMPARE(finished.count(), 1);
+    QVERIFY2(finished.first()[0].toBool(), qPrintable(finished.first()[1].toString()));
+    QCOMPARE(lodSetFor(document->project(), 1), plan.lods);
+    QCOMPARE(lodSetFor(document->project(), 0), plan.lods);
+  }
+
   // The overrides of a motion assigned to the character play with the character's levels
   // and are listed with their asset, level and both values (issue 26, item 7: overrides of 30
   // and 50 on a mapped clip sat above generated levels of E = 2 and 5 while the dialog said

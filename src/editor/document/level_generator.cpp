@@ -20,6 +20,12 @@ LevelGenerator::~LevelGenerator() {
   m_watcher.waitForFinished();
 }
 
+int LevelGenerator::budgetAsset() const {
+  const int current = m_document->currentAsset();
+  const int owner = lodSetOwner(m_document->project(), current);
+  return owner >= 0 ? owner : current;
+}
+
 bool LevelGenerator::start(double pixels, int levels, QString* out_error) {
   return launch(pixels, levels, m_document->lods().projection, true, out_error);
 }
@@ -34,7 +40,8 @@ bool LevelGenerator::launch(double pixels, int levels, const LodProjection& proj
       *out_error = reason;
     return false;
   };
-  const Asset* character = m_document->currentAssetPtr();
+  const int index = budgetAsset();
+  const Asset* character = index >= 0 ? m_document->asset(index).get() : nullptr;
   if (!character)
     return refuse(tr("no asset in view"));
   if (m_watcher.isRunning())
@@ -44,7 +51,6 @@ bool LevelGenerator::launch(double pixels, int levels, const LodProjection& proj
   if (Error error = projection.validate())
     return refuse(QString::fromStdString(error.message()));
   const Project& project = m_document->project();
-  const int index = m_document->currentAsset();
   LodBudgetOptions options;
   options.jpc = project.jpcSettings(index, character->unitScale);
   options.projection = projection;
@@ -156,14 +162,14 @@ bool LevelGenerator::apply(QString* out_error) {
     return refuse(tr("no preview to apply"));
   if (m_running)
     return refuse(tr("a generation is running"));
-  if (m_plan.asset != m_document->currentAsset())
+  if (m_plan.asset != budgetAsset())
     return refuse(tr("the preview was made for another asset"));
   land(m_plan.lods, m_plan.pixels, m_plan.asset);
   return true;
 }
 
 void LevelGenerator::land(const LodSet& lods, double pixels, int asset) {
-  if (asset != m_document->currentAsset()) { // the levels are that character's: never another's
+  if (asset != budgetAsset()) { // the levels are that character's: never another's
     const QString why = tr("the levels were generated for another asset than the one in view; not applied");
     emit m_document->message(tr("warning: level generation: %1").arg(why));
     emit finished(false, why);

@@ -81,6 +81,9 @@ private:
     Result<LodSet> lods = Error("no result");
     LodBudgetReport report;
   };
+  // The asset whose levels a budget makes: the one in view, or the character a motion in view
+  // is mapped onto (its set is the character's: lodSetOwner()).
+  int budgetAsset() const;
   bool launch(double pixels, int levels, const LodProjection& projection, bool land, QString* out_error);
   void onDone();
   void land(const LodSet& lods, double pixels, int asset);
