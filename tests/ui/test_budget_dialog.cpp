@@ -61,6 +61,18 @@ class TestBudgetDialog : public QObject {
     return window;
   }
 
+  // The sample (asset 0) assigned to BCN_Epileptic (asset 1): a clip mapped onto a character.
+  std::unique_ptr<MainWindow> openSampleOnBcn() {
+    auto window = openSample();
+    if (!window)
+      return nullptr;
+    QSignalSpy imported(window.get(), &MainWindow::importFinished);
+    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0);
+    if (!imported.wait(60000) || !imported.first()[0].toBool() || !edit::assignMotion(*window->document(), 0, 1))
+      return nullptr;
+    return window;
+  }
+
   // Opens the dialog through its menu action and waits for the preview of `pixels`, `levels`.
   static BudgetDialog* previewed(MainWindow& window, double pixels, int levels) {
     window.findChild<QAction*>("actionGenerateLevels")->trigger();
@@ -306,13 +318,9 @@ private slots:
   // and both assets then play with it (a budget made for the clip itself was landed in the
   // character's set).
   void budgetOfAMappedMotionIsItsCharacters() {
-    auto window = openSample();
+    auto window = openSampleOnBcn();
     QVERIFY(window);
     Document* document = window->document();
-    QSignalSpy imported(window.get(), &MainWindow::importFinished);
-    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0);
-    QVERIFY(imported.wait(60000));
-    QVERIFY(edit::assignMotion(*document, 0, 1));
     document->setCurrentAsset(0); // the clip in view
     QVERIFY(waitForFigures(document));
     BudgetDialog* dialog = previewed(*window, 1.0, 3);
@@ -333,13 +341,9 @@ private slots:
   // "No per-joint override exceeds a generated level's E"); one at a level the preview lacks
   // is listed as dropped with Apply; the title counts them.
   void overridesOfAnAssignedMotionAreListed() {
-    auto window = openSample();
+    auto window = openSampleOnBcn();
     QVERIFY(window);
     Document* document = window->document();
-    QSignalSpy imported(window.get(), &MainWindow::importFinished);
-    window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0);
-    QVERIFY(imported.wait(60000));
-    QVERIFY(edit::assignMotion(*document, 0, 1));
     document->setCurrentAsset(0); // the clip: its joints' overrides, at its character's levels
     QVERIFY(waitForFigures(document));
     const Skeleton& skeleton = document->currentAssetPtr()->skeleton;
