@@ -880,6 +880,10 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
       !stream)
     return Error("the glTF serializer failed");
   std::string bytes = stream.str();
+  // (a stop asked while a large file was serialized is answered before the cluster tables
+  // are merged into it: a 5 MB .gltf's JSON is parsed and written again there)
+  if (!step(progress, 0.95, "writing"))
+    return Error(kWriteCancelled);
   if (!extension.is_null()) {
     // tinygltf's extension values cannot hold an empty array: the vendor extension goes into
     // the serialized JSON with nlohmann-json instead.
