@@ -40,6 +40,15 @@ ExporterOptions GltfExporter::options() const {
               QStringLiteral("meshopt: every buffer compressed with meshoptimizer (EXT_meshopt_compression and "
                              "KHR_mesh_quantization, required): for three.js, Babylon.js and engines with a meshopt "
                              "decoder; Blender 3.4 and Assimp cannot read it")});
+  out.append({QStringLiteral("rotations"),
+              ExporterOption::Choice,
+              QStringLiteral("short"),
+              {},
+              {},
+              {QStringLiteral("short"), QStringLiteral("float")},
+              QStringLiteral("short: rotation keys as normalized 16-bit integers (glTF core, at most 0.0035 degrees "
+                             "off); float: 32-bit floats, for readers that misread the former (Assimp 5.2); not with "
+                             "compress=meshopt")});
   return out;
 }
 
@@ -61,6 +70,13 @@ ExportResult GltfExporter::exportPackage(const LodPackage& package, const QStrin
   if (compress != QLatin1String("none") && compress != QLatin1String("meshopt"))
     return ExportResult::failure(QStringLiteral("option 'compress': '%1' is not one of none, meshopt").arg(compress));
   write.compression = compress == QLatin1String("meshopt") ? gltf::Compression::Meshopt : gltf::Compression::None;
+  const QString rotations = options.value(QStringLiteral("rotations"), QStringLiteral("short")).toString();
+  if (rotations != QLatin1String("short") && rotations != QLatin1String("float"))
+    return ExportResult::failure(QStringLiteral("option 'rotations': '%1' is not one of short, float").arg(rotations));
+  write.floatRotations = rotations == QLatin1String("float");
+  if (write.floatRotations && write.compression == gltf::Compression::Meshopt)
+    return ExportResult::failure(
+        QStringLiteral("option 'rotations': float keys are not compressed (compress=meshopt stores 16-bit keys)"));
 
   // The files to write: OUT, or with split_levels OUT_LOD<n>.<suffix> per level.
   QList<QPair<QString, std::vector<std::size_t>>> outputs;
@@ -132,10 +148,13 @@ ExportResult GltfExporter::exportPackage(const LodPackage& package, const QStrin
                       .arg(level.rotationKeys);
     message += QStringLiteral("\nanimation bytes per level: ") + perLevel.join(QStringLiteral(", "));
     // what the 16-bit rotation keys add to each level's motion error (WriteStats)
-    message += QStringLiteral("\nrotation keys as 16-bit integers: at most %1 degrees from the level's motion, "
-                              "%2 cm at the joints")
-                   .arg(rotationDegrees, 0, 'f', 5)
-                   .arg(rotationCm, 0, 'f', 4);
+    if (write.floatRotations)
+      message += QStringLiteral("\nrotation keys as 32-bit floats");
+    else
+      message += QStringLiteral("\nrotation keys as 16-bit integers: at most %1 degrees from the level's motion, "
+                                "%2 cm at the joints")
+                     .arg(rotationDegrees, 0, 'f', 5)
+                     .arg(rotationCm, 0, 'f', 4);
   }
   for (const QString& warning : warnings)
     message += QLatin1Char('\n') + QString::fromLatin1(kExportWarningPrefix) + warning;

@@ -71,7 +71,8 @@ constexpr int kQuatFilterBits = 16;
 // Builds the one buffer, its views and accessors.
 class Builder {
 public:
-  Builder(tinygltf::Model& model, Compression compression) : m_model(model), m_compression(compression) {
+  Builder(tinygltf::Model& model, Compression compression, bool floatRotations)
+      : m_model(model), m_compression(compression), m_floatRotations(floatRotations) {
     m_model.buffers.emplace_back();
   }
 
@@ -144,6 +145,8 @@ public:
   // shared(): rounded (quantizeRotations(), core/lod/held_keys.h), or under meshopt's
   // QUATERNION filter when compressing. Keeps the largest error a reader will see.
   int rotations(const std::vector<float>& values) {
+    if (m_floatRotations)
+      return shared(values, 4, TINYGLTF_TYPE_VEC4, false);
     const std::size_t keys = values.size() / 4;
     std::vector<std::int16_t> shorts(values.size());
     std::vector<std::int16_t> decoded;
@@ -214,6 +217,7 @@ private:
 
   tinygltf::Model& m_model;
   Compression m_compression;
+  bool m_floatRotations = false;
   std::unordered_map<std::string, int> m_shared;
   std::vector<ViewCodec> m_codecs; // per buffer view
   double m_rotationError = 0.0;
@@ -666,7 +670,7 @@ Result<std::string> writeGltf(const LodPackage& package, const WriteOptions& opt
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = options.generator;
-  Builder builder(model, options.compression);
+  Builder builder(model, options.compression, options.floatRotations);
   WriteStats stats;
 
   // Joints: nodes 0 .. J-1, the rest pose in metres.

@@ -38,7 +38,8 @@
 //   the level's animation bytes.
 // - rotation outputs are normalized signed 16-bit integers (glTF core; quantizeRotations(),
 //   core/lod/held_keys.h: at most kMaxRotationQuantizationDegrees from the level's keys,
-//   which WriteStats states with the joint displacement it bounds);
+//   which WriteStats states with the joint displacement it bounds), or floats
+//   (WriteOptions::floatRotations);
 // - Compression::Meshopt: every buffer view encoded by meshoptimizer's codecs
 //   (EXT_meshopt_compression, required, with a fallback buffer that holds no data), rotations
 //   under its QUATERNION filter and normals under its OCTAHEDRAL filter (8-bit,
@@ -70,6 +71,9 @@ struct WriteOptions {
   // level keeps its name <name>_LOD<n> (n: its place in package.levels) whichever are written.
   std::vector<std::size_t> levels;
   Compression compression = Compression::None;
+  // Rotation outputs as 32-bit floats instead of normalized 16-bit integers (for readers that
+  // misread the latter, as Assimp 5.2 does); not with Compression::Meshopt.
+  bool floatRotations = false;
 };
 
 // What the animations of one written level hold.

@@ -905,6 +905,40 @@ TEST(GltfExporter, AnimationBytesFallWithEachLevel) {
 // Issue 28, item 4: rotation outputs are normalized signed 16-bit integers (glTF core), each
 // key within kMaxRotationQuantizationDegrees of the level's motion (held_keys.h), and the
 // summary states what they add; CMU 01_01's four levels fit in 3.0 MB (4.07 MB of float keys).
+// rotations=float keeps the keys as the level holds them, bit for bit (for readers that misread
+// normalized integers, as Assimp 5.2 does); it is refused with compress=meshopt, which stores
+// 16-bit keys.
+TEST(GltfExporter, FloatRotationsOptionKeepsTheKeysExactly) {
+  const LodPackage& package = test::cmuPackage();
+  QTemporaryDir dir;
+  const Exported out = exportTo(package, dir.filePath("out.glb"), {"rotations=float"});
+  ASSERT_TRUE(out.result.ok) << out.result.message.toStdString();
+  EXPECT_TRUE(out.result.message.contains("rotation keys as 32-bit floats")) << out.result.message.toStdString();
+  const tinygltf::Model model = parseModel(out.bytes);
+  std::size_t animation = 0, checked = 0;
+  for (const LodPackageLevel& level : package.levels)
+    for (std::size_t c = 0; c < package.clips.size(); ++c, ++animation) {
+      const tinygltf::Animation& written = model.animations.at(animation);
+      std::map<int, int> outputOf; // rotation output accessor by node
+      for (const tinygltf::AnimationChannel& channel : written.channels)
+        if (channel.target_path == "rotation")
+          outputOf[channel.target_node] = written.samplers[std::size_t(channel.sampler)].output;
+      for (const LevelTrack& track : levelTracks(package, level, c)) {
+        if (track.path != TrackPath::Rotation)
+          continue;
+        const int output = outputOf.at(track.joint);
+        ASSERT_EQ(model.accessors[std::size_t(output)].componentType, TINYGLTF_COMPONENT_TYPE_FLOAT);
+        const std::vector<float> values = elements<float>(model, output, 4);
+        ASSERT_EQ(values, track.values) << "joint " << track.joint;
+        ++checked;
+      }
+    }
+  EXPECT_GT(checked, 0u);
+  const Exported refused = exportTo(package, dir.filePath("z.glb"), {"rotations=float", "compress=meshopt"});
+  EXPECT_FALSE(refused.result.ok);
+  EXPECT_TRUE(refused.result.message.contains("rotations")) << refused.result.message.toStdString();
+}
+
 TEST(GltfExporter, RotationKeysAreNormalizedShortsWithinTheStatedBound) {
   for (const LodPackage* package : {&test::cmuPackage(), &test::bcnPackage()}) {
     SCOPED_TRACE(package->name);
