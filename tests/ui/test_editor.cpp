@@ -774,6 +774,23 @@ private slots:
     QCOMPARE(view->visibleFrames(), 480.0);
   }
 
+  // The sample (a CMU skeleton), Testwuson and BCN_Epileptic, with their units.
+  static QList<QPair<QString, double>> firstRunFiles() {
+    return {{MLOD_SAMPLE, 2.54 / 0.45},
+            {QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0},
+            {QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0}};
+  }
+  // `window` at the first run's size, shown, with `file` imported and its figures computed.
+  static bool showImported(MainWindow& window, const QString& file, double unit) {
+    window.resize(1600, 1000);
+    window.show();
+    if (!QTest::qWaitForWindowExposed(&window))
+      return false;
+    QSignalSpy imported(&window, &MainWindow::importFinished);
+    window.importFileWithUnit(file, unit);
+    return imported.wait(60000) && imported.first()[0].toBool() && waitForFigures(window.document());
+  }
+
   // The per-joint chart names its joints readably (issue 26, item 7: every label was "⋮", a
   // rotated "…", at 38 and 54 clusterable joints): the labels shown are joint names, whole or
   // cut after at least three characters, thinned to one every jointLabelStep() bars where a
@@ -781,18 +798,9 @@ private slots:
   // Testwuson and BCN_Epileptic, in the window's first layout.
   void perJointChartNamesItsJoints() {
     QSettings().remove("mainWindow"); // the first run's layout
-    const QList<QPair<QString, double>> files = {{MLOD_SAMPLE, 2.54 / 0.45},
-                                                 {QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0},
-                                                 {QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0}};
-    for (const auto& [file, unit] : files) {
+    for (const auto& [file, unit] : firstRunFiles()) {
       MainWindow window;
-      window.resize(1600, 1000);
-      window.show();
-      QVERIFY(QTest::qWaitForWindowExposed(&window));
-      QSignalSpy imported(&window, &MainWindow::importFinished);
-      window.importFileWithUnit(file, unit);
-      QVERIFY(imported.wait(60000));
-      QVERIFY(waitForFigures(window.document()));
+      QVERIFY(showImported(window, file, unit));
       StatisticsView* statistics = window.statisticsView();
       const QStringList names = statistics->jointNames();
       QVERIFY2(names.size() >= 30, qPrintable(QString::number(names.size())));
@@ -909,19 +917,9 @@ private slots:
   // scrolling. Before: names cut to "Lef…ase", "L…s", "Mesh ×" half hidden.
   void skeletonAndLevelsDocksAreReadable() {
     QSettings().remove("mainWindow"); // the first run's layout, whatever a test saved
-    const QList<QPair<QString, double>> files = {{MLOD_SAMPLE, 2.54 / 0.45},
-                                                 {QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0},
-                                                 {QString(MLOD_ASSIMP_MODELS) + "/X/BCN_Epileptic.X", 0.0}};
-    for (const auto& [file, unit] : files) {
+    for (const auto& [file, unit] : firstRunFiles()) {
       MainWindow window;
-      window.resize(1600, 1000);
-      window.show();
-      QVERIFY(QTest::qWaitForWindowExposed(&window));
-      QSignalSpy imported(&window, &MainWindow::importFinished);
-      window.importFileWithUnit(file, unit);
-      QVERIFY(imported.wait(60000));
-      QVERIFY(imported.first()[0].toBool());
-      QVERIFY(waitForFigures(window.document()));
+      QVERIFY(showImported(window, file, unit));
 
       QTreeView* tree = window.skeletonView();
       QHeaderView* header = tree->header();
