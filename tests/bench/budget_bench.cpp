@@ -73,6 +73,20 @@ void BM_PixelBudget(benchmark::State& state, const char* character, int levels) 
   state.counters["levels_kept"] = double(kept);
 }
 
+// Options of a search through `cache` for `asset` playing `clips`, and that search run once at
+// 1 px (untimed: what the benchmarks after it reuse); false, the benchmark skipped, if it fails.
+bool searchedOnce(benchmark::State& state, const Asset& asset, const std::vector<Clip>& clips, int levels,
+                  LodBudgetCache& cache, LodBudgetOptions& options) {
+  options.clips = clips;
+  options.jpc.zeroLength = 1e-6 * asset.unitScale;
+  options.cache = &cache;
+  if (Result<LodSet> first = LodSet::fromPixelBudget(asset, 1.0, levels, options); !first) {
+    state.SkipWithError(first.message().c_str());
+    return false;
+  }
+  return true;
+}
+
 // The Budget preview asked again for the same character (another pixel budget, 2 px: the
 // motions and meshes of the first run reused, lod_budget_cache.h): the first run at 1 px
 // is not timed.
@@ -81,13 +95,8 @@ void BM_PixelBudgetAgain(benchmark::State& state, const char* character, int lev
   const std::vector<Clip> clips = mappedClips(character, "BVH/01_03.bvh");
   LodBudgetCache cache;
   LodBudgetOptions options;
-  options.clips = clips;
-  options.jpc.zeroLength = 1e-6 * asset.unitScale;
-  options.cache = &cache;
-  if (Result<LodSet> first = LodSet::fromPixelBudget(asset, 1.0, levels, options); !first) {
-    state.SkipWithError(first.message().c_str());
+  if (!searchedOnce(state, asset, clips, levels, cache, options))
     return;
-  }
   LodBudgetReport report;
   for (auto _ : state) {
     Result<LodSet> set = LodSet::fromPixelBudget(asset, 2.0, levels, options, &report);
@@ -108,13 +117,8 @@ void BM_PixelBudgetAfterJointEdit(benchmark::State& state, const char* character
   const std::vector<Clip> clips = mappedClips(character, "BVH/01_03.bvh");
   LodBudgetCache cache;
   LodBudgetOptions options;
-  options.clips = clips;
-  options.jpc.zeroLength = 1e-6 * asset.unitScale;
-  options.cache = &cache;
-  if (Result<LodSet> first = LodSet::fromPixelBudget(asset, 1.0, levels, options); !first) {
-    state.SkipWithError(first.message().c_str());
+  if (!searchedOnce(state, asset, clips, levels, cache, options))
     return;
-  }
   options.jpc.joints[asset.skeleton.joints.at(1).name].alpha = 10.0;
   LodBudgetReport report;
   for (auto _ : state) {
