@@ -19,7 +19,7 @@
 namespace mlod {
 namespace {
 
-const Asset& sample() {
+const Asset& documentedSample() {
   static const Asset asset = [] {
     ImportOptions options;
     options.unitScale = *parseUnitScale("cmu");
@@ -60,7 +60,7 @@ struct Documented {
 const Documented kGuide[] = {{5.0, 39.4, 0.116}, {50.0, 77.6, 1.626}, {100.0, 87.2, 4.164}, {300.0, 97.0, 9.121}};
 
 TEST(DocumentedFigures, SampleTable1AgreesWithIndependentForwardKinematics) {
-  const Asset& asset = sample();
+  const Asset& asset = documentedSample();
   const Clip& clip = asset.clips.front();
   ASSERT_EQ(clip.frameCount, 480); // "480 frames at 120 fps"
   JpcSettings settings;

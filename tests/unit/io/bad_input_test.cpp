@@ -17,7 +17,7 @@
 namespace mlod {
 namespace {
 
-const char* kRoot6 = "Xposition Yposition Zposition Zrotation Yrotation Xrotation";
+const char* kRootChannels = "Xposition Yposition Zposition Zrotation Yrotation Xrotation";
 const char* kZyx = "Zrotation Yrotation Xrotation";
 
 void expectRefused(const std::string& path, const std::string& fragment = {}) {
@@ -40,19 +40,19 @@ TEST(BadInput, MissingFileAndDirectory) {
 
 // Guards a file cut off inside the hierarchy.
 TEST(BadInput, TruncatedHierarchy) {
-  const std::string full = test::makeBvh(kRoot6, kZyx, 1, "0.01", "0 0 0 0 0 0 0 0 0\n");
+  const std::string full = test::makeBvh(kRootChannels, kZyx, 1, "0.01", "0 0 0 0 0 0 0 0 0\n");
   expectRefused(test::writeTemp("cut_hierarchy.bvh", full.substr(0, full.find("End Site"))));
 }
 
 // Guards a file cut off inside the motion data (in the middle of a row).
 TEST(BadInput, TruncatedMotion) {
   expectRefused(test::writeTemp("cut_motion.bvh",
-                                test::makeBvh(kRoot6, kZyx, 2, "0.01", "0 0 0 0 0 0 0 0 0\n1 2 3 4")));
+                                test::makeBvh(kRootChannels, kZyx, 2, "0.01", "0 0 0 0 0 0 0 0 0\n1 2 3 4")));
 }
 
 // Guards a header whose frame count is larger than the data.
 TEST(BadInput, FrameCountLargerThanData) {
-  expectRefused(test::writeTemp("lying.bvh", test::makeBvh(kRoot6, kZyx, 100, "0.01",
+  expectRefused(test::writeTemp("lying.bvh", test::makeBvh(kRootChannels, kZyx, 100, "0.01",
                                                            "0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 0 0 0\n")));
 }
 
@@ -61,10 +61,10 @@ TEST(BadInput, NonFiniteKeys) {
   for (const char* value : {"nan", "inf", "-inf", "1e39"}) {
     SCOPED_TRACE(value);
     const std::string rows = "0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 " + std::string(value) + " 0 0\n";
-    expectRefused(test::writeTemp("nan.bvh", test::makeBvh(kRoot6, kZyx, 2, "0.01", rows)), "non-finite");
+    expectRefused(test::writeTemp("nan.bvh", test::makeBvh(kRootChannels, kZyx, 2, "0.01", rows)), "non-finite");
   }
   const std::string rows = "0 nan 0 0 0 0 0 0 0\n";
-  expectRefused(test::writeTemp("nan_root.bvh", test::makeBvh(kRoot6, kZyx, 1, "0.01", rows)), "frame 0");
+  expectRefused(test::writeTemp("nan_root.bvh", test::makeBvh(kRootChannels, kZyx, 1, "0.01", rows)), "frame 0");
 }
 
 // Guards a glTF whose node graph is cyclic (a -> b -> a, and a longer loop).
@@ -97,10 +97,10 @@ TEST(BadInput, BvhFrameTimeMustBeFiniteAndPositive) {
   const std::string rows = "0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 0 0 0\n";
   for (const char* time : {"inf", "0", "nan", "-0.01", "0.0", "1e-9", "x"}) {
     SCOPED_TRACE(time);
-    expectRefused(test::writeTemp("time.bvh", test::makeBvh(kRoot6, kZyx, 2, time, rows)),
+    expectRefused(test::writeTemp("time.bvh", test::makeBvh(kRootChannels, kZyx, 2, time, rows)),
                   std::string("its Frame Time '") + time + "' is not a finite number of seconds per frame");
   }
-  const Result<Asset> fine = importAsset(test::writeTemp("time.bvh", test::makeBvh(kRoot6, kZyx, 2, "0.04", rows)));
+  const Result<Asset> fine = importAsset(test::writeTemp("time.bvh", test::makeBvh(kRootChannels, kZyx, 2, "0.04", rows)));
   ASSERT_TRUE(fine.ok()) << fine.message();
   EXPECT_DOUBLE_EQ(fine->clips.front().fps, 25.0);
 }
@@ -134,7 +134,7 @@ TEST(BadInput, GltfFrameRateIsCheckedBeforeResampling) {
 // ../shared/repro/hang_offset_1e38_2frames.bvh): `info` said "height: inf cm" and `export`
 // spun forever in the pixel budget; the import refuses it and names the joint.
 TEST(BadInput, BvhOffsetsThatOverflowAreRefused) {
-  std::string bvh = test::makeBvh(kRoot6, kZyx, 2, "0.01", "0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 0 0 0\n");
+  std::string bvh = test::makeBvh(kRootChannels, kZyx, 2, "0.01", "0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 0 0 0\n");
   for (std::size_t at = bvh.find("OFFSET"); at != std::string::npos; at = bvh.find("OFFSET", at + 1)) {
     const std::size_t end = bvh.find('\n', at);
     bvh.replace(at, end - at, "OFFSET 0 2e38 0");
@@ -164,7 +164,7 @@ TEST(BadInput, ColladaParamsPastTheStrideAreRefused) {
 TEST(BadInput, BvhWithoutFramesSaysSo) {
   for (const char* frames : {"0", "-3"}) {
     SCOPED_TRACE(frames);
-    std::string bvh = test::makeBvh(kRoot6, kZyx, 1, "0.01", "");
+    std::string bvh = test::makeBvh(kRootChannels, kZyx, 1, "0.01", "");
     bvh.replace(bvh.find("Frames: 1"), 9, std::string("Frames: ") + frames);
     expectRefused(test::writeTemp("no_frames.bvh", bvh),
                   std::string("its 'Frames: ") + frames + "' is not a count of at least 1 frame");
@@ -229,7 +229,7 @@ TEST(BadInput, GltfNormalizedRotationKeysAreDecoded) {
 // Guards names that are not UTF-8 (a Latin-1 BVH): they are replaced deliberately, and the
 // asset says so; --json, glTF and report exports then never meet them.
 TEST(BadInput, Latin1NamesAreMadeValidAndSaidSo) {
-  std::string bvh = test::makeBvh(kRoot6, kZyx, 1, "0.01", "0 0 0 0 0 0 0 0 0\n");
+  std::string bvh = test::makeBvh(kRootChannels, kZyx, 1, "0.01", "0 0 0 0 0 0 0 0 0\n");
   bvh.replace(bvh.find("Chest"), 5, "Cou\xE9");
   const Result<Asset> asset = importAsset(test::writeTemp("latin1.bvh", bvh));
   ASSERT_TRUE(asset.ok()) << asset.message();

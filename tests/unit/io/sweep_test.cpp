@@ -33,7 +33,7 @@ std::vector<std::string> modelFolders() {
   return folders;
 }
 
-const nlohmann::json& expectedCounts() {
+const nlohmann::json& sweepCounts() {
   static const nlohmann::json counts = [] {
     std::ifstream in(test::dataPath("sweep_counts.json"));
     return nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
@@ -91,7 +91,7 @@ TEST_P(Sweep, EveryFileImportsOrIsRefusedClearly) {
   if (!hung.empty())
     return; // the counts of a folder with an unanswered file say nothing more
   EXPECT_GT(imported + refused, 0);
-  const nlohmann::json& expected = expectedCounts()["folders"][GetParam()];
+  const nlohmann::json& expected = sweepCounts()["folders"][GetParam()];
   ASSERT_TRUE(expected.is_object()) << GetParam() << " is not in tests/data/sweep_counts.json";
   EXPECT_EQ(imported, expected["imported"].get<int>()) << GetParam();
   EXPECT_EQ(refused, expected["refused"].get<int>()) << GetParam();
@@ -110,7 +110,7 @@ TEST(Sweep, TestModelsAreInstalled) { EXPECT_GE(modelFolders().size(), 40u); }
 // Guards the committed table: it parses, names every installed folder and nothing else, and
 // its totals are the sums of its rows (318 of 595 files import with assimp-testmodels 5.2.5).
 TEST(Sweep, CommittedCountsCoverEveryFolder) {
-  const nlohmann::json& counts = expectedCounts();
+  const nlohmann::json& counts = sweepCounts();
   ASSERT_TRUE(counts.is_object()) << "tests/data/sweep_counts.json does not parse";
   std::vector<std::string> listed;
   int imported = 0, refused = 0;

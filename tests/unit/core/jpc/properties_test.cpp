@@ -14,7 +14,7 @@
 namespace mlod {
 namespace {
 
-const std::vector<double> kThresholds{0.0, 5.0, 50.0, 100.0, 300.0};
+const std::vector<double> kLevelThresholds{0.0, 5.0, 50.0, 100.0, 300.0};
 const std::vector<std::string> kFiles{"BVH/01_01.bvh", "X/BCN_Epileptic.X"};
 
 JpcSettings settingsFor(const Asset& asset, JpcMode mode, double alpha) {
@@ -48,8 +48,8 @@ TEST(JpcProperties, BoundShapeAndMetricsOnRealData) {
       for (double alpha : {0.0, 5.0}) {
         const JpcSettings settings = settingsFor(asset, mode, alpha);
         const JpcClip prepared = *JpcClip::prepare(asset.skeleton, clip, settings);
-        const std::vector<JpcLevelResult> levels = simplify(asset, settings, kThresholds);
-        ASSERT_EQ(levels.size(), kThresholds.size());
+        const std::vector<JpcLevelResult> levels = simplify(asset, settings, kLevelThresholds);
+        ASSERT_EQ(levels.size(), kLevelThresholds.size());
         for (const JpcLevelResult& level : levels) {
           SCOPED_TRACE(file + " " + toString(mode) + " alpha " + std::to_string(alpha) + " T " +
                        std::to_string(level.threshold));
@@ -119,16 +119,16 @@ TEST(JpcProperties, OptimalCoversAtLeastGreedyAndIsMonotone) {
     for (double alpha : {0.0, 5.0}) {
       SCOPED_TRACE(file + " alpha " + std::to_string(alpha));
       const std::vector<JpcLevelResult> greedy =
-          simplify(asset, settingsFor(asset, JpcMode::Greedy, alpha), kThresholds);
+          simplify(asset, settingsFor(asset, JpcMode::Greedy, alpha), kLevelThresholds);
       const std::vector<JpcLevelResult> optimal =
-          simplify(asset, settingsFor(asset, JpcMode::Optimal, alpha), kThresholds);
-      for (std::size_t l = 0; l < kThresholds.size(); ++l) {
+          simplify(asset, settingsFor(asset, JpcMode::Optimal, alpha), kLevelThresholds);
+      for (std::size_t l = 0; l < kLevelThresholds.size(); ++l) {
         for (std::size_t j = 0; j < greedy[l].joints.size(); ++j) {
           EXPECT_GE(optimal[l].joints[j].clusteredFrames, greedy[l].joints[j].clusteredFrames)
-              << asset.skeleton.joints[j].name << " T " << kThresholds[l];
+              << asset.skeleton.joints[j].name << " T " << kLevelThresholds[l];
           if (l > 0) {
             EXPECT_GE(optimal[l].joints[j].clusteredFrames, optimal[l - 1].joints[j].clusteredFrames)
-                << asset.skeleton.joints[j].name << " T " << kThresholds[l];
+                << asset.skeleton.joints[j].name << " T " << kLevelThresholds[l];
           }
         }
         EXPECT_GE(optimal[l].simplifiedPercent, greedy[l].simplifiedPercent);
