@@ -166,6 +166,9 @@ void ViewportPanel::rebuild() {
                       m_document->analysis(),
                       m_document->project().mappings};
   if (m_valid && key == m_key) {
+    // A motion assigned to the character may have landed since (a project imports its assets
+    // one by one): the level's mesh is built with it, so ask again (a kept mesh costs nothing).
+    attachLevelMesh();
     pose();
     return;
   }
