@@ -88,6 +88,7 @@ def set_at(document, path, value):
     return document
 
 
+MAX_MUTANT_BYTES = 8_000_000  # a project of 8 MB: eight times the 1 MB figure
 EXTREME_NUMBERS = [0, -1, 1e308, -1e308, 1e-308, 2**63, -(2**63), 2**64, 4294967295, 1e38, 3.5, 1e9]
 ODD_PATHS = ["../../../../../../etc/passwd", "/dev/zero", "/proc/self/mem", "/", ".", "", "missing.bvh",
              "/usr/share/assimp/models/BVH", "C:\\\\x.bvh", "a" * 5000]
@@ -99,7 +100,10 @@ def mutate_json(text, rng):
     kind = rng.choice(["number", "type", "delete", "repeat", "long-name", "path", "several"])
     if kind == "several":
         for _ in range(rng.randint(2, 6)):
-            document = json.loads(mutate_json(json.dumps(document), rng)[0])
+            text = mutate_json(json.dumps(document), rng)[0]
+            if len(text) > MAX_MUTANT_BYTES:
+                break
+            document = json.loads(text)
         return json.dumps(document), kind
     if kind == "number":
         numbers = [(p, v) for p, v in entries if isinstance(v, (int, float)) and not isinstance(v, bool)]
@@ -121,7 +125,10 @@ def mutate_json(text, rng):
         arrays = [(p, v) for p, v in entries if isinstance(v, list) and v]
         if arrays:
             path, value = rng.choice(arrays)
-            document = set_at(document, path, value * rng.choice([2, 50, 2000]))
+            times = rng.choice([2, 50, 2000])
+            # a mutant stays under MAX_MUTANT_BYTES (repeats of repeats grow without bound)
+            times = max(2, min(times, MAX_MUTANT_BYTES // max(1, len(json.dumps(value)))))
+            document = set_at(document, path, value * times)
     elif kind == "long-name":
         strings = [(p, v) for p, v in entries if isinstance(v, str)]
         if strings:
