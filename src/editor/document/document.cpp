@@ -8,6 +8,7 @@
 #include <QFileInfo>
 #include <QSaveFile>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace mlod {
@@ -122,6 +123,17 @@ int Document::importCount() const {
 
 bool Document::isLoading() const {
   return m_loader->isLoading();
+}
+
+void Document::beginExport() {
+  if (m_exports++ == 0)
+    emit exportingChanged(true);
+}
+
+void Document::endExport() {
+  assert(m_exports > 0);
+  if (m_exports > 0 && --m_exports == 0)
+    emit exportingChanged(false);
 }
 
 void Document::setCurrentAsset(int asset, int clip) {

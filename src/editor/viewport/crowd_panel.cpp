@@ -160,6 +160,16 @@ CrowdPanel::CrowdPanel(Document* document, Playback* playback, QWidget* parent)
   connect(document, &Document::assetsChanged, this, &CrowdPanel::markDirty);
   connect(document, &Document::settingsChanged, this, &CrowdPanel::markDirty);
   connect(document, &Document::mappingsChanged, this, &CrowdPanel::markDirty);
+  // an export has the cores first: a running build is cancelled and made again after it
+  connect(document, &Document::exportingChanged, this, [this](bool exporting) {
+    if (exporting && m_watcher.isRunning()) {
+      m_dirty = true;
+      if (m_cancel)
+        m_cancel->store(true);
+    } else if (!exporting && m_dirty && isVisible()) {
+      m_rebuildTimer.start(0);
+    }
+  });
   m_figures->setText(tr("The crowd builds its levels when this dock is shown."));
 }
 
@@ -300,6 +310,10 @@ void CrowdPanel::requestLevels() {
 }
 
 void CrowdPanel::startBuild() {
+  if (m_document->isExporting()) { // built when the export ends (exportingChanged)
+    m_dirty = true;
+    return;
+  }
   if (m_watcher.isRunning()) { // the running one is stale: cancel it and come back
     if (m_cancel)
       m_cancel->store(true);
