@@ -127,7 +127,7 @@ private slots:
       QVERIFY(buildBundleLevel(level, &error));
   }
 
-  // While an export runs the views' own background builds wait (Document::isExporting()):
+  // While an export runs the views' own background builds wait (Document::isWaitedJobRunning()):
   // the viewport's level mesh asked for meanwhile starts when the export ends, and one that
   // was being built (the viewport's, the Crowd's levels) is cancelled and built again then. Issue 26: the studio's export right
   // after opening a project shared two cores with the viewport's level mesh and the crowd's
@@ -156,11 +156,11 @@ private slots:
       for (int i = 0; i < 30000 && !release.load(); ++i)
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
     });
-    QSignalSpy exporting(document.get(), &Document::exportingChanged);
+    QSignalSpy exporting(document.get(), &Document::waitedJobChanged);
     QSignalSpy finished(&dialog, &ExportDialog::exportFinished);
     dialog.startExport();
     QVERIFY(dialog.isRunning());
-    QVERIFY(document->isExporting());
+    QVERIFY(document->isWaitedJobRunning());
     QCOMPARE(exporting.count(), 1);
     QTRY_VERIFY(!meshes.isBuilding()); // a build under way was cancelled
     QTRY_VERIFY(!crowd.isBuilding());  // the crowd's too
@@ -186,7 +186,7 @@ private slots:
     release.store(true);
     QVERIFY(finished.wait(60000));
     QVERIFY(finished.first().at(0).toBool());
-    QVERIFY(!document->isExporting());
+    QVERIFY(!document->isWaitedJobRunning());
     QCOMPARE(exporting.count(), 2);
     QVERIFY(meshes.isBuilding()); // the latest request, at once
     QTRY_COMPARE_WITH_TIMEOUT(int(ready.count()), readyBefore + 1, 60000);

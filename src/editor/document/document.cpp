@@ -125,15 +125,15 @@ bool Document::isLoading() const {
   return m_loader->isLoading();
 }
 
-void Document::beginExport() {
-  if (m_exports++ == 0)
-    emit exportingChanged(true);
+void Document::beginWaitedJob() {
+  if (m_waitedJobs++ == 0)
+    emit waitedJobChanged(true);
 }
 
-void Document::endExport() {
-  assert(m_exports > 0);
-  if (m_exports > 0 && --m_exports == 0)
-    emit exportingChanged(false);
+void Document::endWaitedJob() {
+  assert(m_waitedJobs > 0);
+  if (m_waitedJobs > 0 && --m_waitedJobs == 0)
+    emit waitedJobChanged(false);
 }
 
 void Document::setCurrentAsset(int asset, int clip) {

@@ -69,13 +69,14 @@ public:
   std::shared_ptr<const JpcAnalysis> analysis() const { return m_analysis->snapshot(); }
   bool isAnalysing() const { return m_analysis->isRunning(); }
   bool isLoading() const;
-  // An export runs (the Export dialog says so): the views' own background builds (the
-  // viewport's level mesh, the crowd's levels) wait until it ends, so that the export has the
-  // cores the command line's has (issue 26: the studio's export right after opening a
-  // project shared two cores with both and took 1.6 s more than `motionlod export`).
-  bool isExporting() const { return m_exports > 0; }
-  void beginExport();
-  void endExport(); // once per beginExport()
+  // A job the artist waits for runs (an export, the Budget preview, a level generation: they
+  // say so): the views' own background builds (the viewport's level mesh, the crowd's
+  // levels) wait until it ends, so that it has the cores (issue 26: the studio's export right
+  // after opening a project shared two cores with both and took 1.6 s more than
+  // `motionlod export`; the first Budget preview took 7.4-8.1 s there, 4.9-7.4 s without).
+  bool isWaitedJobRunning() const { return m_waitedJobs > 0; }
+  void beginWaitedJob();
+  void endWaitedJob(); // once per beginWaitedJob()
 
   // Imports the asset's file again at `cmPerUnit` (0 = the file's own) in the background,
   // then pushes one command; unitScaleChanged() follows either way.
@@ -115,7 +116,7 @@ signals:
   void projectOpened(bool ok, const QString& message);
   void unitScaleChanged(bool ok, const QString& message);
   void message(const QString& line); // for the log
-  void exportingChanged(bool exporting);
+  void waitedJobChanged(bool running); // isWaitedJobRunning() changed
 
 private:
   // What the commands apply (commands.h); nothing else changes the project's figures.
@@ -146,7 +147,7 @@ private:
   QUndoStack* m_undo = nullptr;
   QString m_fileName;
   int m_currentJoint = -1;
-  int m_exports = 0; // exports running
+  int m_waitedJobs = 0; // waited-for jobs running
   AnalysisRunner* m_analysis = nullptr;
   LevelGenerator* m_generator = nullptr;
   AssetLoader* m_loader = nullptr;     // open, relink

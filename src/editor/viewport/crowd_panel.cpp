@@ -160,13 +160,14 @@ CrowdPanel::CrowdPanel(Document* document, Playback* playback, QWidget* parent)
   connect(document, &Document::assetsChanged, this, &CrowdPanel::markDirty);
   connect(document, &Document::settingsChanged, this, &CrowdPanel::markDirty);
   connect(document, &Document::mappingsChanged, this, &CrowdPanel::markDirty);
-  // an export has the cores first: a running build is cancelled and made again after it
-  connect(document, &Document::exportingChanged, this, [this](bool exporting) {
-    if (exporting && m_watcher.isRunning()) {
+  // a job the artist waits for has the cores first: a running build is cancelled and made
+  // again after it
+  connect(document, &Document::waitedJobChanged, this, [this](bool running) {
+    if (running && m_watcher.isRunning()) {
       m_dirty = true;
       if (m_cancel)
         m_cancel->store(true);
-    } else if (!exporting && m_dirty && isVisible()) {
+    } else if (!running && m_dirty && isVisible()) {
       m_rebuildTimer.start(0);
     }
   });
@@ -310,7 +311,7 @@ void CrowdPanel::requestLevels() {
 }
 
 void CrowdPanel::startBuild() {
-  if (m_document->isExporting()) { // built when the export ends (exportingChanged)
+  if (m_document->isWaitedJobRunning()) { // built when the job ends (waitedJobChanged)
     m_dirty = true;
     return;
   }

@@ -189,7 +189,7 @@ ExportDialog::~ExportDialog() {
     m_cancel->store(true);
   m_watcher.waitForFinished(); // the worker holds references to this dialog's data: let it stop
   if (m_running && m_exporting)
-    m_exporting->endExport();
+    m_exporting->endWaitedJob();
 }
 
 QWidget* ExportDialog::optionWidget(const QString& key) const {
@@ -354,7 +354,7 @@ void ExportDialog::startExport() {
   m_cancel = std::make_shared<std::atomic<bool>>(false);
   m_running = true;
   m_exporting = m_document;
-  m_document->beginExport(); // the views' background builds wait (Document::isExporting())
+  m_document->beginWaitedJob(); // the views' background builds wait (Document::isWaitedJobRunning())
   m_runningPath = path;
   m_exportButton->setEnabled(false);
   m_result->clear();
@@ -416,7 +416,7 @@ void ExportDialog::onFinished() {
   const std::shared_ptr<ExportResult> result = m_watcher.result();
   m_running = false;
   if (m_exporting)
-    m_exporting->endExport();
+    m_exporting->endWaitedJob();
   m_exporting.clear();
   m_exportButton->setEnabled(true);
   if (m_progress) {
