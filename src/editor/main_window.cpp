@@ -12,6 +12,7 @@
 #include "editor/models/asset_tree.h"
 #include "editor/models/joint_tree_model.h"
 #include "editor/models/levels_model.h"
+#include "editor/studio/window_fit.h"
 #include "editor/viewport/crowd_panel.h"
 #include "editor/viewport/playback.h"
 #include "editor/viewport/viewport_panel.h"
@@ -970,6 +971,10 @@ BudgetDialog* MainWindow::openBudgetDialog() {
   auto* dialog = new BudgetDialog(m_document->levelGenerator(), initial, this);
   dialog->setAttribute(Qt::WA_DeleteOnClose);
   dialog->open();
+  // Beside the character, not over it: centred on the window it hid the whole viewport.
+  if (m_viewportPanel)
+    moveBeside(dialog, m_viewportPanel->sceneView() ? static_cast<QWidget*>(m_viewportPanel->sceneView())
+                                                    : static_cast<QWidget*>(m_viewportPanel));
   return dialog;
 }
 

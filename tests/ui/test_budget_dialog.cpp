@@ -10,6 +10,7 @@
 #include "editor/document/edits.h"
 #include "editor/document/level_generator.h"
 #include "editor/main_window.h"
+#include "editor/viewport/level_meshes.h"
 #include "editor/views/budget_dialog.h"
 #include "editor/views/job_progress.h"
 #include "event_conditions.h"
@@ -26,6 +27,7 @@
 #include <QThread>
 #include <QUndoStack>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 
@@ -219,6 +221,52 @@ private slots:
     QTRY_VERIFY(!window->findChild<BudgetDialog*>("budgetDialog"));
     QCOMPARE(document->project(), before);
     QCOMPARE(document->undoStack()->count(), steps);
+  }
+
+  // The preview is a job the artist waits for (Document::isWaitedJobRunning()): while it runs
+  // the viewport's level mesh waits (one under way is cancelled, one asked for meanwhile
+  // starts when it ends), and a cancelled preview lets them go at once. Issue 26: the first
+  // preview right after opening BCN_Epileptic with 01_03 mapped took 7.4-8.1 s beside the
+  // viewport's level mesh and the crowd's levels, 4.9-7.4 s once the studio was idle.
+  void backgroundBuildsWaitForThePreview() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    QVERIFY(document->levelCount() > 2);
+    LevelMeshes meshes(document);
+    QSignalSpy ready(&meshes, &LevelMeshes::ready);
+    QVERIFY(!meshes.request(0, 2));
+    QVERIFY(meshes.isBuilding());
+    LevelGenerator* generator = document->levelGenerator();
+    std::atomic<bool> release{false}; // the preview runs until the test has looked
+    generator->setWorkerHook([&release](const std::atomic<bool>& cancel) {
+      for (int i = 0; i < 30000 && !release.load() && !cancel.load(); ++i)
+        QThread::msleep(2);
+    });
+    QSignalSpy previewed(generator, &LevelGenerator::previewed);
+    QVERIFY(generator->preview(1.0, 3, document->lods().projection));
+    QVERIFY(document->isWaitedJobRunning());
+    QTRY_VERIFY(!meshes.isBuilding()); // the build under way was cancelled
+    QVERIFY(!meshes.request(0, 1));    // asked for meanwhile: waits
+    QVERIFY(!meshes.isBuilding());
+    release.store(true);
+    QVERIFY(previewed.wait(60000));
+    QVERIFY(previewed.first().at(0).toBool());
+    QVERIFY(!document->isWaitedJobRunning());
+    QVERIFY(meshes.isBuilding()); // the latest request, at once
+    QTRY_COMPARE_WITH_TIMEOUT(ready.count(), 1, 60000);
+    QCOMPARE(ready.first().at(1).toInt(), 1);
+
+    // a cancelled preview ends the wait at once, though its worker may still run
+    release.store(false);
+    QVERIFY(generator->preview(2.0, 3, document->lods().projection));
+    QVERIFY(document->isWaitedJobRunning());
+    generator->cancel();
+    QVERIFY(!document->isWaitedJobRunning());
+    release.store(true);
+    generator->setWorkerHook({});
+    QTRY_VERIFY_WITH_TIMEOUT(!generator->isBusy(), 20000);
+    QVERIFY(!document->isWaitedJobRunning());
   }
 
   // A per-joint override above the E of the level it belongs to is listed, not kept unseen;

@@ -2,14 +2,16 @@
 // their pixels: the character where the camera says it is (original and simplified side by
 // side, the ghost), the frozen joints in red, joint picking, the timeline, a motion played
 // on the character it is mapped to (the table edited, the pose changed at once), the crowd's
-// level tints at the distances the LOD set gives, and bad data that must not crash: a clip
-// without mesh, a mesh without skeleton, 200 bones, an empty document.
+// level tints at the distances the LOD set gives, the view in sight beside the Budget dialog,
+// and bad data that must not crash: a clip without mesh, a mesh without skeleton, 200 bones,
+// an empty document.
 
 #include "core/crowd/crowd.h"
 #include "core/project_package.h"
 #include "editor/document/document.h"
 #include "editor/document/edits.h"
 #include "editor/main_window.h"
+#include "editor/views/budget_dialog.h"
 #include "editor/models/joint_tree_model.h"
 #include "editor/viewport/crowd_panel.h"
 #include "editor/viewport/playback.h"
@@ -25,6 +27,7 @@
 #include <QDockWidget>
 #include <QTreeView>
 #include <QImage>
+#include <QScreen>
 #include <QLabel>
 #include <QLocale>
 #include <QSignalSpy>
@@ -918,6 +921,60 @@ private slots:
     QTest::mouseClick(viewport->sceneView(), Qt::LeftButton, {}, at);
     QCOMPARE(window.document()->currentJoint(), picked);
     QCOMPARE(window.jointModel()->jointAt(window.skeletonView()->currentIndex()), picked);
+  }
+
+  // The viewport stays in sight and keeps drawing while the Budget dialog is open (issue 26,
+  // item 7: "the viewport goes blank behind the Budget dialog"). It never stopped painting:
+  // the dialog, centred on the window, covered the whole 3D view (a 720 x 520 dialog over a
+  // 578 x 538 view on a 1600 x 1000 screen), so on screen the character was gone until the
+  // dialog closed. Checked on the screen itself (what the X server shows), not only on the
+  // view's framebuffer: the characters the view renders are seen beside the dialog.
+  void viewportStaysInSightBehindTheBudgetDialog() {
+    MainWindow window;
+    window.resize(1580, 960);
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    QSignalSpy spy(&window, &MainWindow::importFinished);
+    window.importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + "/X/Testwuson.X", 0.0);
+    QVERIFY(spy.wait(60000));
+    window.importFileWithUnit(MLOD_SAMPLE, 2.54 / 0.45);
+    QVERIFY(spy.wait(60000));
+    QVERIFY(edit::assignMotion(*window.document(), 1, 0));
+    window.document()->setCurrentAsset(0);
+    QVERIFY(waitForFigures(*window.document()));
+    SceneView* view = window.viewportPanel()->sceneView();
+    QVERIFY(view);
+    // The coloured pixels the view renders, and those the screen shows where the view is.
+    const auto onScreen = [&](const char* what, int* out_rendered) {
+      const int before = view->paintCount();
+      view->update();
+      if (!QTest::qWaitFor([&] { return view->paintCount() > before; }, 10000))
+        return -1;
+      QCoreApplication::processEvents(); // the window's new image reaches the X server
+      *out_rendered = census(keep(view->grabFramebuffer(), what), QRectF()).saturated;
+      const QRect r(view->mapToGlobal(QPoint(0, 0)), view->size());
+      const QImage screen = QGuiApplication::primaryScreen()->grabWindow(0, r.x(), r.y(), r.width(), r.height()).toImage();
+      return census(keep(screen, what), QRectF()).saturated;
+    };
+    int rendered = 0;
+    QTRY_VERIFY_WITH_TIMEOUT(onScreen("viewport", &rendered) > 0.9 * rendered && rendered > 3000, 10000);
+
+    window.findChild<QAction*>("actionGenerateLevels")->trigger();
+    auto* dialog = window.findChild<BudgetDialog*>("budgetDialog");
+    QVERIFY(dialog);
+    QVERIFY(QTest::qWaitForWindowExposed(dialog));
+    QTRY_VERIFY_WITH_TIMEOUT(dialog->isPreviewCurrent(), 60000);
+    const QRect viewRect(view->mapToGlobal(QPoint(0, 0)), view->size());
+    const QRect hidden = dialog->frameGeometry().intersected(viewRect);
+    qInfo("view %d x %d at %d,%d; dialog %d x %d at %d,%d hides %d x %d of it", viewRect.width(), viewRect.height(),
+          viewRect.x(), viewRect.y(), dialog->frameGeometry().width(), dialog->frameGeometry().height(),
+          dialog->frameGeometry().x(), dialog->frameGeometry().y(), hidden.width(), hidden.height());
+    QVERIFY2(hidden.width() * hidden.height() < viewRect.width() * viewRect.height() / 4,
+             "the dialog hides more than a quarter of the 3D view");
+    int shown = 0;
+    QTRY_VERIFY_WITH_TIMEOUT((shown = onScreen("viewport beside the budget dialog", &rendered)) > rendered / 2, 10000);
+    qInfo("beside the dialog: %d of the %d coloured pixels rendered are on screen", shown, rendered);
+    dialog->reject();
   }
 };
 

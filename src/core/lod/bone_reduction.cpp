@@ -1,6 +1,7 @@
 #include "core/lod/bone_reduction.h"
 
 #include "core/cancel.h"
+#include "core/jpc/parallel_for.h"
 #include "core/jpc/posture_error.h"
 #include "runtime/transform.h"
 
@@ -8,6 +9,8 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <optional>
 
 namespace mlod {
@@ -19,44 +22,92 @@ struct FrozenPose {
   double maxError = 0.0; // cm·degrees
 };
 
-// The frame k with the smallest max_t E(t, k), if that is within `threshold`; none once
-// `cancel` is set (the caller tells the two apart). Each candidate k can be O(n).
-std::optional<FrozenPose> frozenPose(const JointTrack& track, double threshold, const std::atomic<bool>* cancel) {
-  const int n = track.frameCount();
-  std::vector<int> frames; // one frame per run of identical frames: the others give the same errors
+bool near(const glm::vec3& a, const glm::vec3& b, float tolerance) {
+  return glm::length(a - b) <= tolerance * std::max(1.0f, glm::length(b));
+}
+
+// What a joint's frozen pose depends on whatever the threshold (BoneReductionCache), and what
+// the searches so far found.
+struct JointFacts {
+  double alpha = 0.0, zeroLength = 0.0; // made with
+  bool restTranslation = true;          // translation and scale at rest in every frame
+  std::vector<glm::quat> rotations;     // every frame of every clip, one after another
+  JointTrack track;
+  std::vector<int> frames;     // one frame per run of identical frames: the others give the same errors
+  std::vector<double> row0;    // E(t, 0) per frame
+  std::vector<double> rowFar;  // E(t, far) per frame; empty until a search needs it
+  double farthest = 0.0;       // max_t E(t, 0)
+  int far = 0;                 // the frame of it
+  std::optional<FrozenPose> found;
+  double notWithin = -1.0; // the largest threshold searched in vain (-1: none)
+};
+
+JointFacts jointFacts(const Skeleton& skeleton, std::span<const Clip> clips, const JointGeometry& geometry, int j,
+                      double alpha, double zeroLength) {
+  const Joint& joint = skeleton.joints[static_cast<std::size_t>(j)];
+  JointFacts out;
+  out.alpha = alpha;
+  out.zeroLength = zeroLength;
+  for (const Clip& clip : clips)
+    for (int t = 0; t < clip.frameCount && out.restTranslation; ++t) {
+      out.restTranslation = near(clip.translation(j, t), joint.rest.translation, 1e-5f) &&
+                            near(clip.scale(j, t), joint.rest.scale, 1e-5f);
+      out.rotations.push_back(clip.rotation(j, t));
+    }
+  if (!out.restTranslation)
+    return out;
+  out.track = JointTrack(geometry, alpha, out.rotations);
+  const int n = out.track.frameCount();
   for (int t = 0; t < n; ++t)
-    if (!track.sameAsPrevious(t))
-      frames.push_back(t);
-  std::vector<double> row0(static_cast<std::size_t>(n), 0.0);
-  double farthest = 0.0;
-  int far = 0;
-  for (int t : frames) {
-    row0[static_cast<std::size_t>(t)] = track.error(t, 0);
-    if (row0[static_cast<std::size_t>(t)] > farthest) {
-      farthest = row0[static_cast<std::size_t>(t)];
-      far = t;
+    if (!out.track.sameAsPrevious(t))
+      out.frames.push_back(t);
+  out.row0.assign(static_cast<std::size_t>(n), 0.0);
+  for (int t : out.frames) {
+    out.row0[static_cast<std::size_t>(t)] = out.track.error(t, 0);
+    if (out.row0[static_cast<std::size_t>(t)] > out.farthest) {
+      out.farthest = out.row0[static_cast<std::size_t>(t)];
+      out.far = t;
     }
   }
-  if (farthest == 0.0)
+  return out;
+}
+
+// The frame k with the smallest max_t E(t, k), if that is within `threshold`; none once
+// `cancel` is set (the caller tells the two apart). Each candidate k can be O(n).
+// note: the answer is the first k (in frame order) of the smallest max_t E(t, k), m*, when
+// m* <= threshold, whatever the threshold: once found it answers every threshold, and a
+// search in vain at T answers every threshold up to T (m* > T)
+std::optional<FrozenPose> frozenPose(JointFacts& joint, double threshold, const std::atomic<bool>* cancel) {
+  const JointTrack& track = joint.track;
+  if (joint.farthest == 0.0)
     return FrozenPose{0, 0.0};
   // note: E is a pseudometric (posture_error.h), so for any k, max(E(0, k), E(far, k)) >=
   // E(0, far) / 2: a joint whose frames span more than twice the bound cannot be frozen
-  if (farthest > 2.0 * threshold * (1.0 + 1e-9) + 1e-12)
+  if (joint.farthest > 2.0 * threshold * (1.0 + 1e-9) + 1e-12)
     return std::nullopt;
-  std::vector<double> rowFar(static_cast<std::size_t>(n), 0.0);
-  for (int t : frames)
-    rowFar[static_cast<std::size_t>(t)] = track.error(t, far);
+  if (joint.found)
+    return joint.found->maxError <= threshold ? joint.found : std::nullopt;
+  if (threshold <= joint.notWithin)
+    return std::nullopt;
+  const int n = track.frameCount();
+  if (joint.rowFar.empty()) {
+    joint.rowFar.assign(static_cast<std::size_t>(n), 0.0);
+    for (int t : joint.frames)
+      joint.rowFar[static_cast<std::size_t>(t)] = track.error(t, joint.far);
+  }
+  const std::vector<double>& row0 = joint.row0;
+  const std::vector<double>& rowFar = joint.rowFar;
   double best = std::numeric_limits<double>::infinity();
   int key = -1;
-  for (int k : frames) {
+  for (int k : joint.frames) {
     if (cancelled(cancel))
-      return std::nullopt;
+      return std::nullopt; // (nothing learnt)
     const double bound = std::min(threshold, best);
     double worst = std::max(row0[static_cast<std::size_t>(k)], rowFar[static_cast<std::size_t>(k)]);
     if (worst > bound || (worst == best && key >= 0))
       continue;
     bool within = true;
-    for (int t : frames) {
+    for (int t : joint.frames) {
       worst = std::max(worst, track.error(t, k));
       if (worst > bound || worst >= best) {
         within = false;
@@ -68,13 +119,12 @@ std::optional<FrozenPose> frozenPose(const JointTrack& track, double threshold, 
       key = k;
     }
   }
-  if (key < 0)
+  if (key < 0) {
+    joint.notWithin = std::max(joint.notWithin, threshold);
     return std::nullopt;
-  return FrozenPose{key, best};
-}
-
-bool near(const glm::vec3& a, const glm::vec3& b, float tolerance) {
-  return glm::length(a - b) <= tolerance * std::max(1.0f, glm::length(b));
+  }
+  joint.found = FrozenPose{key, best};
+  return joint.found;
 }
 
 // The local matrix of a removed joint: rest translation and scale, frozen rotation.
@@ -102,8 +152,22 @@ int BoneReduction::removedCount() const {
   return static_cast<int>(std::count(removed.begin(), removed.end(), std::uint8_t(1)));
 }
 
+struct BoneReductionCache::State {
+  std::mutex mutex;
+  std::vector<std::unique_ptr<JointFacts>> joints; // per joint of the skeleton
+};
+
+BoneReductionCache::BoneReductionCache() : m_state(std::make_unique<State>()) {}
+BoneReductionCache::~BoneReductionCache() = default;
+
 Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip> clips, double threshold,
                                   const JpcSettings& settings, int level, const std::atomic<bool>* cancel) {
+  return reduceBones(skeleton, clips, threshold, settings, level, cancel, nullptr);
+}
+
+Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip> clips, double threshold,
+                                  const JpcSettings& settings, int level, const std::atomic<bool>* cancel,
+                                  BoneReductionCache* cache) {
   if (Error error = skeleton.validate())
     return Error("skeleton: " + error.message());
   if (clips.empty())
@@ -123,33 +187,35 @@ Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip
   for (const Joint& joint : skeleton.joints)
     out.frozenRotation.push_back(joint.rest.rotation);
   const std::vector<JointGeometry> geometry = jointGeometry(skeleton, settings.zeroLength);
-  std::vector<glm::quat> rotations;
-  for (std::size_t j = 1; j < n; ++j) {
-    if (cancelled(cancel))
-      return Error(kCancelled);
+  std::unique_lock<std::mutex> lock;
+  std::vector<std::unique_ptr<JointFacts>> made;
+  std::vector<std::unique_ptr<JointFacts>>& facts = cache ? cache->state().joints : made;
+  if (cache)
+    lock = std::unique_lock<std::mutex>(cache->state().mutex);
+  facts.resize(n);
+  // note: joints are independent (each writes its own slots), so they are judged on every
+  // core; the result does not depend on the order
+  std::vector<std::optional<FrozenPose>> frozen(n);
+  parallelFor(static_cast<int>(n) - 1, 0, [&](int i) {
+    const std::size_t j = std::size_t(i) + 1;
     const Joint& joint = skeleton.joints[j];
-    if (settings.lockedFor(joint.name))
-      continue;
-    bool restTranslation = true;
-    rotations.clear();
-    for (const Clip& clip : clips)
-      for (int t = 0; t < clip.frameCount && restTranslation; ++t) {
-        restTranslation = near(clip.translation(int(j), t), joint.rest.translation, 1e-5f) &&
-                          near(clip.scale(int(j), t), joint.rest.scale, 1e-5f);
-        rotations.push_back(clip.rotation(int(j), t));
-      }
-    if (!restTranslation)
-      continue; // an animated translation or scale is never frozen (docs/architecture.md section 4)
-    const JointTrack track(geometry[j], settings.alphaFor(joint.name), rotations);
-    const std::optional<FrozenPose> frozen =
-        frozenPose(track, settings.thresholdFor(joint.name, level, threshold), cancel);
-    if (cancelled(cancel))
-      return Error(kCancelled);
-    if (!frozen)
+    if (cancelled(cancel) || settings.lockedFor(joint.name))
+      return;
+    const double alpha = settings.alphaFor(joint.name);
+    std::unique_ptr<JointFacts>& known = facts[j];
+    if (!known || known->alpha != alpha || known->zeroLength != settings.zeroLength)
+      known = std::make_unique<JointFacts>(jointFacts(skeleton, clips, geometry[j], int(j), alpha, settings.zeroLength));
+    if (known->restTranslation) // an animated translation or scale is never frozen (docs/architecture.md section 4)
+      frozen[j] = frozenPose(*known, settings.thresholdFor(joint.name, level, threshold), cancel);
+  });
+  if (cancelled(cancel))
+    return Error(kCancelled);
+  for (std::size_t j = 1; j < n; ++j) {
+    if (!frozen[j])
       continue;
     out.removed[j] = 1;
-    out.frozenRotation[j] = glm::normalize(rotations[static_cast<std::size_t>(frozen->key)]);
-    out.frozenError[j] = frozen->maxError;
+    out.frozenRotation[j] = glm::normalize(facts[j]->rotations[static_cast<std::size_t>(frozen[j]->key)]);
+    out.frozenError[j] = frozen[j]->maxError;
   }
 
   out.activeAncestor.assign(n, 0);
@@ -196,6 +262,10 @@ Clip reduceClip(const BoneReduction& reduction, const Skeleton& full, const Clip
     out.hasRotation.push_back(clip.hasRotation[static_cast<std::size_t>(j)]);
     out.hasTranslation.push_back(clip.hasTranslation[static_cast<std::size_t>(j)]);
     out.hasScale.push_back(clip.hasScale[static_cast<std::size_t>(j)]);
+  }
+  // note: each joint's keys are its own, so joints are folded on every core
+  parallelFor(out.jointCount, 0, [&](int r) {
+    const int j = reduction.fullIndex[static_cast<std::size_t>(r)];
     const glm::mat4 fold = foldAbove(full, reduction, j);
     const bool folded = fold != glm::mat4(1.0f);
     for (int t = 0; t < clip.frameCount; ++t) {
@@ -211,7 +281,7 @@ Clip reduceClip(const BoneReduction& reduction, const Skeleton& full, const Clip
       out.translations[i] = local.translation;
       out.scales[i] = local.scale;
     }
-  }
+  });
   return out;
 }
 

@@ -32,6 +32,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -57,6 +58,32 @@ struct BoneReduction {
 Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip> clips, double threshold,
                                   const JpcSettings& settings = {}, int level = 0,
                                   const std::atomic<bool>* cancel = nullptr);
+
+// What reduceBones() learns of each joint whatever the threshold, kept for later calls on the
+// same skeleton and clips (a pixel budget's search reduces the bones at ten thresholds and
+// more, lod_character.h): the joint's posture track over the clips, its errors from frame 0
+// and from the frame farthest from it, and the frozen pose once found (or the largest
+// threshold it was not found within). A call with the cache gives the same reduction, to the
+// bit, as one without. The caller keeps one cache per (skeleton, clips); entries are checked
+// against each joint's alpha and zero-length tolerance. Thread-safe (calls take turns).
+class BoneReductionCache {
+public:
+  BoneReductionCache();
+  ~BoneReductionCache();
+  BoneReductionCache(const BoneReductionCache&) = delete;
+  BoneReductionCache& operator=(const BoneReductionCache&) = delete;
+
+  struct State; // bone_reduction.cpp
+  State& state() const { return *m_state; } // reduceBones()'s
+
+private:
+  std::unique_ptr<State> m_state;
+};
+
+// The same through `cache` (may be null: as above).
+Result<BoneReduction> reduceBones(const Skeleton& skeleton, std::span<const Clip> clips, double threshold,
+                                  const JpcSettings& settings, int level, const std::atomic<bool>* cancel,
+                                  BoneReductionCache* cache);
 
 // `clip` (of the full skeleton) with every removed joint at its frozen rotation (a clip
 // passed as an rvalue is changed in place, not copied).

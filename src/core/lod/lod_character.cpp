@@ -59,17 +59,31 @@ Result<LodCharacter> LodCharacter::prepare(const Skeleton& skeleton, const Skinn
       return Error("clip '" + clip.name + "': " + prepared.message());
     out.m_prepared.push_back(std::move(prepared).value());
   }
-  std::vector<glm::mat4> models;
-  std::vector<glm::vec3> points;
-  for (const Clip& clip : clips)
-    for (int t = 0; t < clip.frameCount; ++t) {
-      if (cancelled(cancel))
-        return Error(kCancelled);
+  // note: the radius is a maximum, so stretches of frames are rendered on every core, each
+  // into its own slot; the largest of them is the same whatever the split
+  constexpr int kStretch = 256; // frames per task
+  std::vector<std::pair<std::size_t, int>> tasks; // (clip, first frame)
+  for (std::size_t c = 0; c < clips.size(); ++c)
+    for (int t = 0; t < clips[c].frameCount; t += kStretch)
+      tasks.emplace_back(c, t);
+  std::vector<double> radii(tasks.size(), 0.0);
+  parallelFor(static_cast<int>(tasks.size()), 0, [&](int task) {
+    const auto [c, first] = tasks[std::size_t(task)];
+    const Clip& clip = clips[c];
+    std::vector<glm::mat4> models;
+    std::vector<glm::vec3> points;
+    double& radius = radii[std::size_t(task)];
+    for (int t = first; t < std::min(clip.frameCount, first + kStretch) && !cancelled(cancel); ++t) {
       render(skeleton, clip, t, mesh, models, points);
       const glm::vec3 root(models[0][3]);
       for (const glm::vec3& p : points)
-        out.m_radius = std::max(out.m_radius, double(glm::length(p - root)));
+        radius = std::max(radius, double(glm::length(p - root)));
     }
+  });
+  if (cancelled(cancel))
+    return Error(kCancelled);
+  for (double radius : radii)
+    out.m_radius = std::max(out.m_radius, radius);
   return out;
 }
 
@@ -85,7 +99,7 @@ Result<LevelMotion> LodCharacter::motionAt(double threshold, int level, MotionEr
     return Error(kCancelled);
   LevelMotion out;
   out.threshold = threshold;
-  Result<BoneReduction> bones = reduceBones(m_skeleton, m_clips, threshold, m_jpc, level, cancel);
+  Result<BoneReduction> bones = reduceBones(m_skeleton, m_clips, threshold, m_jpc, level, cancel, m_boneFacts.get());
   if (!bones)
     return bones.error();
   out.bones = std::move(bones).value();

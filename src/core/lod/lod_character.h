@@ -143,6 +143,9 @@ private:
   SkinDeviation m_deviation;                                                 // of m_mesh, when it is skinned
   std::shared_ptr<JpcWorkBudget> m_work = std::make_shared<JpcWorkBudget>(); // shared by copies
   std::shared_ptr<Clusterings> m_clusterings = std::make_shared<Clusterings>(); // shared by copies
+  // What bone reduction learns per joint whatever the threshold (bone_reduction.h): the
+  // skeleton and clips are the character's for good. Shared by copies.
+  std::shared_ptr<BoneReductionCache> m_boneFacts = std::make_shared<BoneReductionCache>();
 };
 
 } // namespace mlod

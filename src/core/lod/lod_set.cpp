@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 #include <span>
+#include <thread>
 #include <tuple>
 
 namespace mlod {
@@ -379,10 +380,39 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
       return lod.error();
     fullMotionMesh = *lod;
   }
+  // note: every level's budget is measured on the full motion's mesh whatever the levels
+  // before it decide, so those of levels 2 .. are measured on a thread of their own while
+  // level 1 is searched (each into its own slot; kept, as levelOf() keeps them, when the run
+  // reaches them uncancelled)
+  std::vector<std::optional<MeshFigures>> ahead(ratios.size());
+  std::jthread measuringAhead;
+  if (fullMotionMesh && ratios.size() > 1) {
+    std::vector<std::size_t> wanted;
+    for (std::size_t r = 1; r < ratios.size(); ++r)
+      if (!state.levels.contains({fullKey.first, fullKey.second, ratios[r]}))
+        wanted.push_back(r);
+    if (!wanted.empty())
+      measuringAhead = std::jthread([&ahead, &ratios, wanted, lod = fullMotionMesh] {
+        for (const std::size_t r : wanted) {
+          const MeshLodLevel level = lod->levelForRatio(ratios[r]);
+          ahead[r] = MeshFigures{level.maxErrorCm, level.triangles()};
+        }
+      });
+  }
+  const auto takeAhead = [&] { // the measurements made ahead, as levelOf() would have kept them
+    if (!measuringAhead.joinable())
+      return;
+    measuringAhead.join();
+    for (std::size_t r = 0; r < ahead.size(); ++r)
+      if (ahead[r] && !cancelled(options.mesh.cancel))
+        state.levels.emplace(std::tuple<int, double, double>{fullKey.first, fullKey.second, ratios[r]}, *ahead[r]);
+  };
   if (!done(1, 0.0))
     return Error(kLodBudgetCancelled);
   for (int i = 1; i < levels; ++i) {
     double budget = 0.0;
+    if (i == 2)
+      takeAhead();
     if (fullMotionMesh) {
       const double meshErrorCm = levelOf(fullKey, *fullMotionMesh, ratios[std::size_t(i - 1)]).maxErrorCm;
       budget = meshErrorCm / std::max(1.0 - motionShare, 0.05);

@@ -1,6 +1,7 @@
 #include "core/lod/skin_deviation.h"
 
 #include "core/cancel.h"
+#include "core/jpc/parallel_for.h"
 #include "core/mesh/skinning.h"
 
 #include <algorithm>
@@ -139,39 +140,46 @@ Result<std::vector<double>> SkinDeviation::reachPerFrame(const Skeleton& skeleto
   }
 
   // Per frame: how far any vertex may reach.
+  // note: frames are independent (each writes its own slot), so stretches of them are
+  // measured on every core; the figures do not depend on the split
   const int frames = clip.frameCount;
   std::vector<double> reach(static_cast<std::size_t>(frames));
-  std::vector<glm::mat4> models, levelModels, palette, levelPalette;
-  for (int t = 0; t < frames; ++t) {
-    if (cancelled(cancel))
-      return Error(kCancelled);
-    clip.modelMatrices(skeleton, t, models);
-    skinningPalette(skeleton, models, palette);
-    levelClip.modelMatrices(bones.skeleton, t, levelModels);
-    skinningPalette(bones.skeleton, levelModels, levelPalette);
-    double bound = 0.0, magnitude = 0.0, levelStretch = 0.0;
-    for (std::size_t j = 0; j < m_groups.size(); ++j) {
-      if (m_groups[j].empty())
-        continue;
-      const auto k = static_cast<std::size_t>(bones.reducedIndex[static_cast<std::size_t>(bones.activeAncestor[j])]);
-      const glm::dmat4 original(palette[j]);
-      const glm::dmat4 level(levelPalette[k]);
-      const glm::dmat4 moved = level * glm::dmat4(bake[j]) - original; // D_j
-      const double stretch = linearNorm(moved);
-      for (const Group& g : m_groups[j])
-        bound = std::max(bound, glm::length(glm::dvec3(moved * glm::dvec4(g.centre, 1.0))) + stretch * g.radius);
-      const double levelNorm = linearNorm(level);
-      levelStretch = std::max(levelStretch, levelNorm);
-      magnitude = std::max({magnitude, glm::length(glm::dvec3(original[3])) + linearNorm(original) * m_extent,
-                            glm::length(glm::dvec3(level[3])) + levelNorm * levelExtent});
+  constexpr int kStretch = 256; // frames per task
+  parallelFor((frames + kStretch - 1) / kStretch, 0, [&](int task) {
+    std::vector<glm::mat4> models, levelModels, palette, levelPalette;
+    for (int t = task * kStretch; t < std::min(frames, (task + 1) * kStretch); ++t) {
+      if (cancelled(cancel))
+        return;
+      clip.modelMatrices(skeleton, t, models);
+      skinningPalette(skeleton, models, palette);
+      levelClip.modelMatrices(bones.skeleton, t, levelModels);
+      skinningPalette(bones.skeleton, levelModels, levelPalette);
+      double bound = 0.0, magnitude = 0.0, levelStretch = 0.0;
+      for (std::size_t j = 0; j < m_groups.size(); ++j) {
+        if (m_groups[j].empty())
+          continue;
+        const auto k = static_cast<std::size_t>(bones.reducedIndex[static_cast<std::size_t>(bones.activeAncestor[j])]);
+        const glm::dmat4 original(palette[j]);
+        const glm::dmat4 level(levelPalette[k]);
+        const glm::dmat4 moved = level * glm::dmat4(bake[j]) - original; // D_j
+        const double stretch = linearNorm(moved);
+        for (const Group& g : m_groups[j])
+          bound = std::max(bound, glm::length(glm::dvec3(moved * glm::dvec4(g.centre, 1.0))) + stretch * g.radius);
+        const double levelNorm = linearNorm(level);
+        levelStretch = std::max(levelStretch, levelNorm);
+        magnitude = std::max({magnitude, glm::length(glm::dvec3(original[3])) + linearNorm(original) * m_extent,
+                              glm::length(glm::dvec3(level[3])) + levelNorm * levelExtent});
+      }
+      double blend = 0.0;
+      for (const auto& [pair, offset] : pairOffsets)
+        blend = std::max(blend, offset * linearNorm(glm::dmat4(levelPalette[std::size_t(pair.second)]) -
+                                                    glm::dmat4(levelPalette[std::size_t(pair.first)])));
+      const double at = (bound + blend) * (1.0 + 1e-6) + kRoundingMargin * magnitude + 2.0 * levelStretch * drift;
+      reach[static_cast<std::size_t>(t)] = std::isnan(at) ? std::numeric_limits<double>::infinity() : at;
     }
-    double blend = 0.0;
-    for (const auto& [pair, offset] : pairOffsets)
-      blend = std::max(blend, offset * linearNorm(glm::dmat4(levelPalette[std::size_t(pair.second)]) -
-                                                  glm::dmat4(levelPalette[std::size_t(pair.first)])));
-    const double at = (bound + blend) * (1.0 + 1e-6) + kRoundingMargin * magnitude + 2.0 * levelStretch * drift;
-    reach[static_cast<std::size_t>(t)] = std::isnan(at) ? std::numeric_limits<double>::infinity() : at;
-  }
+  });
+  if (cancelled(cancel))
+    return Error(kCancelled);
 
   return reach;
 }

@@ -8,6 +8,7 @@
 #include <QFileInfo>
 #include <QSaveFile>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace mlod {
@@ -122,6 +123,17 @@ int Document::importCount() const {
 
 bool Document::isLoading() const {
   return m_loader->isLoading();
+}
+
+void Document::beginWaitedJob() {
+  if (m_waitedJobs++ == 0)
+    emit waitedJobChanged(true);
+}
+
+void Document::endWaitedJob() {
+  assert(m_waitedJobs > 0);
+  if (m_waitedJobs > 0 && --m_waitedJobs == 0)
+    emit waitedJobChanged(false);
 }
 
 void Document::setCurrentAsset(int asset, int clip) {

@@ -69,6 +69,14 @@ public:
   std::shared_ptr<const JpcAnalysis> analysis() const { return m_analysis->snapshot(); }
   bool isAnalysing() const { return m_analysis->isRunning(); }
   bool isLoading() const;
+  // A job the artist waits for runs (an export, the Budget preview, a level generation: they
+  // say so): the views' own background builds (the viewport's level mesh, the crowd's
+  // levels) wait until it ends, so that it has the cores (issue 26: the studio's export right
+  // after opening a project shared two cores with both and took 1.6 s more than
+  // `motionlod export`; the first Budget preview took 7.4-8.1 s there, 4.9-7.4 s without).
+  bool isWaitedJobRunning() const { return m_waitedJobs > 0; }
+  void beginWaitedJob();
+  void endWaitedJob(); // once per beginWaitedJob()
 
   // Imports the asset's file again at `cmPerUnit` (0 = the file's own) in the background,
   // then pushes one command; unitScaleChanged() follows either way.
@@ -108,6 +116,7 @@ signals:
   void projectOpened(bool ok, const QString& message);
   void unitScaleChanged(bool ok, const QString& message);
   void message(const QString& line); // for the log
+  void waitedJobChanged(bool running); // isWaitedJobRunning() changed
 
 private:
   // What the commands apply (commands.h); nothing else changes the project's figures.
@@ -138,6 +147,7 @@ private:
   QUndoStack* m_undo = nullptr;
   QString m_fileName;
   int m_currentJoint = -1;
+  int m_waitedJobs = 0; // waited-for jobs running
   AnalysisRunner* m_analysis = nullptr;
   LevelGenerator* m_generator = nullptr;
   AssetLoader* m_loader = nullptr;     // open, relink

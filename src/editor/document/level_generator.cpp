@@ -18,6 +18,17 @@ LevelGenerator::~LevelGenerator() {
   if (m_cancel)
     m_cancel->store(true);
   m_watcher.waitForFinished();
+  // (a job still waited for goes with the document: it is being destroyed, no one to tell)
+}
+
+void LevelGenerator::setWaitedFor(bool waited) {
+  if (waited == m_waitedFor)
+    return;
+  m_waitedFor = waited;
+  if (waited)
+    m_document->beginWaitedJob();
+  else
+    m_document->endWaitedJob();
 }
 
 int LevelGenerator::budgetAsset() const {
@@ -60,6 +71,7 @@ bool LevelGenerator::launch(double pixels, int levels, const LodProjection& proj
   m_cancel = std::make_shared<std::atomic<bool>>(false);
   m_running = true;
   m_land = land;
+  setWaitedFor(true); // the views' background builds wait for it (Document::isWaitedJobRunning())
   m_pending = {};
   m_pending.asset = index;
   m_pending.pixels = pixels;
@@ -117,6 +129,7 @@ void LevelGenerator::cancel() {
     return;
   m_cancel->store(true);
   m_running = false;
+  setWaitedFor(false);
   if (m_land) {
     emit m_document->message(tr("Level generation cancelled; the levels are as they were"));
     emit finished(false, tr("cancelled"));
@@ -130,6 +143,7 @@ void LevelGenerator::onDone() {
   if (!m_running || (m_cancel && m_cancel->load()))
     return; // cancelled: already reported, the result is dropped
   m_running = false;
+  setWaitedFor(false);
   if (!result || !result->lods) {
     const QString reason = result ? QString::fromStdString(result->lods.message()) : tr("no result");
     if (m_land) {

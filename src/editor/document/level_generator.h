@@ -14,7 +14,8 @@
 // joint edit re-clusters that joint alone; the levels are the same as without it.
 // One generation at a time; it reports its progress in percent and stops at the core's next
 // cancel point after cancel(), which drops the result at once and leaves the document as it
-// was (the worker may still run briefly: isBusy()).
+// was (the worker may still run briefly: isBusy()). While a generation runs the views' own
+// background builds wait (Document::isWaitedJobRunning()).
 
 #include "core/error.h"
 #include "core/lod/lod_levels.h"
@@ -87,6 +88,8 @@ private:
   bool launch(double pixels, int levels, const LodProjection& projection, bool land, QString* out_error);
   void onDone();
   void land(const LodSet& lods, double pixels, int asset);
+  // Tells the document a generation the artist waits for runs, or no longer (once each way).
+  void setWaitedFor(bool waited);
 
   Document* m_document;
   QFutureWatcher<std::shared_ptr<Outcome>> m_watcher;
@@ -94,6 +97,7 @@ private:
   WorkerHook m_hook;
   bool m_running = false;
   bool m_land = false; // the running generation lands when done (start()), else it is a preview
+  bool m_waitedFor = false; // the document was told of the running generation (setWaitedFor())
   LevelPlan m_pending; // the running generation's request
   LevelPlan m_plan;
   std::map<int, std::shared_ptr<LodBudgetCache>> m_caches; // the last previewed asset's (by index); the worker's while it runs

@@ -9,6 +9,8 @@
 #include <QWindow>
 
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 
 namespace mlod {
 
@@ -79,6 +81,42 @@ void showFitted(QWidget* window, QSize wanted) {
   window->show();
   auto* refit = new RefitOnFrame(window, wanted);
   QTimer::singleShot(0, refit, [refit] { refit->refit(); }); // where no move or resize follows the show
+}
+
+QPoint placeBeside(QSize dialog, const QRect& keep, const QRect& available, const QPoint& preferred) {
+  const int w = dialog.width(), h = dialog.height();
+  // Candidates: flush against each side of `keep`, against each edge of the screen, and the
+  // preferred place; each then pulled inside the screen (its top-left first where it is too big).
+  const int xs[] = {keep.right() + 1, keep.left() - w, available.left(), available.right() + 1 - w, preferred.x()};
+  const int ys[] = {preferred.y(), keep.top(), keep.bottom() + 1, keep.top() - h, available.top(),
+                    available.bottom() + 1 - h};
+  QPoint best = preferred;
+  std::int64_t bestHidden = std::numeric_limits<std::int64_t>::max();
+  std::int64_t bestDistance = 0;
+  for (const int x : xs)
+    for (const int y : ys) {
+      const QPoint at(std::max(available.left(), std::min(x, available.right() + 1 - w)),
+                      std::max(available.top(), std::min(y, available.bottom() + 1 - h)));
+      const QRect hidden = QRect(at, dialog).intersected(keep);
+      const std::int64_t area = hidden.isEmpty() ? 0 : std::int64_t(hidden.width()) * hidden.height();
+      const QPoint d = at - preferred;
+      const std::int64_t distance = std::int64_t(d.x()) * d.x() + std::int64_t(d.y()) * d.y();
+      if (area < bestHidden || (area == bestHidden && distance < bestDistance)) {
+        best = at;
+        bestHidden = area;
+        bestDistance = distance;
+      }
+    }
+  return best;
+}
+
+void moveBeside(QWidget* dialog, const QWidget* keep) {
+  const QScreen* screen = dialog->screen() ? dialog->screen() : QGuiApplication::primaryScreen();
+  if (!screen || !keep->isVisible())
+    return;
+  const QRect view(keep->mapToGlobal(QPoint(0, 0)), keep->size());
+  const QRect frame = dialog->frameGeometry();
+  dialog->move(placeBeside(frame.size(), view, screen->availableGeometry(), frame.topLeft()));
 }
 
 } // namespace mlod

@@ -160,6 +160,17 @@ CrowdPanel::CrowdPanel(Document* document, Playback* playback, QWidget* parent)
   connect(document, &Document::assetsChanged, this, &CrowdPanel::markDirty);
   connect(document, &Document::settingsChanged, this, &CrowdPanel::markDirty);
   connect(document, &Document::mappingsChanged, this, &CrowdPanel::markDirty);
+  // a job the artist waits for has the cores first: a running build is cancelled and made
+  // again after it
+  connect(document, &Document::waitedJobChanged, this, [this](bool running) {
+    if (running && m_watcher.isRunning()) {
+      m_dirty = true;
+      if (m_cancel)
+        m_cancel->store(true);
+    } else if (!running && m_dirty && isVisible()) {
+      m_rebuildTimer.start(0);
+    }
+  });
   m_figures->setText(tr("The crowd builds its levels when this dock is shown."));
 }
 
@@ -300,6 +311,10 @@ void CrowdPanel::requestLevels() {
 }
 
 void CrowdPanel::startBuild() {
+  if (m_document->isWaitedJobRunning()) { // built when the job ends (waitedJobChanged)
+    m_dirty = true;
+    return;
+  }
   if (m_watcher.isRunning()) { // the running one is stale: cancel it and come back
     if (m_cancel)
       m_cancel->store(true);

@@ -5,7 +5,8 @@
 // instanced per level; a toggle tints agents by level; an overlay gives the agents per
 // level, joints evaluated against full detail, vertices skinned, the CPU time of pose
 // evaluation and the frame rate. The work is core's Crowd (core/crowd/crowd.h); the levels
-// are built off the UI thread (cancelled when the inputs change again). "Compare" runs the
+// are built off the UI thread (cancelled when the inputs change again; held back while a job
+// the artist waits for runs, Document::isWaitedJobRunning()). "Compare" runs the
 // paper's Figure 12 on the crowd on screen (core's compareCrowdConfigurations(): the same
 // agents, camera and clip time with no simplification, skeletal only, mesh only and both,
 // pose evaluation plus CPU skinning) off the UI thread and shows what the LOD set buys, in ms

@@ -20,6 +20,23 @@ bool LevelMeshes::Key::operator==(const Key& other) const {
 
 LevelMeshes::LevelMeshes(Document* document, QObject* parent) : QObject(parent), m_document(document) {
   connect(&m_watcher, &QFutureWatcher<std::shared_ptr<Level>>::finished, this, &LevelMeshes::onFinished);
+  connect(document, &Document::waitedJobChanged, this, &LevelMeshes::waitedJobChanged);
+}
+
+void LevelMeshes::waitedJobChanged(bool running) {
+  if (running) {
+    if (m_watcher.isRunning() && !m_waiting) { // built again when the job ends
+      m_waiting = std::make_unique<Key>(m_running);
+      if (m_cancel)
+        m_cancel->store(true);
+    }
+    return;
+  }
+  if (m_waiting && !m_watcher.isRunning()) {
+    const Key next = *m_waiting;
+    m_waiting.reset();
+    start(next);
+  }
 }
 
 LevelMeshes::~LevelMeshes() {
@@ -56,6 +73,12 @@ std::shared_ptr<const LevelMeshes::Level> LevelMeshes::request(int character, in
   const auto kept = std::find_if(m_kept.begin(), m_kept.end(), [&](const Kept& k) { return k.key == key; });
   if (kept != m_kept.end())
     return kept->level;
+  if (m_document->isWaitedJobRunning()) { // started when the job ends
+    m_waiting = std::make_unique<Key>(key);
+    if (m_watcher.isRunning() && m_cancel)
+      m_cancel->store(true);
+    return nullptr;
+  }
   if (m_watcher.isRunning()) {
     if (!(m_running == key)) { // the latest request is what is in view: the running one is not
       if (m_cancel)
@@ -109,7 +132,7 @@ void LevelMeshes::onFinished() {
       m_kept.erase(m_kept.begin());
   }
   const Key finished = m_running;
-  if (m_waiting) {
+  if (m_waiting && !m_document->isWaitedJobRunning()) {
     const Key next = *m_waiting;
     m_waiting.reset();
     if (std::none_of(m_kept.begin(), m_kept.end(), [&](const Kept& k) { return k.key == next; }))

@@ -6,7 +6,10 @@
 // bound to the full skeleton (levelMeshOnFullSkeleton()) so that the viewport's palettes
 // skin it. Built off the UI thread, one level at a time (a newer request cancels the
 // running one), and kept per level: a level whose threshold, mesh ratio, JPC settings and
-// assigned motions are unchanged is not built again. No algorithm here: glue over core.
+// assigned motions are unchanged is not built again. While a job the artist waits for runs
+// (Document::isWaitedJobRunning(): an export, the Budget preview) nothing is built: a running
+// build is cancelled and the latest request starts when the job ends. No algorithm here: glue
+// over core.
 
 #include "core/asset.h"
 #include "core/jpc/jpc_settings.h"
@@ -67,6 +70,7 @@ private:
   Key keyOf(int character, int level) const;
   void start(const Key& key);
   void onFinished();
+  void waitedJobChanged(bool running);
 
   Document* m_document = nullptr;
   struct Kept {

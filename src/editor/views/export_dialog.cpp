@@ -188,6 +188,8 @@ ExportDialog::~ExportDialog() {
   if (m_cancel)
     m_cancel->store(true);
   m_watcher.waitForFinished(); // the worker holds references to this dialog's data: let it stop
+  if (m_running && m_exporting)
+    m_exporting->endWaitedJob();
 }
 
 QWidget* ExportDialog::optionWidget(const QString& key) const {
@@ -351,6 +353,8 @@ void ExportDialog::startExport() {
                                  .arg(m_plugin->currentText().toHtmlEscaped(), problem.toHtmlEscaped()));
   m_cancel = std::make_shared<std::atomic<bool>>(false);
   m_running = true;
+  m_exporting = m_document;
+  m_document->beginWaitedJob(); // the views' background builds wait (Document::isWaitedJobRunning())
   m_runningPath = path;
   m_exportButton->setEnabled(false);
   m_result->clear();
@@ -411,6 +415,9 @@ void ExportDialog::startExport() {
 void ExportDialog::onFinished() {
   const std::shared_ptr<ExportResult> result = m_watcher.result();
   m_running = false;
+  if (m_exporting)
+    m_exporting->endWaitedJob();
+  m_exporting.clear();
   m_exportButton->setEnabled(true);
   if (m_progress) {
     m_progress->deleteLater();

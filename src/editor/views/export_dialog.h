@@ -9,6 +9,7 @@
 
 #include <QDialog>
 #include <QFutureWatcher>
+#include <QPointer>
 #include <QThreadPool>
 #include <QVariantMap>
 
@@ -84,6 +85,7 @@ private:
   QPushButton* m_exportButton;
   QProgressDialog* m_progress = nullptr;
   bool m_running = false;
+  QPointer<Document> m_exporting; // told of the export while it runs (a job the artist waits for)
   QString m_runningPath;
   std::shared_ptr<std::atomic<bool>> m_cancel;
   // The export's own thread: a long export never holds a thread of the global pool that the

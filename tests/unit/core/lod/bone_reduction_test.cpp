@@ -16,6 +16,7 @@
 #include <iostream>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace mlod {
 namespace {
@@ -159,6 +160,57 @@ TEST(BoneReductionClips, AJointGoesOnlyWhenFrozenInEveryClip) {
     EXPECT_LE(all->removedCount(), shared);
     EXPECT_LT(all->removedCount(), own->removedCount()) << "the walk moves joints BCN's own clip holds still";
   }
+}
+
+// Guards BoneReductionCache (a pixel budget's search reduces the bones at ten thresholds and
+// more): through one cache, thresholds asked in any order (rising, falling, again, per-level
+// overrides, another alpha) give every field of the reduction as a call without it does.
+// Mutation checked: answering a found pose without comparing its error with the threshold
+// fails here.
+TEST(BoneReductionCache, EveryThresholdInAnyOrderGivesWhatACallWithoutItGives) {
+  const Asset& bcn = test::bcnEpileptic();
+  const Asset& cmu = test::meshAsset("BVH/01_01.bvh");
+  std::ifstream in(std::string(MLOD_TEST_DATA_DIR) + "/mappings/cmu_01_01_to_bcn_epileptic.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  Result<MotionMapping> mapping = motionMappingFromJson(text.str());
+  ASSERT_TRUE(mapping) << mapping.message();
+  Result<RestPoseDifferences> differences = restPoseDifferences(*mapping, cmu.skeleton, bcn.skeleton);
+  ASSERT_TRUE(differences) << differences.message();
+  Result<Clip> walk = retargetClip(*differences, cmu.skeleton, cmu.clips.at(0), bcn.skeleton);
+  ASSERT_TRUE(walk) << walk.message();
+  const std::vector<Clip> both = {bcn.clips.at(0), *walk};
+  JpcSettings overrides;
+  overrides.joints[bcn.skeleton.joints.at(3).name].thresholds = {std::nullopt, 400.0};
+  JpcSettings stiff;
+  stiff.joints[bcn.skeleton.joints.at(2).name].alpha = 10.0;
+  BoneReductionCache cache;
+  int removedSomewhere = 0;
+  // falling in small steps (a pose found at one threshold may be beyond the next), rising,
+  // again, per-level overrides, another alpha
+  std::vector<std::tuple<double, JpcSettings, int>> asked;
+  for (double threshold = 300.0; threshold > 0.5; threshold *= 0.8)
+    asked.emplace_back(threshold, JpcSettings{}, 0);
+  for (double threshold : {0.0, 2.0, 20.0, 50.0, 1000.0})
+    asked.emplace_back(threshold, JpcSettings{}, 0);
+  asked.emplace_back(5.0, overrides, 1);
+  asked.emplace_back(5.0, overrides, 0);
+  asked.emplace_back(20.0, stiff, 0);
+  asked.emplace_back(20.0, JpcSettings{}, 0);
+  for (const auto& [threshold, settings, level] : asked) {
+    SCOPED_TRACE("threshold " + std::to_string(threshold) + " level " + std::to_string(level));
+    Result<BoneReduction> plain = reduceBones(bcn.skeleton, both, threshold, settings, level);
+    Result<BoneReduction> cached = reduceBones(bcn.skeleton, both, threshold, settings, level, nullptr, &cache);
+    ASSERT_TRUE(plain && cached);
+    EXPECT_EQ(cached->removed, plain->removed);
+    EXPECT_EQ(cached->frozenRotation, plain->frozenRotation);
+    EXPECT_EQ(cached->frozenError, plain->frozenError);
+    EXPECT_EQ(cached->reducedIndex, plain->reducedIndex);
+    EXPECT_EQ(cached->fullIndex, plain->fullIndex);
+    EXPECT_EQ(cached->activeAncestor, plain->activeAncestor);
+    removedSomewhere += plain->removedCount();
+  }
+  EXPECT_GT(removedSomewhere, 0);
 }
 
 class BcnBoneReduction : public ::testing::Test {
