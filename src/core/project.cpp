@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <tuple>
 
@@ -93,12 +94,19 @@ Error Project::validate() const {
         return error;
     }
   }
+  // A motion plays on a character through one table (assigning it again replaces the table,
+  // project_mappings.h): a pair named twice is refused, not retargeted once per copy.
+  std::map<std::pair<int, int>, std::size_t> pairs;
   for (std::size_t m = 0; m < mappings.size(); ++m) {
     const ProjectMapping& mapping = mappings[m];
     const int count = static_cast<int>(assets.size());
     if (mapping.motion < 0 || mapping.motion >= count || mapping.character < 0 || mapping.character >= count ||
         mapping.motion == mapping.character)
       return Error("mapping " + std::to_string(m) + " does not name two different assets of the project");
+    if (const auto [first, added] = pairs.try_emplace({mapping.motion, mapping.character}, m); !added)
+      return Error("mapping " + std::to_string(m) + " assigns asset " + std::to_string(mapping.motion) +
+                   " to asset " + std::to_string(mapping.character) + " again (mapping " +
+                   std::to_string(first->second) + " does)");
   }
   return {};
 }

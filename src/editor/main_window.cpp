@@ -1074,7 +1074,7 @@ void MainWindow::showError(const QString& title, const QString& text, const QStr
 }
 
 bool MainWindow::newProject() {
-  if (m_document->isModified() && isVisible() &&
+  if (m_document->isModified() && mayAsk() &&
       QMessageBox::question(this, tr("Unsaved changes"),
                             tr("A new project discards the unsaved changes of this one. Start a new project anyway?")) !=
           QMessageBox::Yes)
@@ -1093,9 +1093,9 @@ bool MainWindow::openProject(const QString& path) {
   const Error outside = probe ? checkAssetPaths(*probe, file) : Error(probe.message());
   if (!probe || outside) {
     // Files outside the project's folder are read only when the user says so, seeing which
-    // (the CLI's --allow-outside-assets); a hidden window (a scripted run) never asks.
+    // (the CLI's --allow-outside-assets); a hidden window or a scripted run never asks.
     const bool allowed =
-        probe && isVisible() &&
+        probe && mayAsk() &&
         QMessageBox::question(this, tr("Assets outside the project's folder"),
                               tr("%1 reads files outside its folder:\n\n%2\n\nOpen it anyway?")
                                   .arg(QFileInfo(path).fileName(), QString::fromStdString(outside.message())),
@@ -1109,7 +1109,7 @@ bool MainWindow::openProject(const QString& path) {
   } else {
     options.allowOutsideAssets = false;
   }
-  if (m_document->isModified() && isVisible() &&
+  if (m_document->isModified() && mayAsk() &&
       QMessageBox::question(this, tr("Unsaved changes"),
                             tr("Opening %1 discards the unsaved changes of this project. Open it anyway?")
                                 .arg(QFileInfo(path).fileName())) != QMessageBox::Yes)

@@ -89,6 +89,10 @@ public:
   BudgetDialog* openBudgetDialog();
   QProgressDialog* levelsProgress() const;
 
+  // A scripted run (motionlod-studio --screenshot) asks nothing: a question gets its safe
+  // answer (assets outside a project's folder are not read; unsaved changes, of which a
+  // scripted run has none, are not kept), as in a hidden window.
+  void setUnattended(bool unattended) { m_unattended = unattended; }
   // Projects: errors show in a non-modal message box and the log; the document is kept.
   bool openProject(const QString& path);
   // File > New Project: an empty, untitled project; false when the user kept the unsaved changes.
@@ -112,6 +116,8 @@ protected:
   void closeEvent(QCloseEvent* event) override;
 
 private:
+  bool mayAsk() const { return isVisible() && !m_unattended; }
+  bool m_unattended = false;
   void onImported(const QString& path, std::shared_ptr<const Asset> asset);
   void onImportFailed(const QString& path, const QString& reason);
   void showAsset(const Asset& asset);

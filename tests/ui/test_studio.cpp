@@ -273,6 +273,32 @@ private slots:
     QVERIFY(QFile::exists(options.screenshot));
   }
 
+  // A project whose asset path leaves its folder: the shown window would ask whether to read
+  // it (a modal question, which a scripted run waited on for ever: issue 29's studio round);
+  // a scripted run asks nothing, refuses the project with the reason, status 2.
+  void projectReadingOutsideItsFolderIsRefusedWithoutAsking() {
+    QTemporaryDir dir;
+    Project project;
+    project.assets.push_back({"../../../../../../../../etc/passwd", 0.0, {}});
+    const QString file = dir.filePath("outside.mlod");
+    {
+      QFile out(file);
+      QVERIFY(out.open(QIODevice::WriteOnly));
+      out.write(QByteArray::fromStdString(projectToJson(project)));
+    }
+    MainWindow window;
+    window.show();
+    ScriptedRunOptions options;
+    options.files = {{file, 0.0}};
+    options.screenshot = dir.filePath("outside.png");
+    const Outcome outcome = runScript(window, options);
+    QCOMPARE(outcome.status, 2);
+    QVERIFY2(outcome.errors.join('\n').contains("leads outside the project's folder"),
+             qPrintable(outcome.errors.join('\n')));
+    QVERIFY(window.document()->assetCount() == 0);
+    QVERIFY(QFile::exists(options.screenshot));
+  }
+
   // A PNG that cannot be written: status 1 and an error line naming it.
   void unwritableScreenshotGivesStatusOne() {
     QTemporaryDir dir;

@@ -18,6 +18,7 @@ namespace mlod {
 
 ScriptedRun::ScriptedRun(MainWindow* window, ScriptedRunOptions options, QObject* parent)
     : QObject(parent), m_window(window), m_options(std::move(options)) {
+  m_window->setUnattended(true); // a modal question would wait for no one
   const auto later = [this] { QTimer::singleShot(0, this, &ScriptedRun::next); };
   connect(m_window, &MainWindow::importFinished, this, [this, later](bool ok, const QString&, const QString&) {
     if (!ok)

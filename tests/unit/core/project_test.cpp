@@ -402,6 +402,24 @@ TEST(Project, MappingsFollowTheirAssets) {
   EXPECT_NE(read.message().find("mapping 0"), std::string::npos) << read.message();
 }
 
+// Guards the load work: a motion plays on a character through one table, so a project that
+// names the pair twice is refused at once (2,000 copies kept the studio retargeting the clip
+// 2,000 times, past a minute, issue 29's studio round), and the same motion on two
+// characters is fine.
+TEST(Project, AMotionAssignedTwiceToOneCharacterIsRefused) {
+  Project twice = sampleProject();
+  twice.mappings.push_back(twice.mappings[0]);
+  const Result<Project> read = projectFromJson(projectToJson(twice));
+  ASSERT_FALSE(read);
+  EXPECT_NE(read.message().find("mapping 1 assigns asset 0 to asset 1 again (mapping 0 does)"), std::string::npos)
+      << read.message();
+  Project two = sampleProject();
+  two.assets.push_back(ProjectAsset{"characters/Testwuson.X", 0.0, {}});
+  two.mappings.push_back(two.mappings[0]);
+  two.mappings[1].character = 2;
+  EXPECT_TRUE(projectFromJson(projectToJson(two))) << "one motion on two characters";
+}
+
 // Guards paths: assets inside the project's folder are stored relative to it and resolve
 // back; one outside is stored absolute, so that the project reopens without asking
 // (checkAssetPaths() refuses relative paths that leave the folder).
