@@ -123,21 +123,32 @@ TEST(BoneReduction, BadInputIsAnError) {
   EXPECT_FALSE(reduceBones(test::bcnEpileptic().skeleton, std::span<const Clip>(&clip, 1), 1.0)) << "wrong skeleton";
 }
 
-TEST(BoneReductionClips, AJointGoesOnlyWhenFrozenInEveryClip) {
-  // BCN_Epileptic's own clip and CMU 01_01 played on it through the committed mapping: a
-  // joint goes at a threshold only if one pose holds within it in both
+// BCN_Epileptic's own clip and CMU 01_01 played on it through the committed mapping.
+Result<std::vector<Clip>> bcnOwnClipAndMappedWalk() {
   const Asset& bcn = test::bcnEpileptic();
   const Asset& cmu = test::meshAsset("BVH/01_01.bvh");
   std::ifstream in(std::string(MLOD_TEST_DATA_DIR) + "/mappings/cmu_01_01_to_bcn_epileptic.json");
   std::stringstream text;
   text << in.rdbuf();
   Result<MotionMapping> mapping = motionMappingFromJson(text.str());
-  ASSERT_TRUE(mapping) << mapping.message();
+  if (!mapping)
+    return mapping.error();
   Result<RestPoseDifferences> differences = restPoseDifferences(*mapping, cmu.skeleton, bcn.skeleton);
-  ASSERT_TRUE(differences) << differences.message();
+  if (!differences)
+    return differences.error();
   Result<Clip> walk = retargetClip(*differences, cmu.skeleton, cmu.clips.at(0), bcn.skeleton);
-  ASSERT_TRUE(walk) << walk.message();
-  const std::vector<Clip> both = {bcn.clips.at(0), *walk};
+  if (!walk)
+    return walk.error();
+  return std::vector<Clip>{bcn.clips.at(0), *walk};
+}
+
+TEST(BoneReductionClips, AJointGoesOnlyWhenFrozenInEveryClip) {
+  // BCN_Epileptic's own clip and CMU 01_01 played on it through the committed mapping: a
+  // joint goes at a threshold only if one pose holds within it in both
+  const Asset& bcn = test::bcnEpileptic();
+  const Result<std::vector<Clip>> clips = bcnOwnClipAndMappedWalk();
+  ASSERT_TRUE(clips) << clips.message();
+  const std::vector<Clip>& both = *clips;
   for (double threshold : {0.0, 2.0, 20.0}) {
     Result<BoneReduction> own = reduceBones(bcn.skeleton, std::span<const Clip>(&both[0], 1), threshold);
     Result<BoneReduction> mapped = reduceBones(bcn.skeleton, std::span<const Clip>(&both[1], 1), threshold);
@@ -169,17 +180,9 @@ TEST(BoneReductionClips, AJointGoesOnlyWhenFrozenInEveryClip) {
 // fails here.
 TEST(BoneReductionCache, EveryThresholdInAnyOrderGivesWhatACallWithoutItGives) {
   const Asset& bcn = test::bcnEpileptic();
-  const Asset& cmu = test::meshAsset("BVH/01_01.bvh");
-  std::ifstream in(std::string(MLOD_TEST_DATA_DIR) + "/mappings/cmu_01_01_to_bcn_epileptic.json");
-  std::stringstream text;
-  text << in.rdbuf();
-  Result<MotionMapping> mapping = motionMappingFromJson(text.str());
-  ASSERT_TRUE(mapping) << mapping.message();
-  Result<RestPoseDifferences> differences = restPoseDifferences(*mapping, cmu.skeleton, bcn.skeleton);
-  ASSERT_TRUE(differences) << differences.message();
-  Result<Clip> walk = retargetClip(*differences, cmu.skeleton, cmu.clips.at(0), bcn.skeleton);
-  ASSERT_TRUE(walk) << walk.message();
-  const std::vector<Clip> both = {bcn.clips.at(0), *walk};
+  const Result<std::vector<Clip>> clips = bcnOwnClipAndMappedWalk();
+  ASSERT_TRUE(clips) << clips.message();
+  const std::vector<Clip>& both = *clips;
   JpcSettings overrides;
   overrides.joints[bcn.skeleton.joints.at(3).name].thresholds = {std::nullopt, 400.0};
   JpcSettings stiff;
