@@ -392,8 +392,10 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
       if (!state.levels.contains({fullKey.first, fullKey.second, ratios[r]}))
         wanted.push_back(r);
     if (!wanted.empty())
-      measuringAhead = std::jthread([&ahead, &ratios, wanted, lod = fullMotionMesh] {
+      measuringAhead = std::jthread([&ahead, &ratios, wanted, lod = fullMotionMesh, cancel = options.mesh.cancel] {
         for (const std::size_t r : wanted) {
+          if (cancelled(cancel)) // a cancelled run waits for this thread: stop between levels
+            return;
           const MeshLodLevel level = lod->levelForRatio(ratios[r]);
           ahead[r] = MeshFigures{level.maxErrorCm, level.triangles()};
         }
