@@ -273,6 +273,17 @@ int waitAtMost(pid_t pid, double seconds) {
   return status;
 }
 
+// Whether `file` holds `text` within `seconds` (a child's stderr, written as it goes).
+bool saysWithin(const fs::path& file, const std::string& text, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (bytesOf(file).find(text) == std::string::npos) {
+    if (std::chrono::steady_clock::now() > deadline)
+      return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return true;
+}
+
 bool goneWithin(pid_t pid, double seconds) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
   while (test::runs(pid) && std::chrono::steady_clock::now() < deadline)
@@ -291,14 +302,16 @@ TEST(CliSafety, CtrlCStopsAStuckImportAtOnce) {
   const pid_t cli = startMotionlod({"info", stuck.path(), "--import-timeout", "600"}, dir / "err");
   const pid_t worker = test::workerOf(cli, 10.0);
   ASSERT_GT(worker, 0);
+  // the worker exists from fork() on; Ctrl+C comes once it is blocked in the hook (sent
+  // earlier, it could stop the worker before the hook said so: the CI failure of stop 36)
+  EXPECT_TRUE(saysWithin(dir / "err", "MLOD_TEST_STUCK_IMPORT names " + stuck.path(), 10.0))
+      << "the hook did not fire, or fired without saying so: " << bytesOf(dir / "err");
   ::kill(cli, SIGINT);
   const int status = waitAtMost(cli, 10.0);
   ASSERT_NE(status, -1) << "motionlod did not stop on SIGINT";
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << status;
   EXPECT_NE(bytesOf(dir / "err").find("interrupted: the import was stopped"), std::string::npos)
       << bytesOf(dir / "err");
-  EXPECT_NE(bytesOf(dir / "err").find("MLOD_TEST_STUCK_IMPORT names " + stuck.path()), std::string::npos)
-      << "the hook fired without saying so: " << bytesOf(dir / "err");
   EXPECT_TRUE(goneWithin(worker, 10.0)) << "the worker outlived the interrupted command";
 }
 
