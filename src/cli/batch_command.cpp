@@ -1,5 +1,6 @@
 #include "cli/batch_command.h"
 
+#include "cli/cli_common.h"
 #include "cli/batch_manifest.h"
 #include "cli/export_job.h"
 #include "cli/terminal_progress.h"
@@ -165,7 +166,7 @@ int BatchCommand::run() const {
                                  [&](std::string_view stage, double fraction, std::string_view detail) {
                                    line.show(name + std::string(stage), fraction, detail);
                                  });
-      seconds[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - jobStart).count();
+      seconds[k] = secondsSince(jobStart);
       ++finished;
     }
   };
@@ -176,7 +177,7 @@ int BatchCommand::run() const {
   for (std::thread& thread : threads)
     thread.join();
   line.clear();
-  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double total = secondsSince(start);
 
   int exitCode = kExitOk, failed = 0;
   nlohmann::json jobList = nlohmann::json::array();

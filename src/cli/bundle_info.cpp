@@ -67,7 +67,7 @@ int describeBundle(const std::string& file, bool json) {
     }
     runtime.push_back(std::move(*built));
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = secondsSince(start);
   std::error_code sizeError;
   const std::uintmax_t bytes = std::filesystem::file_size(file, sizeError);
   nlohmann::json levels = nlohmann::json::array();

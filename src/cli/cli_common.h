@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,11 @@ namespace mlod::cli {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;  // something other than the input went wrong
 inline constexpr int kExitBadInput = 2; // the input (file or arguments) is bad
+
+// Seconds on the steady clock since `start`, for the timings commands print.
+inline double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 // Prints "error: FILE: reason" on stderr.
 void printError(const std::string& file, const std::string& reason);

@@ -1,5 +1,6 @@
 #include "cli/export_job.h"
 
+#include "cli/cli_common.h"
 #include "cli/file_checks.h"
 
 #include "core/mapping/motion_mapping.h"
@@ -30,10 +31,6 @@ namespace mlod::cli {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 ExportOutcome failure(int code, std::string file, std::string message) {
   ExportOutcome out;

@@ -1,5 +1,6 @@
 #include "cli/meshlod_command.h"
 
+#include "cli/cli_common.h"
 #include "core/mesh/mesh_lod.h"
 #include "core/mesh/mesh_lod_report.h"
 
@@ -34,10 +35,6 @@ const SkinnedMesh* characterMesh(const Asset& asset) {
     if (mesh.skinned())
       return &mesh;
   return asset.meshes.empty() ? nullptr : &asset.meshes.front();
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 } // namespace
 

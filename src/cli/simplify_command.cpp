@@ -1,5 +1,6 @@
 #include "cli/simplify_command.h"
 
+#include "cli/cli_common.h"
 #include "core/jpc/jpc.h"
 #include "core/jpc/jpc_report.h"
 #include "cli/file_checks.h"
@@ -283,7 +284,7 @@ int SimplifyCommand::run() const {
   for (const Joint& joint : asset->skeleton.joints)
     report.jointNames.push_back(joint.name);
   report.levels = std::move(levels).value();
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = secondsSince(start);
   if (json) {
     warnIfNotUtf8(file);
     std::cout << jpcReportJson(report) << std::endl;
