@@ -314,9 +314,9 @@ std::optional<ExportOutcome> buildFromProject(JobRun& run, Result<LodPackage>& p
   run.out.character = assetFileName(*project, character);
   if (const std::vector<int> characters = exportCharacters(*project);
       job.asset < 0 && job.character.empty() && characters.size() > 1)
-    run.notes.push_back("character " + run.out.character + " (asset " + std::to_string(character) + ") of the project's " +
-                        std::to_string(characters.size()) + " (" + exportCharacterList(*project) +
-                        "); --character NAME exports another");
+    run.notes.push_back("character " + run.out.character + " (asset " + std::to_string(character) +
+                        ") of the project's " + std::to_string(characters.size()) + " (" +
+                        exportCharacterList(*project) + "); --character NAME exports another");
   if (std::optional<ExportOutcome> failed = importAt(character))
     return *failed;
   for (const ProjectMapping& mapping : project->mappings)

@@ -26,7 +26,7 @@ struct ExportJob {
   std::vector<int> levels;   // empty = every level
   QVariantMap options;       // checked against the plugin's options (checkExporterOptions())
   std::string unitScale;     // "" = the file's own (a project: each asset's own)
-  int asset = -1;            // a project's asset to export; -1 = `character`, else the character it has in view (or the first)
+  int asset = -1;            // a project's asset to export; -1 = `character`, else its character in view
   // A project's character to export with its own set and the motions mapped onto it, by file
   // name, path or index (core/project_package.h's exportCharacterNamed()); "" = as `asset` says.
   std::string character;

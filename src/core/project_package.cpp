@@ -135,7 +135,8 @@ std::string exportCharacterList(const Project& project) {
 
 namespace {
 bool isIndex(std::string_view text) {
-  return !text.empty() && text.size() <= 9 && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  return !text.empty() && text.size() <= 9 &&
+         std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
 bool names(const Project& project, int asset, std::string_view name) {

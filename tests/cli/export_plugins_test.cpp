@@ -371,16 +371,22 @@ TEST(CliExport, CharacterPicksWhichOfAProjectsCharactersIsExported) {
   const auto levelsOf = [](std::vector<double> thresholds) {
     nlohmann::json levels = nlohmann::json::array();
     for (std::size_t i = 0; i < thresholds.size(); ++i)
-      levels.push_back({{"name", "LOD" + std::to_string(i)}, {"threshold", thresholds[i]},
-                        {"mesh_ratio", i == 0 ? 1.0 : 0.5}, {"switch_distance_cm", 500.0 * double(i)},
-                        {"pixel_error", 0.0}, {"screen_size_pixels", 0.0}, {"motion_error_cm", 0.0},
-                        {"mesh_error_cm", 0.0}, {"triangles", 0}, {"active_joints", 0}});
+      levels.push_back({{"name", "LOD" + std::to_string(i)},
+                        {"threshold", thresholds[i]},
+                        {"mesh_ratio", i == 0 ? 1.0 : 0.5},
+                        {"switch_distance_cm", 500.0 * double(i)},
+                        {"pixel_error", 0.0},
+                        {"screen_size_pixels", 0.0},
+                        {"motion_error_cm", 0.0},
+                        {"mesh_error_cm", 0.0},
+                        {"triangles", 0},
+                        {"active_joints", 0}});
     return nlohmann::json{{"projection", {{"vertical_fov_degrees", 60.0}, {"viewport_height_pixels", 1080.0}}},
                           {"bounding_radius_cm", 0.0},
                           {"levels", levels}};
   };
-  const nlohmann::json mapping =
-      nlohmann::json::parse(test::readText(std::string(MLOD_TEST_DATA_DIR) + "/mappings/cmu_01_01_to_bcn_epileptic.json"));
+  const nlohmann::json mapping = nlohmann::json::parse(
+      test::readText(std::string(MLOD_TEST_DATA_DIR) + "/mappings/cmu_01_01_to_bcn_epileptic.json"));
   const nlohmann::json project = {
       {"format", "motionlod-project"},
       {"version", 4},
@@ -388,10 +394,14 @@ TEST(CliExport, CharacterPicksWhichOfAProjectsCharactersIsExported) {
       {"mode", "greedy"},
       {"lods", levelsOf({0.0, 5.0, 50.0, 100.0})},
       {"assets",
-       {{{"path", test::modelPath("X/BCN_Epileptic.X")}, {"unit_scale", 100.0}, {"joints", nlohmann::json::object()},
+       {{{"path", test::modelPath("X/BCN_Epileptic.X")},
+         {"unit_scale", 100.0},
+         {"joints", nlohmann::json::object()},
          {"lods", levelsOf({0.0, 5.0, 50.0})}},
         {{"path", test::modelPath("BVH/01_01.bvh")}, {"unit_scale", 2.54 / 0.45}, {"joints", nlohmann::json::object()}},
-        {{"path", test::modelPath("X/Testwuson.X")}, {"unit_scale", 100.0}, {"joints", nlohmann::json::object()},
+        {{"path", test::modelPath("X/Testwuson.X")},
+         {"unit_scale", 100.0},
+         {"joints", nlohmann::json::object()},
          {"lods", levelsOf({0.0, 20.0})}}}},
       {"mappings", {{{"motion", 1}, {"character", 0}, {"table", mapping}}}},
       {"current", {{"asset", 1}, {"clip", 0}, {"level", 1}, {"joint", ""}}}};
@@ -405,8 +415,8 @@ TEST(CliExport, CharacterPicksWhichOfAProjectsCharactersIsExported) {
 
   // by name: Testwuson with its own 2 levels and its own 3 clips (no motion is mapped onto it)
   const std::string wuson = (dir / "wuson.mlodb").string();
-  const test::CliRun named =
-      runMotionlod({"export", file.string(), "--character", "Testwuson.X", "--plugin", "bundle", "-o", wuson, "--json"});
+  const test::CliRun named = runMotionlod(
+      {"export", file.string(), "--character", "Testwuson.X", "--plugin", "bundle", "-o", wuson, "--json"});
   ASSERT_EQ(named.status, 0) << named.err;
   EXPECT_EQ(nlohmann::json::parse(named.out)["character"], "Testwuson.X");
   const nlohmann::json wusonInfo = info(wuson);

@@ -32,7 +32,6 @@
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
-#include <memory>
 #include <QFont>
 #include <QGraphicsTextItem>
 #include <QGraphicsView>
@@ -43,8 +42,8 @@
 #include <QJsonObject>
 #include <QLabel>
 #include <QLineEdit>
-#include <QListWidget>
 #include <QLineSeries>
+#include <QListWidget>
 #include <QMessageBox>
 #include <QProcess>
 #include <QProgressDialog>
@@ -64,6 +63,7 @@
 #include <QTreeView>
 #include <QUndoStack>
 #include <QWheelEvent>
+#include <memory>
 
 using namespace mlod;
 
@@ -646,7 +646,8 @@ private slots:
     auto window = openSample();
     QVERIFY(window);
     Document* document = window->document();
-    for (const auto& [file, unit] : {std::pair{QString("/X/BCN_Epileptic.X"), 100.0}, {QString("/X/Testwuson.X"), 0.0}}) {
+    for (const auto& [file, unit] :
+         {std::pair{QString("/X/BCN_Epileptic.X"), 100.0}, {QString("/X/Testwuson.X"), 0.0}}) {
       QSignalSpy imported(window.get(), &MainWindow::importFinished);
       window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + file, unit);
       QVERIFY(imported.wait(60000));

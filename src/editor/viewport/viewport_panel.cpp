@@ -111,9 +111,8 @@ ViewportPanel::ViewportPanel(Document* document, QWidget* parent)
   connect(m_characterBox, &QComboBox::currentIndexChanged, this, [this] {
     const int mapping = m_characterBox->currentData().toInt();
     const auto& mappings = m_document->project().mappings;
-    m_document->setViewedCharacter(mapping >= 0 && mapping < int(mappings.size())
-                                       ? mappings[static_cast<std::size_t>(mapping)].character
-                                       : -1);
+    m_document->setViewedCharacter(
+        mapping >= 0 && mapping < int(mappings.size()) ? mappings[static_cast<std::size_t>(mapping)].character : -1);
     rebuild();
   });
   connect(m_playback, &Playback::timeChanged, this, &ViewportPanel::pose);

@@ -63,8 +63,9 @@ BudgetDialog::BudgetDialog(LevelGenerator* generator, const BudgetRequest& initi
   m_height->setToolTip(tr("The viewport's height in pixels the pixel figures assume"));
   m_character = new QLabel;
   m_character->setObjectName("budgetCharacterLabel");
-  m_character->setText(initial.character.isEmpty() ? QString()
-                                                   : tr("Levels of <b>%1</b> (its own LOD set)").arg(initial.character.toHtmlEscaped()));
+  m_character->setText(initial.character.isEmpty()
+                           ? QString()
+                           : tr("Levels of <b>%1</b> (its own LOD set)").arg(initial.character.toHtmlEscaped()));
   m_character->setVisible(!initial.character.isEmpty());
   auto* form = new QFormLayout;
   form->addRow(tr("Pixel error:"), m_pixels);

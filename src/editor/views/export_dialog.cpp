@@ -42,7 +42,8 @@ ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* 
 
   const Project& project = document->project();
   // the character of the asset in view: the one the motion is viewed on (core's rule, as `motionlod export`)
-  m_asset = exportCharacterOf(project, document->currentAsset(), document->viewedCharacter(), document->importedAssets());
+  m_asset =
+      exportCharacterOf(project, document->currentAsset(), document->viewedCharacter(), document->importedAssets());
   if (m_asset >= static_cast<int>(project.assets.size()))
     m_asset = -1;
   m_assetLabel = new QLabel(this);

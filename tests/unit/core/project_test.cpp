@@ -1,16 +1,14 @@
 // The .mlod project document: JSON round trip, refusal of bad files, asset paths relative
 // to the project, level edits that carry per-joint overrides.
 
-#include "core/project.h"
-
 #include "core/lod/lod_levels.h"
+#include "core/project.h"
 #include "core/project_package.h"
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -214,10 +212,10 @@ TEST(Project, AMotionPlaysWithTheSetOfTheCharacterItIsViewedOn) {
   const LodSet bcn = *project.assets[1].lods, wuson = *project.assets[2].lods;
   EXPECT_EQ(lodSetOwner(project, 0, 2), 2);
   EXPECT_EQ(lodSetOwner(project, 0, 1), 1);
-  EXPECT_EQ(lodSetOwner(project, 0), 1);     // none viewed: the first mapping's
-  EXPECT_EQ(lodSetOwner(project, 0, 0), 1);  // on its own skeleton
-  EXPECT_EQ(lodSetOwner(project, 0, 7), 1);  // out of range
-  EXPECT_EQ(lodSetOwner(project, 1, 2), 1);  // a character is no motion of another
+  EXPECT_EQ(lodSetOwner(project, 0), 1);    // none viewed: the first mapping's
+  EXPECT_EQ(lodSetOwner(project, 0, 0), 1); // on its own skeleton
+  EXPECT_EQ(lodSetOwner(project, 0, 7), 1); // out of range
+  EXPECT_EQ(lodSetOwner(project, 1, 2), 1); // a character is no motion of another
   EXPECT_EQ(lodSetOwner(project, -1, 2), -1);
   EXPECT_EQ(lodSetFor(project, 0, 2), wuson);
   EXPECT_EQ(lodSetFor(project, 0, 1), bcn);
@@ -259,7 +257,8 @@ TEST(Project, ExportCharacterOfIsTheSetOwner) {
   EXPECT_EQ(exportCharacterOf(project, 0, 0), 1);
   for (int asset = 0; asset < 3; ++asset)
     for (int viewed = -1; viewed < 4; ++viewed)
-      EXPECT_EQ(exportCharacterOf(project, asset, viewed), lodSetOwner(project, asset, viewed)) << asset << " " << viewed;
+      EXPECT_EQ(exportCharacterOf(project, asset, viewed), lodSetOwner(project, asset, viewed))
+          << asset << " " << viewed;
   // nothing in view: the candidates imported first
   EXPECT_EQ(exportCharacterOf(project, -1), -1);
   EXPECT_EQ(exportCharacterOf(project, 9), -1);
