@@ -57,6 +57,7 @@ ExportJob toExportJob(const ManifestJob& entry) {
   job.output = entry.output;
   job.levels = entry.levels;
   job.unitScale = entry.unitScale;
+  job.character = entry.character;
   for (auto it = entry.options.begin(); it != entry.options.end(); ++it) {
     const QString key = QString::fromStdString(it.key());
     if (it->is_boolean())
@@ -200,6 +201,8 @@ int BatchCommand::run() const {
                        {"message", outcome.message},
                        {"bytes", outcome.bytes},
                        {"seconds", seconds[k]}});
+    if (!outcome.character.empty()) // a project's: the character exported
+      jobList.back()["character"] = outcome.character;
   }
   if (json) {
     const nlohmann::json out = {{"manifest", manifest},
@@ -214,8 +217,9 @@ int BatchCommand::run() const {
                 mine.size(), all.size(), std::min<int>(jobs, std::max<int>(1, int(mine.size()))));
     for (std::size_t k = 0; k < mine.size(); ++k) {
       const ExportJob& job = all[mine[k]];
-      std::printf("  [%zu] %-6s %s -> %s (%s) %.2f s%s\n", mine[k], outcomes[k].ok() ? "ok" : "FAILED",
-                  job.input.c_str(), job.output.c_str(), job.plugin.c_str(), seconds[k],
+      const std::string character = outcomes[k].character.empty() ? "" : " (character " + outcomes[k].character + ")";
+      std::printf("  [%zu] %-6s %s%s -> %s (%s) %.2f s%s\n", mine[k], outcomes[k].ok() ? "ok" : "FAILED",
+                  job.input.c_str(), character.c_str(), job.output.c_str(), job.plugin.c_str(), seconds[k],
                   outcomes[k].ok() ? (", " + std::to_string(outcomes[k].bytes) + " bytes").c_str() : "");
     }
     std::printf("%zu succeeded, %d failed, %.2f s\n", mine.size() - std::size_t(failed), failed, total);

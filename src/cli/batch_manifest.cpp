@@ -21,7 +21,7 @@ Error readJob(const json& entry, std::size_t index, const std::filesystem::path&
       return Error(where + ": \"" + key + "\" must be a non-empty string");
   for (auto it = entry.begin(); it != entry.end(); ++it)
     if (it.key() != "input" && it.key() != "plugin" && it.key() != "output" && it.key() != "options" &&
-        it.key() != "levels" && it.key() != "unit_scale")
+        it.key() != "levels" && it.key() != "unit_scale" && it.key() != "character")
       return Error(where + ": unknown key \"" + it.key() + "\"");
   const auto resolve = [&](const std::string& path) {
     const std::filesystem::path p(path);
@@ -46,6 +46,15 @@ Error readJob(const json& entry, std::size_t index, const std::filesystem::path&
         return Error(where + ": \"levels\" must be an array of level indices");
       out.levels.push_back(level.get<int>());
     }
+  }
+  if (entry.contains("character")) {
+    const json& character = entry["character"];
+    if (character.is_number_integer() && character.get<long long>() >= 0 && character.get<long long>() <= 65535)
+      out.character = std::to_string(character.get<long long>());
+    else if (character.is_string() && !character.get_ref<const std::string&>().empty())
+      out.character = character.get<std::string>();
+    else
+      return Error(where + ": \"character\" must be a project's character: its file name, path or index");
   }
   if (entry.contains("unit_scale")) {
     const json& scale = entry["unit_scale"];

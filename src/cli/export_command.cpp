@@ -34,6 +34,9 @@ void ExportCommand::attach(CLI::App& app) {
                       "cm per file unit, or a preset: cm, m, mm, inch, cmu (5.6444, CMU mocap); "
                       "default: the file's own unit (a project: each asset's)");
   command->add_option("--asset", job.asset, "a project's asset to export, by index (default: its character)");
+  command->add_option("--character", job.character,
+                      "a project's character to export with its own LOD set and the motions mapped onto it: its "
+                      "file name (BCN_Epileptic.X), path or index (default: the character of the asset in view)");
   command->add_option("--import-timeout", job.importTimeoutSeconds, "seconds before a stuck import is stopped")
       ->check(CLI::Range(1.0, 86400.0));
   addProjectOptions(*command, job.project);
@@ -96,6 +99,8 @@ int ExportCommand::run() const {
                            {{"import", outcome.importSeconds},
                             {"package", outcome.packageSeconds},
                             {"export", outcome.exportSeconds}}}};
+    if (!outcome.character.empty()) // a project's: the character exported
+      doc["character"] = outcome.character;
     std::cout << jsonText(doc) << std::endl;
   } else if (outcome.ok()) {
     std::printf("%s\n%d levels; import %.3f s, LOD package %.3f s, export %.3f s\n", outcome.message.c_str(),

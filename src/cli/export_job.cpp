@@ -246,6 +246,10 @@ std::optional<ExportOutcome> checkJob(JobRun& run) {
       return failure(kExitBadInput, job.input, "--mesh-ratio " + std::to_string(ratio) + ": a triangle ratio must be in (0, 1]");
   if (!job.meshRatios.empty() && isProjectFile(job.input))
     return failure(kExitBadInput, job.input, "--mesh-ratio applies to a file; a project exports its own levels");
+  if (!job.character.empty() && !isProjectFile(job.input))
+    return failure(kExitBadInput, job.input, "--character applies to a project; a file is its own character");
+  if (!job.character.empty() && job.asset >= 0)
+    return failure(kExitBadInput, job.input, "--character and --asset both pick what to export: give one");
   if (!job.motions.empty() && isProjectFile(job.input))
     return failure(kExitBadInput, job.input,
                    "--motion applies to a file; a project plays the motions its mappings assign to its character");
@@ -283,17 +287,18 @@ std::optional<ExportOutcome> buildFromProject(JobRun& run, Result<LodPackage>& p
     imported[std::size_t(a)] = owned[std::size_t(a)].get();
     return std::nullopt;
   };
+  // --asset, else --character, else the character of the asset in view (exportCharacterOf(),
+  // the studio's rule), else the first character (imported to be found)
   int character = job.asset;
-  if (character < 0) {
-    const int view = project->view.asset;
-    bool viewIsMotion = false;
-    for (const ProjectMapping& mapping : project->mappings)
-      viewIsMotion = viewIsMotion || mapping.motion == view;
-    character = view >= 0 && view < assets && !viewIsMotion ? view : -1;
+  if (character < 0 && !job.character.empty()) {
+    Result<int> named = exportCharacterNamed(*project, job.character);
+    if (!named)
+      return failure(kExitBadInput, job.input, "--character " + job.character + ": " + named.message());
+    character = *named;
   }
+  if (character < 0)
+    character = exportCharacterOf(*project, project->view.asset);
   if (character < 0) {
-    // the character of a mapping, else the first asset with a skinned mesh, else the first
-    // (defaultPackageAsset() on what is imported: import the candidates first)
     for (const ProjectMapping& mapping : project->mappings)
       if (std::optional<ExportOutcome> failed = importAt(mapping.character))
         return *failed;
@@ -301,8 +306,14 @@ std::optional<ExportOutcome> buildFromProject(JobRun& run, Result<LodPackage>& p
       for (int a = 0; a < assets; ++a)
         if (std::optional<ExportOutcome> failed = importAt(a))
           return *failed;
-    character = defaultPackageAsset(*project, imported);
+    character = exportCharacterOf(*project, project->view.asset, -1, imported);
   }
+  run.out.character = assetFileName(*project, character);
+  if (const std::vector<int> characters = exportCharacters(*project);
+      job.asset < 0 && job.character.empty() && characters.size() > 1)
+    run.notes.push_back("character " + run.out.character + " (asset " + std::to_string(character) +
+                        ") of the project's " + std::to_string(characters.size()) + " (" +
+                        exportCharacterList(*project) + "); --character NAME exports another");
   if (std::optional<ExportOutcome> failed = importAt(character))
     return *failed;
   for (const ProjectMapping& mapping : project->mappings)

@@ -26,7 +26,10 @@ struct ExportJob {
   std::vector<int> levels;   // empty = every level
   QVariantMap options;       // checked against the plugin's options (checkExporterOptions())
   std::string unitScale;     // "" = the file's own (a project: each asset's own)
-  int asset = -1;            // a project's asset to export; -1 = the character it has in view (or the first character)
+  int asset = -1;            // a project's asset to export; -1 = `character`, else its character in view
+  // A project's character to export with its own set and the motions mapped onto it, by file
+  // name, path or index (core/project_package.h's exportCharacterNamed()); "" = as `asset` says.
+  std::string character;
   double importTimeoutSeconds = kDefaultImportTimeoutSeconds;
   ProjectFileOptions project; // where a project's assets may be
   // A file's levels by mesh ratio alone (each in (0, 1]): LOD0 plus one level per ratio with
@@ -47,6 +50,7 @@ struct ExportOutcome {
   std::string message; // what was written, or why nothing was (without "error: FILE: ")
   std::vector<std::string> warnings; // what the written file lacks (the exporter's warning lines), one sentence each
   std::string errorFile; // the file the error is about (the input, the output, the plugin id)
+  std::string character; // a project's: the file name of the character exported; else empty
   std::int64_t bytes = 0; // the output file's size (0 when nothing was written)
   double importSeconds = 0.0;
   double packageSeconds = 0.0;

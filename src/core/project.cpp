@@ -485,11 +485,26 @@ void remapJointThresholds(std::map<std::string, JointSettings>& joints, const st
 }
 } // namespace
 
+namespace {
+// Whether asset `asset` plays with the project's set on some view: it is no mapped motion and
+// has no set of its own, or a character it is mapped onto has none.
+bool playsWithProjectSet(const Project& project, int asset) {
+  bool mapped = false;
+  for (const ProjectMapping& mapping : project.mappings)
+    if (mapping.motion == asset && mapping.character >= 0 && mapping.character < int(project.assets.size())) {
+      mapped = true;
+      if (!project.assets[std::size_t(mapping.character)].lods)
+        return true;
+    }
+  return !mapped && !project.assets[std::size_t(asset)].lods;
+}
+} // namespace
+
 void remapLevels(Project& project, const std::vector<int>& order, const std::vector<LodLevel>& levels) {
   assert(order.size() == levels.size());
   // only the assets that play with the project's set: an asset's own set has its own levels
   for (std::size_t a = 0; a < project.assets.size(); ++a)
-    if (!project.assets[std::size_t(lodSetOwner(project, int(a)))].lods)
+    if (playsWithProjectSet(project, int(a)))
       remapJointThresholds(project.assets[a].joints, order);
   project.lods.levels = levels;
 }
@@ -499,26 +514,49 @@ void applyLodSetEdit(Project& project, const LodSetEdit& edit) {
   project.lods = edit.lods;
 }
 
-int lodSetOwner(const Project& project, int asset) {
+bool isMappedOnto(const Project& project, int motion, int character) {
+  const int count = static_cast<int>(project.assets.size());
+  if (character < 0 || character >= count)
+    return false;
+  for (const ProjectMapping& mapping : project.mappings)
+    if (mapping.motion == motion && mapping.character == character)
+      return true;
+  return false;
+}
+
+std::string assetFileName(const Project& project, int asset) {
+  if (asset < 0 || asset >= static_cast<int>(project.assets.size()))
+    return {};
+  return std::filesystem::path(project.assets[std::size_t(asset)].path).filename().string();
+}
+
+int lodSetOwner(const Project& project, int asset, int viewedCharacter) {
   const int count = static_cast<int>(project.assets.size());
   if (asset < 0 || asset >= count)
     return -1;
+  if (isMappedOnto(project, asset, viewedCharacter))
+    return viewedCharacter;
   for (const ProjectMapping& mapping : project.mappings)
     if (mapping.motion == asset && mapping.character >= 0 && mapping.character < count)
       return mapping.character;
   return asset;
 }
 
-const LodSet& lodSetFor(const Project& project, int asset) {
-  const int owner = lodSetOwner(project, asset);
+bool playsWithSetOf(const Project& project, int asset, int owner) {
+  return asset >= 0 && asset < static_cast<int>(project.assets.size()) &&
+         (asset == owner || isMappedOnto(project, asset, owner));
+}
+
+const LodSet& lodSetFor(const Project& project, int asset, int viewedCharacter) {
+  const int owner = lodSetOwner(project, asset, viewedCharacter);
   if (owner >= 0 && project.assets[std::size_t(owner)].lods)
     return *project.assets[std::size_t(owner)].lods;
   return project.lods;
 }
 
-std::vector<double> levelThresholdsFor(const Project& project, int asset) {
+std::vector<double> levelThresholdsFor(const Project& project, int asset, int viewedCharacter) {
   std::vector<double> out;
-  for (const LodLevel& level : lodSetFor(project, asset).levels)
+  for (const LodLevel& level : lodSetFor(project, asset, viewedCharacter).levels)
     out.push_back(level.motionThreshold);
   return out;
 }
@@ -530,10 +568,10 @@ std::vector<LodOverrideAbove> overridesAboveGeneratedLevels(const Project& proje
   if (owner < 0)
     return out;
   for (std::size_t a = 0; a < project.assets.size(); ++a) {
-    if (lodSetOwner(project, int(a)) != owner)
+    if (!playsWithSetOf(project, int(a), owner))
       continue;
     const ProjectAsset& entry = project.assets[a];
-    const std::string name = std::filesystem::path(entry.path).filename().string();
+    const std::string name = assetFileName(project, int(a));
     JpcSettings settings;
     settings.joints = entry.joints;
     for (LodOverrideAbove& above : overridesAboveLevels(settings, generated)) {
@@ -555,21 +593,21 @@ int overrideCountFor(const Project& project, int asset) {
   const int owner = lodSetOwner(project, asset);
   int count = 0;
   for (std::size_t a = 0; owner >= 0 && a < project.assets.size(); ++a)
-    if (lodSetOwner(project, int(a)) == owner)
+    if (playsWithSetOf(project, int(a), owner))
       for (const auto& [joint, own] : project.assets[a].joints)
         for (const std::optional<double>& threshold : own.thresholds)
           count += threshold ? 1 : 0;
   return count;
 }
 
-void applyLodSetEdit(Project& project, int asset, const LodSetEdit& edit) {
+void applyLodSetEdit(Project& project, int asset, const LodSetEdit& edit, int viewedCharacter) {
   if (asset < 0 || asset >= static_cast<int>(project.assets.size())) {
     applyLodSetEdit(project, edit);
     return;
   }
-  const int owner = lodSetOwner(project, asset);
+  const int owner = lodSetOwner(project, asset, viewedCharacter);
   for (std::size_t a = 0; a < project.assets.size(); ++a) // the owner and the motions mapped onto it
-    if (lodSetOwner(project, int(a)) == owner)
+    if (playsWithSetOf(project, int(a), owner))
       remapJointThresholds(project.assets[a].joints, edit.order);
   project.assets[std::size_t(owner)].lods = edit.lods;
 }

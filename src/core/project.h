@@ -168,21 +168,34 @@ inline bool isProjectFile(std::string_view file) {
 // edit.lods, the per-joint overrides following their level through edit.order.
 void applyLodSetEdit(Project& project, const LodSetEdit& edit);
 
+// Whether a mapping of the project plays motion `motion` on character `character`.
+bool isMappedOnto(const Project& project, int motion, int character);
+// The file name of asset `asset` as the project stores it ("BCN_Epileptic.X"); empty for an
+// index out of range.
+std::string assetFileName(const Project& project, int asset);
+
 // The asset whose LOD set `asset` plays with (docs/architecture.md section 3: a clip plays
-// with the set of the character it is mapped to): for a motion mapped onto a character, that
-// character (its first mapping's, as the viewport shows it first); for any other asset, the
-// asset itself; -1 for an index out of range.
-int lodSetOwner(const Project& project, int asset);
+// with the set of the character it is mapped to): for a motion mapped onto characters, the
+// character it is viewed on (`viewedCharacter`: the studio's viewport choice) when the motion
+// is mapped onto it, else its first mapping's character; for any other asset, the asset
+// itself; -1 for an index out of range. A viewed character the motion is not mapped onto (-1:
+// on its own skeleton, or none chosen) is ignored.
+int lodSetOwner(const Project& project, int asset, int viewedCharacter = -1);
+// Whether asset `asset` plays with the set that `owner` owns (an owner as lodSetOwner() gives
+// it): it is the owner, or a motion mapped onto it (on any of its mappings: viewed there, it
+// plays with that set). The assets whose per-joint overrides are per level of that set.
+bool playsWithSetOf(const Project& project, int asset, int owner);
 // The LOD set asset `asset` plays with (docs/architecture.md section 3: a character owns its
-// set): its owner's own (lodSetOwner()), else the project's (also for an index out of range,
-// -1 included). The one place that rule lives: packages, the studio's level docks, crowd and
-// viewport read it.
-const LodSet& lodSetFor(const Project& project, int asset);
-// Every level's motion threshold of lodSetFor(project, asset) (level 0's is 0), cm·degrees.
-std::vector<double> levelThresholdsFor(const Project& project, int asset);
+// set): its owner's own (lodSetOwner(project, asset, viewedCharacter)), else the project's
+// (also for an index out of range, -1 included). The one place that rule lives: packages, the
+// studio's level docks, crowd and viewport read it.
+const LodSet& lodSetFor(const Project& project, int asset, int viewedCharacter = -1);
+// Every level's motion threshold of lodSetFor(project, asset, viewedCharacter) (level 0's is
+// 0), cm·degrees.
+std::vector<double> levelThresholdsFor(const Project& project, int asset, int viewedCharacter = -1);
 // The per-joint overrides that `generated` (levels made for asset `asset`, to replace the set
 // it plays with: LodSet::fromPixelBudget()) leaves above their level's E, for the Budget
-// dialog to list: of every asset that plays with that set (lodSetOwner(): the character and
+// dialog to list: of every asset that plays with that set (playsWithSetOf(): the character and
 // the motions mapped onto it; issue 26: a mapped clip's overrides of 30 and 50 above a
 // level of E = 2 went unlisted), each override above the E of its own level in `generated`
 // (overridesAboveLevels()), and each at a level `generated` has not (`beyond`: dropped with
@@ -190,11 +203,11 @@ std::vector<double> levelThresholdsFor(const Project& project, int asset);
 std::vector<LodOverrideAbove> overridesAboveGeneratedLevels(const Project& project, int asset, const LodSet& generated);
 // Every per-joint threshold override of the assets that play with asset `asset`'s set, at any level.
 int overrideCountFor(const Project& project, int asset);
-// A level edit of the set asset `asset` plays with: its owner (lodSetOwner(): a mapped
-// motion's character) gets its own set (a copy of what it played with, edited), and the
-// per-joint overrides of every asset playing with that set follow their level; other assets
-// keep theirs. An asset out of range (-1: none in view) edits the project's set, as
-// applyLodSetEdit().
-void applyLodSetEdit(Project& project, int asset, const LodSetEdit& edit);
+// A level edit of the set asset `asset` plays with (viewed on `viewedCharacter`, as
+// lodSetOwner()): its owner gets its own set (a copy of what it played with, edited), and the
+// per-joint overrides of every asset playing with that set (playsWithSetOf()) follow their
+// level; other assets keep theirs. An asset out of range (-1: none in view) edits the
+// project's set, as applyLodSetEdit().
+void applyLodSetEdit(Project& project, int asset, const LodSetEdit& edit, int viewedCharacter = -1);
 
 } // namespace mlod

@@ -3,6 +3,7 @@
 #include "core/mapping/motion_mapping.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 
 namespace mlod {
@@ -109,6 +110,76 @@ int defaultPackageAsset(const Project& project, std::span<const Asset* const> im
     if (const Asset* a = importedAt(i); a && hasSkinnedMesh(*a))
       return i;
   return 0;
+}
+
+int exportCharacterOf(const Project& project, int asset, int viewedCharacter, std::span<const Asset* const> imported) {
+  if (const int owner = lodSetOwner(project, asset, viewedCharacter); owner >= 0)
+    return owner;
+  return imported.empty() ? -1 : defaultPackageAsset(project, imported);
+}
+
+std::vector<int> exportCharacters(const Project& project) {
+  std::vector<int> out;
+  for (int a = 0; a < static_cast<int>(project.assets.size()); ++a)
+    if (lodSetOwner(project, a) == a) // no mapping plays it on another
+      out.push_back(a);
+  return out;
+}
+
+std::string exportCharacterList(const Project& project) {
+  std::string out;
+  for (int a : exportCharacters(project))
+    out += (out.empty() ? "" : ", ") + std::to_string(a) + " " + assetFileName(project, a);
+  return out.empty() ? "none" : out;
+}
+
+namespace {
+bool isIndex(std::string_view text) {
+  return !text.empty() && text.size() <= 9 &&
+         std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+bool names(const Project& project, int asset, std::string_view name) {
+  const std::string& stored = project.assets[std::size_t(asset)].path;
+  const std::filesystem::path file = std::filesystem::path(stored).filename();
+  return name == stored || name == file.string() || (file.has_extension() && name == file.stem().string());
+}
+} // namespace
+
+Result<int> exportCharacterNamed(const Project& project, std::string_view name) {
+  const std::string characters = "; the project's characters: " + exportCharacterList(project);
+  const int count = static_cast<int>(project.assets.size());
+  std::vector<int> found;
+  if (isIndex(name)) {
+    const int index = std::stoi(std::string(name));
+    if (index >= count)
+      return Error("the project has no asset " + std::string(name) + characters);
+    found.push_back(index);
+  } else {
+    for (int a = 0; a < count; ++a)
+      if (names(project, a, name))
+        found.push_back(a);
+  }
+  if (found.empty())
+    return Error("the project has no character '" + std::string(name) + "'" + characters);
+  std::vector<int> kept; // the characters among them
+  for (int a : found)
+    if (lodSetOwner(project, a) == a)
+      kept.push_back(a);
+  if (kept.empty()) {
+    const int motion = found.front();
+    return Error("'" + std::string(name) + "' is a motion (asset " + std::to_string(motion) + "), exported with " +
+                 assetFileName(project, lodSetOwner(project, motion)) + ", the character it is mapped onto" +
+                 characters);
+  }
+  if (kept.size() > 1) {
+    std::string which;
+    for (int a : kept)
+      which += (which.empty() ? "" : ", ") + std::to_string(a) + " " + project.assets[std::size_t(a)].path;
+    return Error("'" + std::string(name) + "' names " + std::to_string(kept.size()) + " characters (" + which +
+                 "): give its index or path");
+  }
+  return kept.front();
 }
 
 } // namespace mlod

@@ -16,6 +16,8 @@
 
 #include <atomic>
 #include <span>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace mlod {
@@ -46,5 +48,28 @@ LodPackagePlan packagePlan(const Project& project, std::span<const Asset* const>
 // plays a clip or carries a skinned mesh and is the character of a mapping, else the first
 // asset with a skinned mesh, else the first asset. -1 for a project without assets.
 int defaultPackageAsset(const Project& project, std::span<const Asset* const> imported);
+
+// The character a project exports for its asset `asset` (the asset in view): the one whose LOD
+// set it plays with, lodSetOwner(project, asset, viewedCharacter): a motion's viewed character
+// when it is mapped onto it, else its first mapping's; any other asset itself. The one rule
+// behind the studio's Export dialog and `motionlod export` of a project (issue 26: each had
+// its own). For no asset in range, defaultPackageAsset(project, imported); -1 there when
+// `imported` is empty (import the candidates, the mappings' characters or else every asset,
+// and ask again) or the project has no asset.
+int exportCharacterOf(const Project& project, int asset, int viewedCharacter = -1,
+                      std::span<const Asset* const> imported = {});
+
+// The assets a project can export as characters (`motionlod export --character`): every asset
+// that is no motion mapped onto a character (a mapped motion is exported with the character
+// it plays on), in project order.
+std::vector<int> exportCharacters(const Project& project);
+// The character of exportCharacters() that `name` names: its index ("2"), its stored path, its
+// file name ("BCN_Epileptic.X") or its file name without the extension ("BCN_Epileptic").
+// Errors name what is wrong and list the project's characters ("0 BCN_Epileptic.X, 2
+// Testwuson.X"): no such character, a name that fits several, an index out of range, a
+// motion mapped onto a character (its character is named).
+Result<int> exportCharacterNamed(const Project& project, std::string_view name);
+// "0 BCN_Epileptic.X, 2 Testwuson.X": exportCharacters() by index and file name.
+std::string exportCharacterList(const Project& project);
 
 } // namespace mlod

@@ -935,6 +935,9 @@ void MainWindow::refreshViews() {
   for (const LodLevel& lod : m_document->lods().levels)
     names << QString::fromStdString(lod.name);
   m_statisticsView->setAnalysis(analysis, level, names);
+  // whose set the levels are: the asset's, or the character the motion is viewed on
+  const QString owner = m_document->lodSetOwnerName();
+  m_levelsDock->setWindowTitle(owner.isEmpty() ? tr("LOD Levels") : tr("LOD Levels — %1").arg(owner));
   const QModelIndex row = m_levelsModel->index(level, 0);
   if (m_levelsView->currentIndex().row() != level) {
     const QSignalBlocker block(m_levelsView->selectionModel());
@@ -968,6 +971,7 @@ BudgetDialog* MainWindow::openBudgetDialog() {
   initial.projection = lods.projection;
   if (const std::optional<double> made = switchDistancePixelBudget(lods)) // the budget the levels were made with
     initial.pixels = *made;
+  initial.character = m_document->lodSetOwnerName(); // generation lands in that one's set
   auto* dialog = new BudgetDialog(m_document->levelGenerator(), initial, this);
   dialog->setAttribute(Qt::WA_DeleteOnClose);
   dialog->open();
@@ -981,7 +985,11 @@ BudgetDialog* MainWindow::openBudgetDialog() {
 MappingDialog* MainWindow::editMapping() {
   const int asset = m_document->currentAsset();
   const auto& mappings = m_document->project().mappings;
+  // the mapping in view (the motion on the character it is viewed on), else the first naming the asset
   int found = -1;
+  for (std::size_t m = 0; m < mappings.size() && found < 0; ++m)
+    if (mappings[m].motion == asset && mappings[m].character == m_document->viewedCharacter())
+      found = static_cast<int>(m);
   for (std::size_t m = 0; m < mappings.size() && found < 0; ++m)
     if (mappings[m].motion == asset || mappings[m].character == asset)
       found = static_cast<int>(m);

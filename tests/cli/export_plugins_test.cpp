@@ -360,6 +360,136 @@ TEST(CliExport, ProjectExportsTheCharacterWithItsMappedMotion) {
   EXPECT_GT(doc["levels"][2]["clips"][1]["clusters"].get<int>(), doc["levels"][1]["clips"][1]["clusters"].get<int>());
 }
 
+// Issue 26: a project of two characters, each with its own set (BCN_Epileptic 3 levels, the
+// CMU clip 01_01 mapped onto it; Testwuson 2 levels), the motion in view. `export` without
+// --character exports the motion's character and says which of the two it is and how to pick
+// the other; --character NAME (file name, stem or index) exports that one with its own set
+// and the motions mapped onto it; an unknown name is exit 2 listing the characters; so is
+// --character on a file or beside --asset. A batch job's "character" does the same.
+TEST(CliExport, CharacterPicksWhichOfAProjectsCharactersIsExported) {
+  const fs::path dir = freshFolder("characters");
+  const auto levelsOf = [](std::vector<double> thresholds) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (std::size_t i = 0; i < thresholds.size(); ++i)
+      levels.push_back({{"name", "LOD" + std::to_string(i)},
+                        {"threshold", thresholds[i]},
+                        {"mesh_ratio", i == 0 ? 1.0 : 0.5},
+                        {"switch_distance_cm", 500.0 * double(i)},
+                        {"pixel_error", 0.0},
+                        {"screen_size_pixels", 0.0},
+                        {"motion_error_cm", 0.0},
+                        {"mesh_error_cm", 0.0},
+                        {"triangles", 0},
+                        {"active_joints", 0}});
+    return nlohmann::json{{"projection", {{"vertical_fov_degrees", 60.0}, {"viewport_height_pixels", 1080.0}}},
+                          {"bounding_radius_cm", 0.0},
+                          {"levels", levels}};
+  };
+  const nlohmann::json mapping = nlohmann::json::parse(
+      test::readText(std::string(MLOD_TEST_DATA_DIR) + "/mappings/cmu_01_01_to_bcn_epileptic.json"));
+  const nlohmann::json project = {
+      {"format", "motionlod-project"},
+      {"version", 4},
+      {"alpha", 5.0},
+      {"mode", "greedy"},
+      {"lods", levelsOf({0.0, 5.0, 50.0, 100.0})},
+      {"assets",
+       {{{"path", test::modelPath("X/BCN_Epileptic.X")},
+         {"unit_scale", 100.0},
+         {"joints", nlohmann::json::object()},
+         {"lods", levelsOf({0.0, 5.0, 50.0})}},
+        {{"path", test::modelPath("BVH/01_01.bvh")}, {"unit_scale", 2.54 / 0.45}, {"joints", nlohmann::json::object()}},
+        {{"path", test::modelPath("X/Testwuson.X")},
+         {"unit_scale", 100.0},
+         {"joints", nlohmann::json::object()},
+         {"lods", levelsOf({0.0, 20.0})}}}},
+      {"mappings", {{{"motion", 1}, {"character", 0}, {"table", mapping}}}},
+      {"current", {{"asset", 1}, {"clip", 0}, {"level", 1}, {"joint", ""}}}};
+  const fs::path file = dir / "two.mlod";
+  std::ofstream(file) << project.dump(2);
+  const auto info = [](const std::string& bundle) {
+    const test::CliRun run = runMotionlod({"info", bundle, "--json"});
+    EXPECT_EQ(run.status, 0) << run.err;
+    return nlohmann::json::parse(run.out);
+  };
+
+  // by name: Testwuson with its own 2 levels and its own 3 clips (no motion is mapped onto it)
+  const std::string wuson = (dir / "wuson.mlodb").string();
+  const test::CliRun named = runMotionlod(
+      {"export", file.string(), "--character", "Testwuson.X", "--plugin", "bundle", "-o", wuson, "--json"});
+  ASSERT_EQ(named.status, 0) << named.err;
+  EXPECT_EQ(nlohmann::json::parse(named.out)["character"], "Testwuson.X");
+  const nlohmann::json wusonInfo = info(wuson);
+  EXPECT_EQ(wusonInfo["name"], "Testwuson");
+  ASSERT_EQ(wusonInfo["levels"].size(), 2u);
+  EXPECT_EQ(wusonInfo["levels"][1]["threshold"], 20.0);
+  EXPECT_EQ(wusonInfo["levels"][1]["clips"].size(), 3u);
+
+  // without it: the motion in view's character, BCN, with its 3 levels and the mapped clip;
+  // the output says which of the two and how to pick the other
+  const std::string bcn = (dir / "bcn.mlodb").string();
+  const test::CliRun byDefault = runMotionlod({"export", file.string(), "--plugin", "bundle", "-o", bcn, "-q"});
+  ASSERT_EQ(byDefault.status, 0) << byDefault.err;
+  EXPECT_NE(byDefault.out.find("character BCN_Epileptic.X (asset 0) of the project's 2 (0 BCN_Epileptic.X, 2 "
+                               "Testwuson.X); --character NAME exports another"),
+            std::string::npos)
+      << byDefault.out;
+  const nlohmann::json bcnInfo = info(bcn);
+  EXPECT_EQ(bcnInfo["name"], "BCN_Epileptic");
+  ASSERT_EQ(bcnInfo["levels"].size(), 3u);
+  EXPECT_EQ(bcnInfo["levels"][2]["threshold"], 50.0);
+  EXPECT_EQ(bcnInfo["levels"][1]["clips"].size(), 2u); // its own clip and the mapped CMU motion
+  // by stem or index: the same character; said without a note
+  const test::CliRun byIndex = runMotionlod({"export", file.string(), "--character", "2", "--plugin", "bundle", "-o",
+                                             (dir / "index.mlodb").string(), "--json"});
+  ASSERT_EQ(byIndex.status, 0) << byIndex.err;
+  EXPECT_EQ(nlohmann::json::parse(byIndex.out)["character"], "Testwuson.X");
+  EXPECT_EQ(nlohmann::json::parse(byIndex.out)["message"].get<std::string>().find("--character"), std::string::npos);
+
+  // an unknown name: exit 2, nothing written, the characters listed
+  const std::string none = (dir / "none.mlodb").string();
+  const test::CliRun unknown =
+      runMotionlod({"export", file.string(), "--character", "Wuson", "--plugin", "bundle", "-o", none});
+  EXPECT_EQ(unknown.status, 2);
+  EXPECT_NE(unknown.err.find("error: " + file.string() +
+                             ": --character Wuson: the project has no character 'Wuson'; the project's characters: 0 "
+                             "BCN_Epileptic.X, 2 Testwuson.X"),
+            std::string::npos)
+      << unknown.err;
+  EXPECT_FALSE(fs::exists(none));
+  const test::CliRun motion =
+      runMotionlod({"export", file.string(), "--character", "01_01.bvh", "--plugin", "bundle", "-o", none});
+  EXPECT_EQ(motion.status, 2);
+  EXPECT_NE(motion.err.find("is a motion (asset 1), exported with BCN_Epileptic.X"), std::string::npos) << motion.err;
+  const test::CliRun both = runMotionlod(
+      {"export", file.string(), "--character", "Testwuson.X", "--asset", "0", "--plugin", "bundle", "-o", none});
+  EXPECT_EQ(both.status, 2);
+  EXPECT_NE(both.err.find("--character and --asset both pick"), std::string::npos) << both.err;
+  const test::CliRun onAFile = runMotionlod(
+      {"export", test::modelPath("X/Testwuson.X"), "--character", "Testwuson.X", "--plugin", "bundle", "-o", none});
+  EXPECT_EQ(onAFile.status, 2);
+  EXPECT_NE(onAFile.err.find("--character applies to a project"), std::string::npos) << onAFile.err;
+  EXPECT_FALSE(fs::exists(none));
+
+  // batch: a job's "character", good and bad
+  const nlohmann::json manifest = {
+      {"jobs",
+       {{{"input", "two.mlod"}, {"plugin", "bundle"}, {"output", "batch_wuson.mlodb"}, {"character", "Testwuson"}},
+        {{"input", "two.mlod"}, {"plugin", "bundle"}, {"output", "batch_none.mlodb"}, {"character", "Nobody.X"}}}}};
+  std::ofstream(dir / "manifest.json") << manifest.dump(2);
+  const test::CliRun batch = runMotionlod({"batch", (dir / "manifest.json").string(), "--json", "--jobs", "1"});
+  EXPECT_EQ(batch.status, 2) << batch.err;
+  const nlohmann::json report = nlohmann::json::parse(batch.out);
+  ASSERT_EQ(report["jobs"].size(), 2u);
+  EXPECT_TRUE(report["jobs"][0]["ok"].get<bool>());
+  EXPECT_EQ(report["jobs"][0]["character"], "Testwuson.X");
+  EXPECT_EQ(info((dir / "batch_wuson.mlodb").string())["levels"].size(), 2u);
+  EXPECT_FALSE(report["jobs"][1]["ok"].get<bool>());
+  EXPECT_NE(batch.err.find("--character Nobody.X: the project has no character 'Nobody.X'"), std::string::npos)
+      << batch.err;
+  EXPECT_FALSE(fs::exists(dir / "batch_none.mlodb"));
+}
+
 // The JSON chunk of a .glb.
 nlohmann::json glbDocument(const fs::path& file) {
   const std::string bytes = test::readText(file.string());

@@ -19,9 +19,11 @@
 #include "editor/viewport/viewport_panel.h"
 #include "editor/views/budget_dialog.h"
 #include "editor/views/clustering_table_view.h"
+#include "editor/views/export_dialog.h"
 #include "editor/views/mapping_dialog.h"
 #include "editor/views/trajectory_view.h"
 #include "event_conditions.h"
+#include "sdk/plugin_host.h"
 
 #include <QAbstractButton>
 #include <QChart>
@@ -30,7 +32,6 @@
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
-#include <memory>
 #include <QFont>
 #include <QGraphicsTextItem>
 #include <QGraphicsView>
@@ -39,8 +40,10 @@
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QLabel>
 #include <QLineEdit>
 #include <QLineSeries>
+#include <QListWidget>
 #include <QMessageBox>
 #include <QProcess>
 #include <QProgressDialog>
@@ -60,6 +63,7 @@
 #include <QTreeView>
 #include <QUndoStack>
 #include <QWheelEvent>
+#include <memory>
 
 using namespace mlod;
 
@@ -631,6 +635,100 @@ private slots:
     document->undoStack()->undo();
     QVERIFY(!document->project().assets[1].lods);
     QCOMPARE(document->levelCount(), 5);
+  }
+
+  // Issue 26's last item: a motion assigned to two characters plays with the set of the one
+  // it is viewed on. The sample is mapped onto BCN_Epileptic (4 levels of its own) and
+  // Testwuson (3 of its own); choosing the character in the viewport's box changes what the
+  // LOD Levels dock shows and names, the figures, the Budget dialog's and the Export dialog's
+  // character, and where a level edit lands; back on its own skeleton, the first mapping's.
+  void viewedCharacterPicksTheLodSet() {
+    auto window = openSample();
+    QVERIFY(window);
+    Document* document = window->document();
+    for (const auto& [file, unit] :
+         {std::pair{QString("/X/BCN_Epileptic.X"), 100.0}, {QString("/X/Testwuson.X"), 0.0}}) {
+      QSignalSpy imported(window.get(), &MainWindow::importFinished);
+      window->importFileWithUnit(QString(MLOD_ASSIMP_MODELS) + file, unit);
+      QVERIFY(imported.wait(60000));
+    }
+    QCOMPARE(document->assetCount(), 3);
+    document->setCurrentAsset(1); // BCN: 4 levels of its own
+    QVERIFY(edit::removeLevel(*document, 4));
+    document->setCurrentAsset(2); // Testwuson: 3 of its own
+    QVERIFY(edit::removeLevel(*document, 4));
+    QVERIFY(edit::removeLevel(*document, 3));
+    QVERIFY(edit::assignMotion(*document, 0, 1));
+    QString warning; // a biped clip on a quadruped: assigned, with a warning
+    QVERIFY(edit::assignMotion(*document, 0, 2, nullptr, &warning));
+    document->setCurrentAsset(0);
+    QVERIFY(waitForFigures(document));
+    QDockWidget* levelsDock = window->findChild<QDockWidget*>("levelsDock");
+    QVERIFY(levelsDock);
+    // on its own skeleton: the first mapping's character, BCN
+    QComboBox* box = window->viewportPanel()->characterBox();
+    QCOMPARE(box->count(), 3);
+    QCOMPARE(box->currentIndex(), 0);
+    QCOMPARE(document->viewedCharacter(), -1);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 4);
+    QCOMPARE(levelsDock->windowTitle(), QString("LOD Levels — BCN_Epileptic.X"));
+    const auto exportCharacter = [&] {
+      PluginHost host;
+      ExportDialog dialog(document, &host);
+      const auto* label = dialog.findChild<QLabel*>("assetLabel");
+      const auto* levels = dialog.findChild<QListWidget*>("levelsList");
+      return label->text() + QString(" %1 levels").arg(levels->count());
+    };
+    QCOMPARE(exportCharacter(), QString("Character: <b>BCN_Epileptic.X</b> 4 levels"));
+
+    // viewed on Testwuson: its 3 levels everywhere
+    box->setCurrentIndex(2);
+    QCOMPARE(box->currentText(), QString("Testwuson.X"));
+    QCOMPARE(document->viewedCharacter(), 2);
+    QVERIFY(document->lods() == *document->project().assets[2].lods);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 3);
+    QCOMPARE(levelsDock->windowTitle(), QString("LOD Levels — Testwuson.X"));
+    QTRY_COMPARE(document->analysis()->levelCount(), 3);
+    QCOMPARE(exportCharacter(), QString("Character: <b>Testwuson.X</b> 3 levels"));
+    {
+      BudgetDialog* budget = window->openBudgetDialog();
+      QVERIFY(budget);
+      QVERIFY2(budget->characterLabel()->text().contains("Testwuson.X"), qPrintable(budget->characterLabel()->text()));
+      budget->reject();
+    }
+    // a level edit lands in Testwuson's set, not BCN's
+    const LodSet bcn = *document->project().assets[1].lods;
+    QVERIFY(edit::setLevelThreshold(*document, 1, 33.0));
+    QCOMPARE(document->project().assets[2].lods->levels[1].motionThreshold, 33.0);
+    QVERIFY(*document->project().assets[1].lods == bcn);
+    QVERIFY(waitForFigures(document));
+    QTRY_COMPARE(document->analysis()->levels[1].threshold, 33.0);
+
+    // back on BCN, then on its own skeleton (the first mapping's, BCN)
+    box->setCurrentIndex(1);
+    QCOMPARE(document->viewedCharacter(), 1);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 4);
+    QCOMPARE(exportCharacter(), QString("Character: <b>BCN_Epileptic.X</b> 4 levels"));
+    box->setCurrentIndex(2);
+    box->setCurrentIndex(0);
+    QCOMPARE(document->viewedCharacter(), -1);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 4);
+    // the view follows the document: set there, the box shows it; another asset clears it
+    document->setViewedCharacter(2);
+    QCOMPARE(box->currentIndex(), 2);
+    document->setViewedCharacter(0); // not a character the motion is mapped onto: refused
+    QCOMPARE(document->viewedCharacter(), -1);
+    document->setViewedCharacter(2);
+    document->setCurrentAsset(1);
+    QCOMPARE(document->viewedCharacter(), -1);
+    document->setCurrentAsset(0);
+    QCOMPARE(box->currentIndex(), 0);
+    // the mapping viewed goes: viewed on none again
+    box->setCurrentIndex(2);
+    edit::unassignMotion(*document, 1);
+    QCOMPARE(document->viewedCharacter(), -1);
+    QCOMPARE(box->count(), 2);
+    QCOMPARE(window->levelsView()->model()->rowCount(), 4);
   }
 
   // Moving a level carries the joints' overrides for it along.

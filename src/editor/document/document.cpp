@@ -141,6 +141,7 @@ void Document::setCurrentAsset(int asset, int clip) {
     return;
   m_project.view.asset = asset;
   m_project.view.clip = clip;
+  validateViewedCharacter(); // another motion may be mapped onto the same character: kept
   // each character has its own levels: the level in view is one of the new asset's
   m_project.view.level = std::clamp(m_project.view.level, 0, levelCount() - 1);
   m_currentJoint = -1;
@@ -148,6 +149,35 @@ void Document::setCurrentAsset(int asset, int clip) {
   m_analysis->reset();
   m_analysis->request();
   emit currentChanged();
+}
+
+void Document::setViewedCharacter(int character) {
+  if (!isMappedOnto(m_project, currentAsset(), character))
+    character = -1;
+  if (character == m_viewedCharacter)
+    return;
+  const LodSet before = lods();
+  m_viewedCharacter = character;
+  followLodSet(before, false);
+  emit currentChanged();
+}
+
+QString Document::lodSetOwnerName() const {
+  return QString::fromStdString(assetFileName(m_project, lodSetOwnerInView()));
+}
+
+void Document::validateViewedCharacter() {
+  if (!isMappedOnto(m_project, currentAsset(), m_viewedCharacter))
+    m_viewedCharacter = -1;
+}
+
+void Document::followLodSet(const LodSet& before, bool fromEdit) {
+  m_project.view.level = std::clamp(m_project.view.level, 0, levelCount() - 1);
+  if (lods() == before)
+    return;
+  // other levels, so other figures (a cancelled clustering takes back an edit, never a view change)
+  emit settingsChanged();
+  m_analysis->request(fromEdit);
 }
 
 void Document::setCurrentLevel(int level) {
@@ -180,7 +210,7 @@ std::optional<JpcAnalysisRequest> Document::analysisRequest() const {
   request.asset = m_assets[static_cast<std::size_t>(currentAsset())];
   request.clip = currentClip();
   request.settings = m_project.jpcSettings(currentAsset(), a->unitScale);
-  request.levelThresholds = levelThresholdsFor(m_project, currentAsset());
+  request.levelThresholds = levelThresholdsFor(m_project, currentAsset(), m_viewedCharacter);
   return request;
 }
 
@@ -249,22 +279,24 @@ void Document::applyLevels(const LodSet& lods, const std::vector<std::optional<L
 
 void Document::applyMappings(const std::vector<ProjectMapping>& mappings) {
   const LodSet before = lods();
+  const int viewed = m_viewedCharacter;
   m_project.mappings = mappings;
+  validateViewedCharacter(); // its mapping may be gone
   emit mappingsChanged();
   emit assetsChanged(); // the Assets dock shows what drives what
-  if (lods() == before)
+  if (lods() == before && viewed == m_viewedCharacter)
     return;
   // The motion in view now plays with another set (its character's, or its own again when
   // unassigned): other levels, so other figures.
-  m_project.view.level = std::clamp(m_project.view.level, 0, levelCount() - 1);
-  emit settingsChanged();
+  followLodSet(before, true);
   emit currentChanged();
-  m_analysis->request(true);
 }
 
 void Document::insertAsset(int index, const ProjectAsset& entry, std::shared_ptr<const Asset> asset) {
   insertProjectAsset(m_project, index, entry);
   m_assets.insert(m_assets.begin() + index, std::move(asset));
+  if (m_viewedCharacter >= index) // the mappings followed their assets (insertProjectAsset())
+    ++m_viewedCharacter;
   emit assetsChanged();
   if (currentAsset() >= index)
     ++m_project.view.asset;
@@ -286,6 +318,10 @@ void Document::replaceAsset(int index, const ProjectAsset& entry, std::shared_pt
 void Document::eraseAsset(int index) {
   eraseProjectAsset(m_project, index);
   m_assets.erase(m_assets.begin() + index);
+  if (m_viewedCharacter > index) // the mappings followed their assets; one onto `index` went with it
+    --m_viewedCharacter;
+  else if (m_viewedCharacter == index)
+    m_viewedCharacter = -1;
   emit assetsChanged();
   if (currentAsset() == index)
     setCurrentAsset(assetCount() > 0 ? 0 : -1, 0);
@@ -334,6 +370,7 @@ bool Document::open(const QString& path, const ProjectFileOptions& options, QStr
   m_assets.assign(m_project.assets.size(), nullptr);
   m_analysis->reset();
   m_currentJoint = -1;
+  m_viewedCharacter = -1;
   emit assetsChanged();
   emit settingsChanged();
   emit currentChanged();
@@ -352,6 +389,7 @@ void Document::newProject() {
   m_assets.clear();
   m_analysis->reset();
   m_currentJoint = -1;
+  m_viewedCharacter = -1;
   emit assetsChanged();
   emit settingsChanged();
   emit currentChanged();

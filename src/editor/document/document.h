@@ -52,9 +52,21 @@ public:
   int currentAsset() const { return m_project.view.asset; }
   int currentClip() const { return m_project.view.clip; }
   int currentLevel() const { return m_project.view.level; }
+  // The character the motion in view is viewed on (the viewport's character box), or -1 (on
+  // its own skeleton, or an asset that is no mapped motion). Not an edit: no undo. Always one
+  // the motion is mapped onto: setViewedCharacter() refuses others (-1), and it goes back to
+  // -1 when the asset in view changes or its mapping goes.
+  int viewedCharacter() const { return m_viewedCharacter; }
+  void setViewedCharacter(int character);
+  // The asset whose LOD set is in view (core/project.h's lodSetOwner(): the viewed character,
+  // else the motion's first mapping's, else the asset itself; -1 with no asset in view), and
+  // its file name: what the level docks, Budget, crowd and Export name.
+  int lodSetOwnerInView() const { return lodSetOwner(m_project, currentAsset(), m_viewedCharacter); }
+  QString lodSetOwnerName() const;
   // The LOD set of the asset in view (core/project.h's lodSetFor(): a character owns its
-  // set), and its level count: what the level docks show and the level edits change.
-  const LodSet& lods() const { return lodSetFor(m_project, currentAsset()); }
+  // set; a motion plays with the set of the character it is viewed on), and its level
+  // count: what the level docks show and the level edits change.
+  const LodSet& lods() const { return lodSetFor(m_project, currentAsset(), m_viewedCharacter); }
   int levelCount() const { return static_cast<int>(lods().levels.size()); }
   int currentJoint() const { return m_currentJoint; }
   const Asset* currentAssetPtr() const;
@@ -109,7 +121,7 @@ signals:
   void assetsLoaded(const QList<int>& indices);
   void settingsChanged(); // alpha, joint settings or levels
   void mappingsChanged();
-  void currentChanged(); // asset, clip, level or joint in view
+  void currentChanged(); // asset, clip, level, joint or viewed character in view
   void analysisStarted();
   void analysisProgress(int done, int total);
   void analysisFinished(bool ok, const QString& message); // ok = new figures in analysis()
@@ -138,6 +150,13 @@ private:
   void applyMappings(const std::vector<ProjectMapping>& mappings);
 
   std::optional<JpcAnalysisRequest> analysisRequest() const;
+  // After a change of the asset in view or of the mappings: the viewed character kept only
+  // where the motion in view is still mapped onto it.
+  void validateViewedCharacter();
+  // After a change of what the set in view is: the level in view clamped to it, and, when
+  // the set is another than `before`, the views told and the figures asked for again
+  // (`fromEdit`: by an edit, which a cancelled clustering takes back).
+  void followLodSet(const LodSet& before, bool fromEdit);
   std::string jointName(int joint) const;
   void takeBackLastEdit();
   void loadAssets(std::vector<int> indices);
@@ -147,6 +166,7 @@ private:
   QUndoStack* m_undo = nullptr;
   QString m_fileName;
   int m_currentJoint = -1;
+  int m_viewedCharacter = -1; // viewedCharacter()
   int m_waitedJobs = 0; // waited-for jobs running
   AnalysisRunner* m_analysis = nullptr;
   LevelGenerator* m_generator = nullptr;

@@ -140,7 +140,8 @@ bool applyLevelEdit(Document& document, const Result<LodSetEdit>& edit, const QS
   if (!edit)
     return refuse(out_error, QString::fromStdString(edit.message()));
   Project after = document.project();
-  applyLodSetEdit(after, document.currentAsset(), *edit); // the set of the asset in view
+  // the set in view: the asset's, or the one of the character the motion is viewed on
+  applyLodSetEdit(after, document.currentAsset(), *edit, document.viewedCharacter());
   SetLevels::State before = SetLevels::stateOf(document.project()), state = SetLevels::stateOf(after);
   if (!(state == before))
     document.undoStack()->push(new SetLevels(&document, std::move(before), std::move(state), text, id, level));

@@ -32,9 +32,8 @@ void LevelGenerator::setWaitedFor(bool waited) {
 }
 
 int LevelGenerator::budgetAsset() const {
-  const int current = m_document->currentAsset();
-  const int owner = lodSetOwner(m_document->project(), current);
-  return owner >= 0 ? owner : current;
+  const int owner = m_document->lodSetOwnerInView(); // the character the motion in view is viewed on
+  return owner >= 0 ? owner : m_document->currentAsset();
 }
 
 bool LevelGenerator::start(double pixels, int levels, QString* out_error) {

@@ -82,8 +82,9 @@ private:
     Result<LodSet> lods = Error("no result");
     LodBudgetReport report;
   };
-  // The asset whose levels a budget makes: the one in view, or the character a motion in view
-  // is mapped onto (its set is the character's: lodSetOwner()).
+  // The asset whose levels a budget makes: the one in view, or the character the motion in
+  // view is viewed on, else mapped onto first (its set is the character's:
+  // Document::lodSetOwnerInView()).
   int budgetAsset() const;
   bool launch(double pixels, int levels, const LodProjection& projection, bool land, QString* out_error);
   void onDone();

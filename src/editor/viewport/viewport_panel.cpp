@@ -107,7 +107,14 @@ ViewportPanel::ViewportPanel(Document* document, QWidget* parent)
   connect(frame, &QToolButton::clicked, this, &ViewportPanel::frameCharacters);
   connect(m_modeBox, &QComboBox::currentIndexChanged, this, &ViewportPanel::pose);
   connect(m_skeletonBox, &QCheckBox::toggled, this, &ViewportPanel::pose);
-  connect(m_characterBox, &QComboBox::currentIndexChanged, this, &ViewportPanel::rebuild);
+  // the artist's choice goes to the document (the LOD set in view follows it), then the views
+  connect(m_characterBox, &QComboBox::currentIndexChanged, this, [this] {
+    const int mapping = m_characterBox->currentData().toInt();
+    const auto& mappings = m_document->project().mappings;
+    m_document->setViewedCharacter(
+        mapping >= 0 && mapping < int(mappings.size()) ? mappings[static_cast<std::size_t>(mapping)].character : -1);
+    rebuild();
+  });
   connect(m_playback, &Playback::timeChanged, this, &ViewportPanel::pose);
   connect(document, &Document::currentChanged, this, &ViewportPanel::rebuild);
   connect(document, &Document::assetsChanged, this, &ViewportPanel::rebuild);
@@ -141,17 +148,20 @@ void ViewportPanel::setMode(Mode mode) { m_modeBox->setCurrentIndex(m_modeBox->f
 QString ViewportPanel::statusText() const { return m_status; }
 
 void ViewportPanel::rebuild() {
-  // the characters the asset in view can play on
+  // the characters the asset in view can play on; the chosen one is the document's viewed
+  // character (whose LOD set the docks show)
   {
     const QSignalBlocker block(m_characterBox);
-    const int chosen = m_characterBox->currentData().toInt();
     m_characterBox->clear();
     m_characterBox->addItem(tr("its own skeleton"), -1);
-    for (int mapping : mappingsOfCurrentAsset(*m_document))
-      m_characterBox->addItem(
-          QString::fromStdString(m_document->project().mappings[static_cast<std::size_t>(mapping)].mapping.characterName),
-          mapping);
-    m_characterBox->setCurrentIndex(std::max(0, m_characterBox->findData(chosen)));
+    int chosen = 0;
+    for (int mapping : mappingsOfCurrentAsset(*m_document)) {
+      const ProjectMapping& entry = m_document->project().mappings[static_cast<std::size_t>(mapping)];
+      if (entry.character == m_document->viewedCharacter() && chosen == 0)
+        chosen = m_characterBox->count();
+      m_characterBox->addItem(QString::fromStdString(entry.mapping.characterName), mapping);
+    }
+    m_characterBox->setCurrentIndex(chosen);
     m_characterBox->setEnabled(m_characterBox->count() > 1);
   }
   if (m_characterBox->currentData().toInt() != m_key.mapping)

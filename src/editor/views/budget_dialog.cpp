@@ -61,6 +61,12 @@ BudgetDialog::BudgetDialog(LevelGenerator* generator, const BudgetRequest& initi
   m_height->setRange(1, 16384);
   m_height->setSuffix(tr(" px"));
   m_height->setToolTip(tr("The viewport's height in pixels the pixel figures assume"));
+  m_character = new QLabel;
+  m_character->setObjectName("budgetCharacterLabel");
+  m_character->setText(initial.character.isEmpty()
+                           ? QString()
+                           : tr("Levels of <b>%1</b> (its own LOD set)").arg(initial.character.toHtmlEscaped()));
+  m_character->setVisible(!initial.character.isEmpty());
   auto* form = new QFormLayout;
   form->addRow(tr("Pixel error:"), m_pixels);
   form->addRow(tr("Levels (the original included):"), m_levels);
@@ -120,6 +126,7 @@ BudgetDialog::BudgetDialog(LevelGenerator* generator, const BudgetRequest& initi
   connect(m_buttons, &QDialogButtonBox::rejected, this, &BudgetDialog::reject);
 
   auto* layout = new QVBoxLayout(this);
+  layout->addWidget(m_character);
   layout->addLayout(form);
   layout->addWidget(m_table, 1);
   layout->addWidget(m_notes);

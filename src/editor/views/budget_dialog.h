@@ -31,6 +31,7 @@ struct BudgetRequest {
   double pixels = 1.0; // > 0
   int levels = 4;      // >= 1, the original included
   LodProjection projection;
+  QString character; // the file name of the asset whose set the levels replace (named above the form)
 };
 
 class BudgetDialog : public QDialog {
@@ -60,6 +61,7 @@ public:
   QListWidget* overridesList() const { return m_overrides; }
   QLabel* notesLabel() const { return m_notes; }
   QLabel* statusLabel() const { return m_status; }
+  QLabel* characterLabel() const { return m_character; } // "Levels of BCN_Epileptic.X"
   JobProgress* progress() const { return m_progress; }
   QPushButton* applyButton() const { return m_apply; }
   QPushButton* previewButton() const { return m_previewButton; }
@@ -82,6 +84,7 @@ private:
   QDoubleSpinBox* m_fov;
   QSpinBox* m_height;
   QTableWidget* m_table;
+  QLabel* m_character;
   QLabel* m_notes;
   QLabel* m_overridesTitle;
   QListWidget* m_overrides;

@@ -32,18 +32,6 @@
 
 namespace mlod {
 
-namespace {
-
-// The character of the asset in view: itself, or the character the motion in view drives.
-int characterFor(const Project& project, int view) {
-  for (const ProjectMapping& mapping : project.mappings)
-    if (mapping.motion == view)
-      return mapping.character;
-  return view;
-}
-
-} // namespace
-
 ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* parent)
     : QDialog(parent), m_document(document), m_host(host) {
   setWindowTitle(tr("Export LOD Set"));
@@ -53,7 +41,9 @@ ExportDialog::ExportDialog(Document* document, const PluginHost* host, QWidget* 
   auto* layout = new QVBoxLayout(this);
 
   const Project& project = document->project();
-  m_asset = characterFor(project, document->currentAsset());
+  // the character of the asset in view: the one the motion is viewed on (core's rule, as `motionlod export`)
+  m_asset =
+      exportCharacterOf(project, document->currentAsset(), document->viewedCharacter(), document->importedAssets());
   if (m_asset >= static_cast<int>(project.assets.size()))
     m_asset = -1;
   m_assetLabel = new QLabel(this);

@@ -1,15 +1,14 @@
 // The .mlod project document: JSON round trip, refusal of bad files, asset paths relative
 // to the project, level edits that carry per-joint overrides.
 
-#include "core/project.h"
-
 #include "core/lod/lod_levels.h"
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
+#include "core/project.h"
+#include "core/project_package.h"
 
 #include <filesystem>
 #include <fstream>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -178,6 +177,128 @@ TEST(Project, AMappedMotionPlaysWithItsCharactersSet) {
   project.mappings.clear(); // unassigned: the motion plays with its own again
   EXPECT_EQ(lodSetOwner(project, 0), 0);
   EXPECT_EQ(lodSetFor(project, 0), motionOwn);
+}
+
+// sampleProject() with a second character, Testwuson (asset 2), the motion mapped onto both
+// (BCN first), each character with its own set: BCN's thresholds 0, 2, 5; Testwuson's 0, 10,
+// 20, 40.
+Project motionOnTwoCharacters() {
+  Project project = sampleProject();
+  ProjectAsset wuson;
+  wuson.path = "characters/Testwuson.X";
+  project.assets.push_back(wuson);
+  ProjectMapping second = project.mappings[0];
+  second.character = 2;
+  second.mapping.characterName = "Testwuson.X";
+  project.mappings.push_back(second);
+  LodSet bcn;
+  bcn.levels = {level("LOD0", 0.0), level("Close", 2.0, 0.5, 898.0), level("Away", 5.0, 0.1, 4774.0)};
+  project.assets[1].lods = bcn;
+  LodSet wusonOwn;
+  wusonOwn.levels = {level("LOD0", 0.0), level("W1", 10.0, 0.5, 300.0), level("W2", 20.0, 0.25, 600.0),
+                     level("W3", 40.0, 0.1, 1200.0)};
+  project.assets[2].lods = wusonOwn;
+  EXPECT_FALSE(project.validate());
+  return project;
+}
+
+// Guards issue 26's last item ("a clip plays with the set of the character it is mapped to"):
+// a motion mapped onto two characters plays with the set of the one it is viewed on; viewed
+// on none (its own skeleton), or on a character it is not mapped onto, with its first
+// mapping's; a character keeps its own whatever is viewed. A level edit made with the motion
+// viewed on the second character edits that one's set, and the motion's overrides follow it.
+TEST(Project, AMotionPlaysWithTheSetOfTheCharacterItIsViewedOn) {
+  Project project = motionOnTwoCharacters();
+  const LodSet bcn = *project.assets[1].lods, wuson = *project.assets[2].lods;
+  EXPECT_EQ(lodSetOwner(project, 0, 2), 2);
+  EXPECT_EQ(lodSetOwner(project, 0, 1), 1);
+  EXPECT_EQ(lodSetOwner(project, 0), 1);    // none viewed: the first mapping's
+  EXPECT_EQ(lodSetOwner(project, 0, 0), 1); // on its own skeleton
+  EXPECT_EQ(lodSetOwner(project, 0, 7), 1); // out of range
+  EXPECT_EQ(lodSetOwner(project, 1, 2), 1); // a character is no motion of another
+  EXPECT_EQ(lodSetOwner(project, -1, 2), -1);
+  EXPECT_EQ(lodSetFor(project, 0, 2), wuson);
+  EXPECT_EQ(lodSetFor(project, 0, 1), bcn);
+  EXPECT_EQ(lodSetFor(project, 0), bcn);
+  EXPECT_EQ(levelThresholdsFor(project, 0, 2), (std::vector<double>{0.0, 10.0, 20.0, 40.0}));
+  EXPECT_EQ(levelThresholdsFor(project, 0), (std::vector<double>{0.0, 2.0, 5.0}));
+  EXPECT_TRUE(playsWithSetOf(project, 0, 2));
+  EXPECT_TRUE(playsWithSetOf(project, 0, 1));
+  EXPECT_FALSE(playsWithSetOf(project, 1, 2));
+  EXPECT_TRUE(isMappedOnto(project, 0, 2));
+  EXPECT_FALSE(isMappedOnto(project, 2, 0));
+
+  // viewed on Testwuson: removing its level 1 edits its set; BCN's stays; the motion's
+  // LeftUpLeg override (level 2) follows to level 1
+  Result<LodSetEdit> removed = removeLodLevel(lodSetFor(project, 0, 2), 1);
+  ASSERT_TRUE(removed) << removed.message();
+  applyLodSetEdit(project, 0, *removed, 2);
+  EXPECT_EQ(project.assets[1].lods, bcn);
+  ASSERT_TRUE(project.assets[2].lods);
+  EXPECT_EQ(project.assets[2].lods->levels.size(), 3u);
+  EXPECT_EQ(project.assets[2].lods->levels[1].name, "W2");
+  EXPECT_EQ(project.assets[0].joints["LeftUpLeg"].thresholds, (std::vector<std::optional<double>>{std::nullopt, 12.5}));
+  EXPECT_EQ(overrideCountFor(project, 2), 1); // the motion's, per level of either set
+  EXPECT_FALSE(project.validate());
+}
+
+// Guards the one rule for "which character does this asset export as" (issue 26: the CLI, the
+// Export dialog and the main window each had their own): a character is itself; a motion is
+// the character it is viewed on, else its first mapping's; no asset in view: the first
+// mapping's character that plays a clip (defaultPackageAsset()) once imported, -1 before.
+TEST(Project, ExportCharacterOfIsTheSetOwner) {
+  const Project project = motionOnTwoCharacters();
+  EXPECT_EQ(exportCharacterOf(project, 1), 1);
+  EXPECT_EQ(exportCharacterOf(project, 2), 2);
+  EXPECT_EQ(exportCharacterOf(project, 2, 1), 2); // a character viewed "on" another stays itself
+  EXPECT_EQ(exportCharacterOf(project, 0), 1);
+  EXPECT_EQ(exportCharacterOf(project, 0, 2), 2);
+  EXPECT_EQ(exportCharacterOf(project, 0, 1), 1);
+  EXPECT_EQ(exportCharacterOf(project, 0, 0), 1);
+  for (int asset = 0; asset < 3; ++asset)
+    for (int viewed = -1; viewed < 4; ++viewed)
+      EXPECT_EQ(exportCharacterOf(project, asset, viewed), lodSetOwner(project, asset, viewed))
+          << asset << " " << viewed;
+  // nothing in view: the candidates imported first
+  EXPECT_EQ(exportCharacterOf(project, -1), -1);
+  EXPECT_EQ(exportCharacterOf(project, 9), -1);
+  Asset motion, character, other;
+  motion.clips.resize(1);
+  character.clips.resize(1);
+  other.clips.resize(1);
+  const std::vector<const Asset*> imported{&motion, &character, &other};
+  EXPECT_EQ(exportCharacterOf(project, -1, -1, imported), 1);
+  Project none;
+  EXPECT_EQ(exportCharacterOf(none, -1, -1, imported), -1);
+}
+
+// Guards `motionlod export --character NAME`: a character by file name, stem, stored path or
+// index; an unknown name, a motion, an index out of range and a name of two are refused with
+// the project's characters listed.
+TEST(Project, ExportCharacterNamed) {
+  Project project = motionOnTwoCharacters();
+  EXPECT_EQ(exportCharacters(project), (std::vector<int>{1, 2}));
+  EXPECT_EQ(exportCharacterList(project), "1 BCN_Epileptic.X, 2 Testwuson.X");
+  EXPECT_EQ(*exportCharacterNamed(project, "Testwuson.X"), 2);
+  EXPECT_EQ(*exportCharacterNamed(project, "Testwuson"), 2);
+  EXPECT_EQ(*exportCharacterNamed(project, "characters/BCN_Epileptic.X"), 1);
+  EXPECT_EQ(*exportCharacterNamed(project, "1"), 1);
+  const Result<int> unknown = exportCharacterNamed(project, "Wuson.X");
+  ASSERT_FALSE(unknown);
+  EXPECT_EQ(unknown.message(),
+            "the project has no character 'Wuson.X'; the project's characters: 1 BCN_Epileptic.X, 2 Testwuson.X");
+  const Result<int> motion = exportCharacterNamed(project, "01_01.bvh");
+  ASSERT_FALSE(motion);
+  EXPECT_NE(motion.message().find("is a motion (asset 0), exported with BCN_Epileptic.X"), std::string::npos)
+      << motion.message();
+  EXPECT_NE(exportCharacterNamed(project, "0").message().find("is a motion"), std::string::npos);
+  EXPECT_NE(exportCharacterNamed(project, "3").message().find("no asset 3; the project's characters: 1 "),
+            std::string::npos);
+  project.assets.push_back(ProjectAsset{"elsewhere/Testwuson.X", 0.0, {}});
+  const Result<int> two = exportCharacterNamed(project, "Testwuson.X");
+  ASSERT_FALSE(two);
+  EXPECT_NE(two.message().find("names 2 characters"), std::string::npos) << two.message();
+  EXPECT_EQ(*exportCharacterNamed(project, "elsewhere/Testwuson.X"), 3);
 }
 
 // Guards JpcSettings from a project: alpha, mode, joints, and the zero-length rule in file units.
