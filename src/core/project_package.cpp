@@ -118,10 +118,15 @@ int exportCharacterOf(const Project& project, int asset, int viewedCharacter, st
   return imported.empty() ? -1 : defaultPackageAsset(project, imported);
 }
 
+namespace {
+// Whether asset `asset` is exported as a character: no mapping plays it on another.
+bool isExportCharacter(const Project& project, int asset) { return lodSetOwner(project, asset) == asset; }
+} // namespace
+
 std::vector<int> exportCharacters(const Project& project) {
   std::vector<int> out;
   for (int a = 0; a < static_cast<int>(project.assets.size()); ++a)
-    if (lodSetOwner(project, a) == a) // no mapping plays it on another
+    if (isExportCharacter(project, a))
       out.push_back(a);
   return out;
 }
@@ -164,7 +169,7 @@ Result<int> exportCharacterNamed(const Project& project, std::string_view name) 
     return Error("the project has no character '" + std::string(name) + "'" + characters);
   std::vector<int> kept; // the characters among them
   for (int a : found)
-    if (lodSetOwner(project, a) == a)
+    if (isExportCharacter(project, a))
       kept.push_back(a);
   if (kept.empty()) {
     const int motion = found.front();
