@@ -128,6 +128,7 @@ json lodSetToJson(const LodSet& lods) {
   return {{"projection",
            {{"vertical_fov_degrees", lods.projection.verticalFovDegrees},
             {"viewport_height_pixels", lods.projection.viewportHeightPixels}}},
+          {"skinning", lodSkinningName(lods.skinning)},
           {"bounding_radius_cm", lods.boundingRadiusCm},
           {"levels", std::move(levels)}};
 }
@@ -236,6 +237,13 @@ LodSet lodSetFromJson(const json& lods, const std::string& where) {
       number(field(projection, "vertical_fov_degrees", "the projection"), "vertical_fov_degrees");
   out.projection.viewportHeightPixels =
       number(field(projection, "viewport_height_pixels", "the projection"), "viewport_height_pixels");
+  // absent (a project saved before it was kept): the default, skinned on the GPU
+  if (lods.contains("skinning")) {
+    const std::optional<LodSkinning> skinning = lodSkinningFromName(text(lods["skinning"], where + " skinning"));
+    if (!skinning)
+      throw std::runtime_error(where + " skinning is neither \"gpu\" nor \"cpu\"");
+    out.skinning = *skinning;
+  }
   out.boundingRadiusCm = number(field(lods, "bounding_radius_cm", where), "bounding_radius_cm");
   const json& levels = field(lods, "levels", where);
   if (!levels.is_array())

@@ -28,7 +28,9 @@ namespace mlod {
 // Version 4: as version 3, and an asset may carry its own LOD set, "lods" (the same object as
 // the project's): a character's levels, switch distances and mesh ratios are its own
 // (docs/architecture.md section 3). An asset without one plays with the project's "lods"; a
-// motion mapped onto a character plays with the character's (lodSetOwner()).
+// motion mapped onto a character plays with the character's (lodSetOwner()). A "lods"
+// object may say where the character is skinned, "skinning": "gpu" | "cpu" (LodSet::skinning;
+// written always, absent in files saved before it was kept: "gpu").
 // Version 3 (read, never written): {"format":"motionlod-project","version":3,"alpha","mode",
 //             "lods":{"projection":{"vertical_fov_degrees","viewport_height_pixels"},"bounding_radius_cm",
 //                     "levels":[{"name","threshold","mesh_ratio","switch_distance_cm","pixel_error",

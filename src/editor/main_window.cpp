@@ -969,6 +969,7 @@ BudgetDialog* MainWindow::openBudgetDialog() {
   BudgetRequest initial;
   initial.levels = std::max(2, m_document->levelCount());
   initial.projection = lods.projection;
+  initial.skinning = lods.skinning;
   if (const std::optional<double> made = switchDistancePixelBudget(lods)) // the budget the levels were made with
     initial.pixels = *made;
   initial.character = m_document->lodSetOwnerName(); // generation lands in that one's set

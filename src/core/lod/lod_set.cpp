@@ -124,6 +124,7 @@ Result<LodSet> meshOnly(const Asset& asset, double pixels, int levels, const Lod
     return lod.error();
   LodSet out;
   out.projection = options.projection;
+  out.skinning = options.skinning;
   const glm::vec3 centre = skeleton ? glm::vec3(skeleton->restModelMatrices()[0][3]) : glm::vec3(0.0f);
   for (const glm::vec3& p : mesh->positions)
     out.boundingRadiusCm = std::max(out.boundingRadiusCm, double(glm::length(p - centre)));
@@ -228,6 +229,18 @@ public:
   static std::unique_ptr<LodBudgetCache::State>& state(LodBudgetCache& cache) { return cache.m_state; }
 };
 
+const char* lodSkinningName(LodSkinning skinning) {
+  return skinning == LodSkinning::Cpu ? "cpu" : "gpu";
+}
+
+std::optional<LodSkinning> lodSkinningFromName(std::string_view name) {
+  if (name == "gpu")
+    return LodSkinning::Gpu;
+  if (name == "cpu")
+    return LodSkinning::Cpu;
+  return std::nullopt;
+}
+
 double motionShareByCost(int joints, std::size_t vertices) {
   const double pose = kPoseCostPerJoint * std::max(joints, 0);
   const double skin = kSkinCostPerVertex * static_cast<double>(vertices);
@@ -320,6 +333,7 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
 
   LodSet out;
   out.projection = options.projection;
+  out.skinning = options.skinning;
   out.boundingRadiusCm = character->boundingRadiusCm();
   const double radius = out.boundingRadiusCm;
   if (!std::isfinite(radius)) // (the skeleton check refuses offsets that overflow; this guards the rest)
@@ -353,9 +367,9 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
   // measures, motion and mesh rebound to its skeleton, spans N pixels. Without a mesh each
   // level aims where the character is height / 2^i pixels tall.
   const std::vector<double> ratios = levelRatios(options.meshRatios, levels);
-  const double motionShare = !character->mesh() ? 1.0
-                             : options.motionShare
-                                 ? *options.motionShare
+  const double motionShare = !character->mesh()                   ? 1.0
+                             : options.motionShare                 ? *options.motionShare
+                             : options.skinning == LodSkinning::Gpu ? kGpuMotionShare
                                  : motionShareByCost(asset.skeleton.jointCount(), character->mesh()->vertexCount());
   if (report)
     report->motionShare = motionShare;

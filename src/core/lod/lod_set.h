@@ -12,8 +12,10 @@
 // the motion takes the largest candidate threshold whose motion error stays within
 // motionShare x delta_i (bone reduction included, lod_character.h; where that would repeat
 // the previous level's threshold, the largest whole threshold below the first candidate that
-// misses); motionShare is the pose's share of the character's frame cost
-// (motionShareByCost()). Without a mesh, level i is aimed at the distance where the character's bounding
+// misses); motionShare is what the character's CPU pays for its motion: where the GPU skins
+// (LodSkinning::Gpu, the default, as engines do) the CPU pays the pose alone and the motion
+// takes kGpuMotionShare (a half); where the CPU skins (LodSkinning::Cpu) the pose's share of
+// the character's frame cost (motionShareByCost()). Without a mesh, level i is aimed at the distance where the character's bounding
 // sphere covers height / 2^i pixels (half the screen, a quarter ...), where N pixels allow a
 // deviation delta_i (error_budget.h) for the motion. Either way the level switches in at the
 // smallest distance where its measured deviation (motion + the mesh error of its own
@@ -35,10 +37,12 @@
 #include "core/mesh/mesh_lod.h"
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace mlod {
@@ -63,6 +67,18 @@ struct LodLevel {
   friend bool operator==(const LodLevel&, const LodLevel&) = default;
 };
 
+// Where a character's skinning runs, which decides what its frame costs the CPU and so the
+// motion's share of each level's deviation (LodBudgetOptions::skinning). Saved with the set
+// it generated (LodSet::skinning; a project's "skinning": "gpu" | "cpu").
+enum class LodSkinning : std::uint8_t {
+  Gpu, // the GPU skins: the CPU pays the pose alone (engines; the default)
+  Cpu, // the CPU skins every vertex (the paper's Figure 12, `motionlod bench-crowd --scene`)
+};
+// "gpu" / "cpu": the project file's and the command line's spelling.
+const char* lodSkinningName(LodSkinning skinning);
+// Reads "gpu" or "cpu" (exactly, lower case); nullopt for anything else.
+std::optional<LodSkinning> lodSkinningFromName(std::string_view name);
+
 struct LodBudgetOptions {
   // Clips of the asset's skeleton besides its own (mapped motions, retargetClip()); every
   // level must hold for them too.
@@ -70,9 +86,12 @@ struct LodBudgetOptions {
   JpcSettings jpc;
   MeshLodSettings mesh;
   LodProjection projection;
+  // Where the character is skinned; it sets the motion's share below when that is unset.
+  LodSkinning skinning = LodSkinning::Gpu;
   // (0, 1]: of each level's deviation (with a mesh), the part the motion may take first;
-  // unset: the motion's share of the character's frame cost at level 0, between
-  // kMinMotionShare and kMaxMotionShare (motionShareByCost()).
+  // unset: with LodSkinning::Gpu, kGpuMotionShare; with LodSkinning::Cpu, the motion's share
+  // of the character's frame cost at level 0, between kMinMotionShare and kMaxMotionShare
+  // (motionShareByCost()).
   std::optional<double> motionShare;
   // The thresholds tried for the motion (cm·degrees, ascending): the paper's Table 1 values and
   // the steps between.
@@ -97,14 +116,20 @@ struct LodBudgetOptions {
 };
 
 // The deviation a level may spend goes where it buys frame time (docs/architecture.md
-// section 5): a character's frame costs pose evaluation (about kPoseCostPerJoint per joint:
+// section 5). Skinned on the GPU (LodSkinning::Gpu), the CPU's bill is the pose alone, the
+// mesh's cost is the GPU's, and neither bill says how to split the deviation between them:
+// the motion takes a stated half (kGpuMotionShare), enough for thresholds whose clusters
+// are long (with 5%, BCN_Epileptic's levels took E = 1, 2, 5: clusters so short that
+// skipping them saved nothing, issue 25). Skinned on the CPU (LodSkinning::Cpu), a
+// character's frame costs pose evaluation (about kPoseCostPerJoint per joint:
 // 3,115 instructions for CMU 01_01's 38 joints, callgrind on this runtime) plus CPU skinning
 // (about kSkinCostPerVertex per vertex: 29.4 on BCN_Epileptic), and the motion's share of a
 // level's deviation is the pose's share of that cost, clamped to [kMinMotionShare,
 // kMaxMotionShare]: the mesh leads, and at least 5% keeps a threshold above 0 within reach
 // (at 2%, BCN_Epileptic's LOD1 finds none and is left out). 54 joints and 3,014 vertices
 // (BCN_Epileptic): 4.8%, so 5%; 28 joints and 471 vertices (the paper's crowd): 14%; a
-// skeleton without a mesh: the motion takes the whole deviation.
+// skeleton without a mesh: the motion takes the whole deviation, whatever skins it.
+inline constexpr double kGpuMotionShare = 0.5;
 inline constexpr double kPoseCostPerJoint = 82.0;
 inline constexpr double kSkinCostPerVertex = 29.4;
 inline constexpr double kMinMotionShare = 0.05;
@@ -120,8 +145,9 @@ struct LodBudgetReport {
   std::vector<double> simplifiedPercent;
   // The aimed levels left out (an E of 0, or a repeat of the level before), one line each.
   std::vector<std::string> dropped;
-  // The motion's share of each level's deviation that was used (LodBudgetOptions::motionShare;
-  // 1 without a mesh: the motion takes all of it; 0 without a clip).
+  // The motion's share of each level's deviation that was used (LodBudgetOptions::motionShare,
+  // else kGpuMotionShare or motionShareByCost() by LodBudgetOptions::skinning; 1 without a
+  // mesh: the motion takes all of it; 0 without a clip).
   double motionShare = 0.0;
   // The work this run did (statistics; with LodBudgetOptions::cache, what it could not reuse):
   int jointsClustered = 0;        // joint clusterings made
@@ -133,6 +159,7 @@ struct LodBudgetReport {
 class LodSet {
 public:
   LodProjection projection;
+  LodSkinning skinning = LodSkinning::Gpu; // what the levels' budget split assumed (LodBudgetOptions::skinning)
   double boundingRadiusCm = 0.0; // about the root, holding the posed character in every frame
   std::vector<LodLevel> levels;
 

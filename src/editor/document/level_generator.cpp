@@ -37,14 +37,16 @@ int LevelGenerator::budgetAsset() const {
 }
 
 bool LevelGenerator::start(double pixels, int levels, QString* out_error) {
-  return launch(pixels, levels, m_document->lods().projection, true, out_error);
+  return launch(pixels, levels, m_document->lods().projection, m_document->lods().skinning, true, out_error);
 }
 
-bool LevelGenerator::preview(double pixels, int levels, const LodProjection& projection, QString* out_error) {
-  return launch(pixels, levels, projection, false, out_error);
+bool LevelGenerator::preview(double pixels, int levels, const LodProjection& projection, LodSkinning skinning,
+                             QString* out_error) {
+  return launch(pixels, levels, projection, skinning, false, out_error);
 }
 
-bool LevelGenerator::launch(double pixels, int levels, const LodProjection& projection, bool land, QString* out_error) {
+bool LevelGenerator::launch(double pixels, int levels, const LodProjection& projection, LodSkinning skinning,
+                            bool land, QString* out_error) {
   const auto refuse = [&](const QString& reason) {
     if (out_error)
       *out_error = reason;
@@ -64,6 +66,7 @@ bool LevelGenerator::launch(double pixels, int levels, const LodProjection& proj
   LodBudgetOptions options;
   options.jpc = project.jpcSettings(index, character->unitScale);
   options.projection = projection;
+  options.skinning = skinning;
   std::vector<std::shared_ptr<const Asset>> assets; // kept alive while the worker runs
   for (int i = 0; i < m_document->assetCount(); ++i)
     assets.push_back(m_document->asset(i));

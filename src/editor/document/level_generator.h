@@ -10,7 +10,7 @@
 // Either way the new levels are one undo step (per-joint overrides kept by level index).
 // Each character's search keeps what it computed (core/lod/lod_budget_cache.h, one cache per
 // asset index, checked against the inputs of each run): a preview asked again with another
-// budget, level count or projection reuses the motions and meshes already made, and after a
+// budget, level count, projection or skinning reuses the motions and meshes already made, and after a
 // joint edit re-clusters that joint alone; the levels are the same as without it.
 // One generation at a time; it reports its progress in percent and stops at the core's next
 // cancel point after cancel(), which drops the result at once and leaves the document as it
@@ -52,11 +52,13 @@ public:
   ~LevelGenerator() override;                  // cancels and waits for the worker
 
   // Starts generating up to `levels` levels within `pixels` (> 0) on screen under the
-  // project's projection; they land when done (finished()). Returns false with a reason
+  // projection and skinning of the set in view (LodSet::skinning); they land when done (finished()). Returns false with a reason
   // when no asset is in view, the budget is bad, or a worker still runs.
   bool start(double pixels, int levels, QString* out_error = nullptr);
-  // The same under `projection`, landing nothing: previewed() then plan().
-  bool preview(double pixels, int levels, const LodProjection& projection, QString* out_error = nullptr);
+  // The same under `projection`, for a character skinned where `skinning` says
+  // (LodBudgetOptions::skinning), landing nothing: previewed() then plan().
+  bool preview(double pixels, int levels, const LodProjection& projection, LodSkinning skinning,
+               QString* out_error = nullptr);
   // The last successful preview (empty levels before one).
   const LevelPlan& plan() const { return m_plan; }
   // Lands plan() as one undo step (finished(true, ...)). Errors: no preview, a generation
@@ -86,7 +88,8 @@ private:
   // view is viewed on, else mapped onto first (its set is the character's:
   // Document::lodSetOwnerInView()).
   int budgetAsset() const;
-  bool launch(double pixels, int levels, const LodProjection& projection, bool land, QString* out_error);
+  bool launch(double pixels, int levels, const LodProjection& projection, LodSkinning skinning, bool land,
+              QString* out_error);
   void onDone();
   void land(const LodSet& lods, double pixels, int asset);
   // Tells the document a generation the artist waits for runs, or no longer (once each way).

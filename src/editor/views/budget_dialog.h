@@ -1,7 +1,8 @@
 #pragma once
 // Edit > Generate Levels from Pixel Budget… (Ctrl+Shift+G; docs/architecture.md sections 5
 // and 7): one dialog for the budget — pixel error, number of levels, projection (vertical
-// field of view, viewport height) — with a live preview of the levels it will make: E,
+// field of view, viewport height), where the character is skinned (GPU or CPU: the motion's
+// share of each level's deviation) — with a live preview of the levels it will make: E,
 // mesh ratio, switch distance (m), simplified %, triangles, joints, the levels the rules
 // left out and the per-joint overrides above a generated level's E. Every change of a value
 // re-runs the generator (LevelGenerator::preview(), core's LodSet::fromPixelBudget) in the
@@ -10,10 +11,12 @@
 // leaves the project as it was. The dialog computes nothing itself.
 
 #include "core/lod/error_budget.h"
+#include "core/lod/lod_set.h"
 
 #include <QDialog>
 #include <QTimer>
 
+class QComboBox;
 class QDialogButtonBox;
 class QDoubleSpinBox;
 class QLabel;
@@ -31,6 +34,7 @@ struct BudgetRequest {
   double pixels = 1.0; // > 0
   int levels = 4;      // >= 1, the original included
   LodProjection projection;
+  LodSkinning skinning = LodSkinning::Gpu; // where the character is skinned (LodBudgetOptions::skinning)
   QString character; // the file name of the asset whose set the levels replace (named above the form)
 };
 
@@ -83,6 +87,7 @@ private:
   QSpinBox* m_levels;
   QDoubleSpinBox* m_fov;
   QSpinBox* m_height;
+  QComboBox* m_skinning;
   QTableWidget* m_table;
   QLabel* m_character;
   QLabel* m_notes;

@@ -113,6 +113,43 @@ TEST(Project, EachCharacterOwnsItsLodSet) {
       << projectFromJson(noLevels.dump()).message();
 }
 
+// Guards where skinning runs (issue 25): a set's "skinning" is written and reads back, the
+// project's and a character's own alike; a file saved before it was kept (no "skinning")
+// loads as before, skinned on the GPU; another value is refused naming its set.
+TEST(Project, SkinningIsSavedWithItsSetAndDefaultsToTheGpu) {
+  Project project = sampleProject();
+  EXPECT_EQ(project.lods.skinning, LodSkinning::Gpu);
+  project.lods.skinning = LodSkinning::Cpu;
+  LodSet own = project.lods;
+  own.skinning = LodSkinning::Gpu;
+  project.assets[1].lods = own;
+  const nlohmann::json written = nlohmann::json::parse(projectToJson(project));
+  EXPECT_EQ(written["lods"]["skinning"], "cpu");
+  EXPECT_EQ(written["assets"][1]["lods"]["skinning"], "gpu");
+  const Result<Project> read = projectFromJson(written.dump());
+  ASSERT_TRUE(read) << read.message();
+  EXPECT_TRUE(*read == project);
+  EXPECT_EQ(read->lods.skinning, LodSkinning::Cpu);
+  EXPECT_EQ(read->assets[1].lods->skinning, LodSkinning::Gpu);
+
+  nlohmann::json old = written; // as saved before the field was kept
+  old["lods"].erase("skinning");
+  old["assets"][1]["lods"].erase("skinning");
+  const Result<Project> before = projectFromJson(old.dump());
+  ASSERT_TRUE(before) << before.message();
+  EXPECT_EQ(before->lods.skinning, LodSkinning::Gpu);
+  EXPECT_EQ(before->assets[1].lods->skinning, LodSkinning::Gpu);
+  EXPECT_EQ(before->lods.levels, project.lods.levels);
+
+  for (const nlohmann::json& value : {nlohmann::json("GPU"), nlohmann::json("both"), nlohmann::json(1)}) {
+    nlohmann::json bad = written;
+    bad["assets"][1]["lods"]["skinning"] = value;
+    const Result<Project> refused = projectFromJson(bad.dump());
+    ASSERT_FALSE(refused) << value;
+    EXPECT_NE(refused.message().find("asset 1 \"lods\" skinning"), std::string::npos) << refused.message();
+  }
+}
+
 // Guards level edits of one character (issue 26: levels generated for one character were
 // offered for another): the edited character gets its own set, copied from what it played
 // with, and the per-joint overrides of what plays with it (the motion mapped onto it) follow

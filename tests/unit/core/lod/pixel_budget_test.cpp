@@ -360,10 +360,12 @@ TEST(PixelBudgetRules, TheMotionsShareOfTheDeviationFollowsTheFrameCost) {
   EXPECT_EQ(motionShareByCost(38, 0), kMaxMotionShare);
   EXPECT_EQ(motionShareByCost(0, 0), kMaxMotionShare);
 
+  // the cost split is what a CPU-skinned character gets (the GPU's default: the next test)
   const Asset& asset = test::bcnEpileptic();
   LodBudgetReport byCost, half;
-  const LodBudgetOptions defaults;
-  Result<LodSet> costSet = LodSet::fromPixelBudget(asset, 1.0, 3, defaults, &byCost);
+  LodBudgetOptions cpuOptions;
+  cpuOptions.skinning = LodSkinning::Cpu;
+  Result<LodSet> costSet = LodSet::fromPixelBudget(asset, 1.0, 3, cpuOptions, &byCost);
   ASSERT_TRUE(costSet) << costSet.message();
   LodBudgetOptions halfOptions;
   halfOptions.motionShare = 0.5;
@@ -383,6 +385,60 @@ TEST(PixelBudgetRules, TheMotionsShareOfTheDeviationFollowsTheFrameCost) {
     EXPECT_LT(cost.motionErrorCm, old.motionErrorCm);
     EXPECT_LT(cost.switchDistanceCm, old.switchDistanceCm) << "the level starts nearer";
   }
+}
+
+// Guards the default (issue 25): skinned on the GPU, as engines do, the CPU pays the pose
+// alone and the motion takes a stated half of each level's deviation, not the 5% of a
+// CPU-skinned frame; an explicit share still overrides it; the set says what it assumed.
+TEST(PixelBudgetRules, SkinnedOnTheGpuTheMotionTakesHalfTheDeviation) {
+  EXPECT_EQ(kGpuMotionShare, 0.5);
+  const Asset& asset = test::bcnEpileptic();
+  const LodBudgetOptions defaults;
+  EXPECT_EQ(defaults.skinning, LodSkinning::Gpu);
+  LodBudgetReport gpu, explicitHalf, cpu, overridden;
+  Result<LodSet> gpuSet = LodSet::fromPixelBudget(asset, 1.0, 3, defaults, &gpu);
+  ASSERT_TRUE(gpuSet) << gpuSet.message();
+  EXPECT_EQ(gpu.motionShare, kGpuMotionShare);
+  EXPECT_EQ(gpuSet->skinning, LodSkinning::Gpu);
+
+  LodBudgetOptions halfOptions;
+  halfOptions.skinning = LodSkinning::Cpu;
+  halfOptions.motionShare = 0.5;
+  Result<LodSet> halfSet = LodSet::fromPixelBudget(asset, 1.0, 3, halfOptions, &explicitHalf);
+  ASSERT_TRUE(halfSet) << halfSet.message();
+  EXPECT_EQ(halfSet->levels, gpuSet->levels) << "the GPU's default is the same search as an explicit half";
+  EXPECT_EQ(halfSet->skinning, LodSkinning::Cpu);
+
+  LodBudgetOptions cpuOptions;
+  cpuOptions.skinning = LodSkinning::Cpu;
+  Result<LodSet> cpuSet = LodSet::fromPixelBudget(asset, 1.0, 3, cpuOptions, &cpu);
+  ASSERT_TRUE(cpuSet) << cpuSet.message();
+  EXPECT_EQ(cpu.motionShare, motionShareByCost(asset.skeleton.jointCount(), asset.meshes.at(0).vertexCount()));
+  EXPECT_EQ(cpuSet->skinning, LodSkinning::Cpu);
+
+  LodBudgetOptions gpuOverride;
+  gpuOverride.motionShare = 0.2;
+  Result<LodSet> overriddenSet = LodSet::fromPixelBudget(asset, 1.0, 3, gpuOverride, &overridden);
+  ASSERT_TRUE(overriddenSet) << overriddenSet.message();
+  EXPECT_EQ(overridden.motionShare, 0.2) << "an explicit share wins over the skinning's";
+
+  // without a mesh the motion takes all of it, wherever skinning runs
+  Asset skeletonOnly = asset;
+  skeletonOnly.meshes.clear();
+  LodBudgetReport alone;
+  Result<LodSet> aloneSet = LodSet::fromPixelBudget(skeletonOnly, 1.0, 3, defaults, &alone);
+  ASSERT_TRUE(aloneSet) << aloneSet.message();
+  EXPECT_EQ(alone.motionShare, 1.0);
+}
+
+TEST(PixelBudgetRules, SkinningNamesReadBack) {
+  for (LodSkinning skinning : {LodSkinning::Gpu, LodSkinning::Cpu})
+    EXPECT_EQ(lodSkinningFromName(lodSkinningName(skinning)), skinning);
+  EXPECT_STREQ(lodSkinningName(LodSkinning::Gpu), "gpu");
+  EXPECT_STREQ(lodSkinningName(LodSkinning::Cpu), "cpu");
+  EXPECT_EQ(lodSkinningFromName("GPU"), std::nullopt);
+  EXPECT_EQ(lodSkinningFromName(""), std::nullopt);
+  EXPECT_EQ(lodSkinningFromName("both"), std::nullopt);
 }
 
 TEST(PixelBudgetRules, MeshOnlyLevelsDoNotRepeat) {
