@@ -58,6 +58,7 @@ ExportJob toExportJob(const ManifestJob& entry) {
   job.levels = entry.levels;
   job.unitScale = entry.unitScale;
   job.character = entry.character;
+  job.skinning = entry.skinning;
   for (auto it = entry.options.begin(); it != entry.options.end(); ++it) {
     const QString key = QString::fromStdString(it.key());
     if (it->is_boolean())

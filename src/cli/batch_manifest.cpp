@@ -21,7 +21,7 @@ Error readJob(const json& entry, std::size_t index, const std::filesystem::path&
       return Error(where + ": \"" + key + "\" must be a non-empty string");
   for (auto it = entry.begin(); it != entry.end(); ++it)
     if (it.key() != "input" && it.key() != "plugin" && it.key() != "output" && it.key() != "options" &&
-        it.key() != "levels" && it.key() != "unit_scale" && it.key() != "character")
+        it.key() != "levels" && it.key() != "unit_scale" && it.key() != "character" && it.key() != "skinning")
       return Error(where + ": unknown key \"" + it.key() + "\"");
   const auto resolve = [&](const std::string& path) {
     const std::filesystem::path p(path);
@@ -55,6 +55,12 @@ Error readJob(const json& entry, std::size_t index, const std::filesystem::path&
       out.character = character.get<std::string>();
     else
       return Error(where + ": \"character\" must be a project's character: its file name, path or index");
+  }
+  if (entry.contains("skinning")) {
+    const json& skinning = entry["skinning"];
+    out.skinning = skinning.is_string() ? lodSkinningFromName(skinning.get<std::string>()) : std::nullopt;
+    if (!out.skinning)
+      return Error(where + ": \"skinning\" must be \"gpu\" or \"cpu\" (where the character is skinned)");
   }
   if (entry.contains("unit_scale")) {
     const json& scale = entry["unit_scale"];

@@ -27,6 +27,22 @@ void addProjectOptions(CLI::App& command, ProjectFileOptions& options) {
                    "absolute ones are always followed");
 }
 
+void addSkinningOption(CLI::App& command, std::optional<LodSkinning>& out, const std::string& what) {
+  command
+      .add_option_function<std::string>(
+          "--skinning", [&out](const std::string& text) { out = lodSkinningFromName(text); },
+          "where the character is skinned, gpu (the default: the motion takes half of each level's deviation) or "
+          "cpu (the motion takes its share of the frame cost, pose against CPU skinning), " +
+              what)
+      ->type_name("gpu|cpu")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return lodSkinningFromName(text) ? std::string()
+                                             : "'" + text + "' is neither gpu nor cpu (where the character is skinned)";
+          },
+          "gpu|cpu", "skinning"));
+}
+
 namespace {
 std::atomic<bool> g_interrupted{false};
 volatile std::sig_atomic_t g_signal = 0;

@@ -63,6 +63,11 @@ void addImportOptions(CLI::App& command, ImportArguments& import);
 // may then leave the project's folder (core/project.h, ProjectFileOptions).
 void addProjectOptions(CLI::App& command, ProjectFileOptions& options);
 
+// `--skinning cpu|gpu` (LodBudgetOptions::skinning): where the character of a generated LOD
+// set is skinned. Any other value is a parse error naming the two (exit 2); `out` stays
+// unset when the option is not given. `what` ends the help line (which set it applies to).
+void addSkinningOption(CLI::App& command, std::optional<LodSkinning>& out, const std::string& what);
+
 // Makes SIGINT and SIGTERM (Ctrl+C, a farm scheduler stopping the job) set the returned
 // flag instead of killing the process, so that a running export stops and leaves nothing
 // and a running import stops its worker at once.

@@ -25,6 +25,7 @@ void ExportCommand::attach(CLI::App& app) {
                       "instead of the default LOD set: LOD0 plus one level per triangle ratio in (0, 1], "
                       "comma-separated (0.5,0.25,0.1), each with the original motion (a file only)")
       ->delimiter(',');
+  addSkinningOption(*command, job.skinning, "for a file's default LOD set (a file only)");
   command->add_option("--motion", job.motions,
                       "a motion file whose clips play on FILE's character, mapped by joint names (the automatic "
                       "motion mapping, as bench-crowd --scene --motion); repeatable; a file only");

@@ -246,6 +246,13 @@ std::optional<ExportOutcome> checkJob(JobRun& run) {
       return failure(kExitBadInput, job.input, "--mesh-ratio " + std::to_string(ratio) + ": a triangle ratio must be in (0, 1]");
   if (!job.meshRatios.empty() && isProjectFile(job.input))
     return failure(kExitBadInput, job.input, "--mesh-ratio applies to a file; a project exports its own levels");
+  if (job.skinning && isProjectFile(job.input))
+    return failure(kExitBadInput, job.input,
+                   "--skinning applies to a file's default LOD set; a project exports its own levels (their "
+                   "skinning is the set's, chosen in the studio's Budget dialog)");
+  if (job.skinning && !job.meshRatios.empty())
+    return failure(kExitBadInput, job.input,
+                   "--skinning applies to the default LOD set; --mesh-ratio levels keep the original motion");
   if (!job.character.empty() && !isProjectFile(job.input))
     return failure(kExitBadInput, job.input, "--character applies to a project; a file is its own character");
   if (!job.character.empty() && job.asset >= 0)
@@ -386,7 +393,8 @@ std::optional<ExportOutcome> buildFromFile(JobRun& run, Result<LodPackage>& pack
   start = Clock::now();
   try {
     if (job.meshRatios.empty()) {
-      package = buildLodPackage(*asset, job.levels, run.packageProgress(), run.cancel, mapped);
+      package = buildLodPackage(*asset, job.levels, run.packageProgress(), run.cancel, mapped,
+                                job.skinning.value_or(LodSkinning::Gpu));
     } else {
       // LOD0 and one level per ratio, all with the original motion
       LodSet lods;

@@ -13,6 +13,7 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,6 +37,9 @@ struct ExportJob {
   // the original motion (threshold 0), so a mesh can be judged alone; empty = the default
   // LOD set. Not for a project (its levels are its own).
   std::vector<double> meshRatios;
+  // Where a file's character is skinned, for its default LOD set (LodBudgetOptions::skinning;
+  // unset: the GPU). Not for a project (its set's own) nor with meshRatios.
+  std::optional<LodSkinning> skinning;
   // Motion files whose clips play on the file's character (a file only; a project plays the
   // motions its mappings assign), each mapped by the automatic mapping
   // (mapMotionAutomatically(), as bench-crowd --scene --motion), at its own unit. A motion

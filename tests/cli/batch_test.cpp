@@ -153,6 +153,10 @@ TEST(CliBatch, BadManifestsAndShardsRunNothing) {
       {"{\"jobs\": [{\"input\": \"a\", \"plugin\": \"bundle\", \"output\": \"b\", \"extra\": 1}]}", "unknown key \"extra\""},
       {"{\"jobs\": [{\"input\": \"a\", \"plugin\": \"bundle\", \"output\": \"b\", \"options\": {\"x\": [1]}}]}",
        "must be a bool, number or string"},
+      {"{\"jobs\": [{\"input\": \"a\", \"plugin\": \"bundle\", \"output\": \"b\", \"skinning\": \"both\"}]}",
+       "job 0: \"skinning\" must be \"gpu\" or \"cpu\""},
+      {"{\"jobs\": [{\"input\": \"a\", \"plugin\": \"bundle\", \"output\": \"b\", \"skinning\": 1}]}",
+       "job 0: \"skinning\" must be \"gpu\" or \"cpu\""},
   };
   for (const auto& m : manifests) {
     const fs::path file = dir / "m.json";

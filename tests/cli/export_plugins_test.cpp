@@ -207,6 +207,47 @@ TEST(CliExport, BadArgumentsAreExit2) {
   EXPECT_TRUE(filesIn(dir).empty());
 }
 
+// Guards --skinning (issue 25, item 4): a value other than gpu or cpu is a parse error naming
+// the two; it applies to a file's default LOD set only, so with a project (whose set keeps
+// its own) or with --mesh-ratio (levels of the original motion) it is exit 2 with the reason.
+// Nothing is written.
+TEST(CliExport, SkinningIsGpuOrCpuForAFilesDefaultSet) {
+  const fs::path dir = freshFolder("skinning");
+  const std::string out = (dir / "x.mlodb").string();
+  const test::CliRun bad = runMotionlod({"export", kSample, "--plugin", "bundle", "-o", out, "--skinning", "both"});
+  EXPECT_EQ(bad.status, 2) << bad.err;
+  EXPECT_NE(bad.err.find("--skinning"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("'both' is neither gpu nor cpu"), std::string::npos) << bad.err;
+  const test::CliRun ratios = runMotionlod(
+      {"export", kSample, "--plugin", "bundle", "-o", out, "--skinning", "cpu", "--mesh-ratio", "0.5"});
+  EXPECT_EQ(ratios.status, 2) << ratios.err;
+  EXPECT_NE(ratios.err.find("error: " + kSample + ": --skinning applies to the default LOD set"), std::string::npos)
+      << ratios.err;
+  const nlohmann::json level0 = {{"name", "L0"},          {"threshold", 0.0},        {"mesh_ratio", 1.0},
+                                 {"switch_distance_cm", 0.0}, {"pixel_error", 0.0},    {"screen_size_pixels", 0.0},
+                                 {"motion_error_cm", 0.0},  {"mesh_error_cm", 0.0},    {"triangles", 0},
+                                 {"active_joints", 0}};
+  const nlohmann::json project = {
+      {"format", "motionlod-project"},
+      {"version", 4},
+      {"alpha", 5.0},
+      {"mode", "greedy"},
+      {"lods",
+       {{"projection", {{"vertical_fov_degrees", 60.0}, {"viewport_height_pixels", 1080.0}}},
+        {"bounding_radius_cm", 0.0},
+        {"levels", {level0}}}},
+      {"assets", {{{"path", kSample}, {"unit_scale", 2.54 / 0.45}, {"joints", nlohmann::json::object()}}}}};
+  const fs::path file = dir / "p.mlod";
+  std::ofstream(file) << project.dump(2);
+  const test::CliRun onProject =
+      runMotionlod({"export", file.string(), "--plugin", "bundle", "-o", out, "--skinning", "gpu"});
+  EXPECT_EQ(onProject.status, 2) << onProject.err;
+  EXPECT_NE(onProject.err.find("--skinning applies to a file's default LOD set; a project exports its own levels"),
+            std::string::npos)
+      << onProject.err;
+  EXPECT_TRUE(filesIn(dir).size() == 1u) << "the project alone";
+}
+
 // The output's suffix says its format, as the Export dialog asks: a suffix that is not one
 // of the plugin's (from its metadata), or none, is exit 2 before any work (no import; what is
 // at the output stays as it was); the plugin's own suffix in any case is written. Before:

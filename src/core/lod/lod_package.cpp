@@ -231,7 +231,8 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
 }
 
 Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> levels, const LodPackageProgress& progress,
-                                   const std::atomic<bool>* cancel, std::span<const Clip> extraClips) {
+                                   const std::atomic<bool>* cancel, std::span<const Clip> extraClips,
+                                   LodSkinning skinning) {
   if (!step(progress, cancel, 0.0, "generating the default LOD set"))
     return Error(kLodPackageCancelled);
   // the budget's search is the first half of the work, the levels the second; a cancel
@@ -243,6 +244,7 @@ Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> leve
   };
   options.cancel = cancel;
   options.clips = extraClips;
+  options.skinning = skinning;
   Result<LodSet> lods = LodSet::fromPixelBudget(asset, 1.0, 4, options);
   if (!lods)
     return lods.message() == kLodBudgetCancelled ? Error(kLodPackageCancelled) : lods.error();

@@ -110,12 +110,13 @@ Result<LodPackage> buildLodPackage(const Asset& asset, const LodSet& lods, const
                                    std::span<const Clip> extraClips = {}, const std::atomic<bool>* cancel = nullptr);
 
 // A plain file's package: the default LOD set LodSet::fromPixelBudget(asset, 1 pixel, 4
-// levels) with default JPC settings (zero length 1e-6 file units). `cancel` as above, for the
+// levels) for a character skinned where `skinning` says (LodBudgetOptions::skinning) with
+// default JPC settings (zero length 1e-6 file units). `cancel` as above, for the
 // budget's search too. `extraClips` (of the asset's skeleton: motions mapped onto it) play
 // besides its own clips, and every level holds for them too (LodBudgetOptions::clips).
 Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> levels = {},
                                    const LodPackageProgress& progress = {}, const std::atomic<bool>* cancel = nullptr,
-                                   std::span<const Clip> extraClips = {});
+                                   std::span<const Clip> extraClips = {}, LodSkinning skinning = LodSkinning::Gpu);
 
 // A level's mesh bound to the original skeleton (joint indices of the full skeleton, each
 // removed joint's influence already moved to its active ancestor by bone reduction): what a
