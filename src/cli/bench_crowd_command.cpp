@@ -51,6 +51,9 @@ void BenchCrowdCommand::attach(CLI::App& app) {
       ->check(CLI::Range(0.01, 1000.0));
   command->add_option("--levels", levelCount, "--scene: levels of the generated LOD set, level 0 included (default 4)")
       ->check(CLI::Range(1, 16));
+  addSkinningOption(*command, budgetSkinning, "--scene: for the generated LOD set");
+  command->add_flag("--no-skinning", noSkinning,
+                    "skin nothing: time the pose alone (what an engine's CPU pays when the GPU skins)");
   command->add_option("--layout", layout, "--scene: grid or scattered (default grid)")
       ->check(CLI::IsMember({"grid", "scattered"}));
   command->add_option("--alpha", alpha, "orientation weight alpha, cm (default " + number(kDefaultJpcAlpha) + ")");
@@ -91,6 +94,10 @@ struct Side {
 int BenchCrowdCommand::run() const {
   if (scene)
     return runScene();
+  if (budgetSkinning) {
+    printError(file, "--skinning applies to --scene's generated LOD set (--no-skinning times the pose alone)");
+    return kExitBadInput;
+  }
   if (!threshold) {
     printError(file, "--threshold is required (or --scene)");
     return kExitBadInput;
@@ -150,7 +157,12 @@ int BenchCrowdCommand::run() const {
   }
   const LodClip& full = fullLevel->clip;
   const LodClip& lod = lodLevel->clip;
+  // every clip a side's evaluator reads, each once: one each here
   const std::size_t fullBytes = full.byteSize(), lodBytes = lod.byteSize();
+  const double clipSeconds = full.duration();
+  const auto perSecond = [clipSeconds](std::size_t bytes) {
+    return clipSeconds > 0.0 ? static_cast<double>(bytes) / clipSeconds : 0.0;
+  };
   const std::size_t fullPlanBytes = full.planByteSize(), lodPlanBytes = lod.planByteSize();
   const int planFrames = full.planFrames();
 
@@ -180,7 +192,7 @@ int BenchCrowdCommand::run() const {
     crowd.setThreads(threads);
     crowd.setModels(!paletteOnly);
     crowd.setBlendFrames(blendFrames);
-    crowd.setSkinning(skinned != nullptr);
+    crowd.setSkinning(skinned != nullptr && !noSkinning);
   }
 
   std::string failure;
@@ -222,9 +234,11 @@ int BenchCrowdCommand::run() const {
   const double charFrames = static_cast<double>(characters) * frames;
   const std::size_t perCharacter = PoseEvaluatorContext(1, static_cast<int>(joints)).bytesPerCharacter() +
                                    (paletteOnly ? 1 : 2) * joints * sizeof(glm::mat4);
-  const auto sideJson = [&](const Side& side) {
+  const auto sideJson = [&](const Side& side, std::size_t clipBytes) {
     nlohmann::ordered_json out;
     const double seconds = median(side.poseSeconds);
+    out["clip_bytes"] = clipBytes;
+    out["bytes_per_second"] = perSecond(clipBytes);
     out["seconds"] = seconds;
     out["joints_evaluated"] = side.sampled;
     out["char_frames_per_second"] = seconds > 0.0 ? charFrames / seconds : 0.0;
@@ -248,8 +262,9 @@ int BenchCrowdCommand::run() const {
   doc["animated_joints"] = animated;
   doc["simplified_joint_percent"] = level.simplifiedPercent;
   doc["max_joint_position_error_cm"] = level.maxJointPositionErrorCm;
-  doc["full"] = runFull ? sideJson(sides[0]) : nlohmann::ordered_json();
-  doc["lod"] = runLod ? sideJson(sides[1]) : nlohmann::ordered_json();
+  doc["clip_seconds"] = clipSeconds;
+  doc["full"] = runFull ? sideJson(sides[0], fullBytes) : nlohmann::ordered_json();
+  doc["lod"] = runLod ? sideJson(sides[1], lodBytes) : nlohmann::ordered_json();
   const double fullSeconds = median(sides[0].poseSeconds), lodSeconds = median(sides[1].poseSeconds);
   doc["speedup"] = runFull && runLod && lodSeconds > 0.0 ? nlohmann::ordered_json(fullSeconds / lodSeconds)
                                                          : nlohmann::ordered_json();
@@ -264,7 +279,7 @@ int BenchCrowdCommand::run() const {
                    {"full_plan_bytes", fullPlanBytes}, {"lod_plan_bytes", lodPlanBytes},
                    {"plan_frames", planFrames},        {"per_character_bytes", perCharacter}};
   double fullSkin = 0.0, lodSkin = 0.0;
-  if (skinning) {
+  if (skinning && !noSkinning) {
     fullSkin = median(sides[0].skinSeconds);
     lodSkin = median(sides[1].skinSeconds);
     nlohmann::ordered_json skin;
@@ -310,7 +325,7 @@ int BenchCrowdCommand::run() const {
     }
     std::printf("\n");
   }
-  if (skinning) {
+  if (skinning && !noSkinning) {
     std::printf("skinning:   %d vertices: %.1f ns/character-frame", skinning->vertexCount(),
                 1e9 * (runFull ? fullSkin : lodSkin) / charFrames);
     if (runFull && runLod)
@@ -320,6 +335,8 @@ int BenchCrowdCommand::run() const {
   std::printf("memory:     clip %zu bytes full, %zu bytes LOD (plans %zu and %zu bytes, %d frames); %zu bytes per "
               "character\n",
               fullBytes, lodBytes, fullPlanBytes, lodPlanBytes, planFrames, perCharacter);
+  std::printf("            per second of animation (%.3f s): %.0f bytes/s full, %.0f bytes/s LOD\n", clipSeconds,
+              perSecond(fullBytes), perSecond(lodBytes));
   return kExitOk;
 }
 
@@ -366,6 +383,7 @@ int BenchCrowdCommand::runScene() const {
   LodBudgetOptions budget;
   budget.clips = mapped;
   budget.jpc.zeroLength = 1e-6 * asset->unitScale;
+  budget.skinning = budgetSkinning.value_or(LodSkinning::Gpu);
   Result<LodSet> lods = LodSet::fromPixelBudget(*asset, budgetPixels, levelCount, budget);
   if (!lods) {
     printError(file, lods.message());
@@ -385,6 +403,8 @@ int BenchCrowdCommand::runScene() const {
   settings.threads = threads;
   settings.centreHeightCm = 0.5f * top;
   settings.jpc = budget.jpc;
+  settings.skinning = !noSkinning;
+  settings.levelCosts = true;
   Result<CrowdComparison> compared =
       compareCrowdConfigurations(asset->skeleton, mesh, clip, *lods, placed, crowdFrontCamera(placed), settings);
   if (!compared) {
@@ -403,6 +423,9 @@ int BenchCrowdCommand::runScene() const {
   doc["repetitions"] = repetitions;
   doc["layout"] = layout;
   doc["budget_px"] = budgetPixels;
+  doc["budget_skinning"] = lodSkinningName(budget.skinning);
+  doc["cpu_skinning"] = !noSkinning;
+  doc["clip_seconds"] = compared->clipSeconds;
   nlohmann::ordered_json levelsJson = nlohmann::ordered_json::array();
   for (std::size_t l = 0; l < compared->levels.size(); ++l) {
     const LodLevel& spec = lods->levels[l];
@@ -416,6 +439,8 @@ int BenchCrowdCommand::runScene() const {
     out["joints"] = level.joints;
     out["switch_distance_m"] = spec.switchDistanceCm / 100.0;
     out["agents"] = l < both.agentsPerLevel.size() ? both.agentsPerLevel[l] : 0;
+    out["all_agents_frame_ms"] = l < compared->levelFrameMs.size() ? compared->levelFrameMs[l] : 0.0;
+    out["agent_cost"] = l < compared->levelCost.size() ? compared->levelCost[l] : 0.0;
     levelsJson.push_back(out);
   }
   doc["levels"] = levelsJson;
@@ -429,6 +454,9 @@ int BenchCrowdCommand::runScene() const {
     out["joints_evaluated"] = run.jointsEvaluated;
     out["vertices_skinned"] = run.verticesSkinned;
     out["repetition_frame_ms"] = run.repetitionFrameMs;
+    out["clip_bytes"] = run.clipBytes;
+    out["bytes_per_second"] =
+        compared->clipSeconds > 0.0 ? static_cast<double>(run.clipBytes) / compared->clipSeconds : 0.0;
     configurations[run.name] = out;
   }
   doc["configurations"] = configurations;
@@ -444,23 +472,27 @@ int BenchCrowdCommand::runScene() const {
               asset->skeleton.jointCount());
   std::printf("motion:     %s, clip '%s' (%d frames at %g fps, looped)\n",
               motion.empty() ? file.c_str() : motion.c_str(), clip.name.c_str(), clip.frameCount, clip.fps);
-  std::printf("crowd:      %d agents (%s), %d frames (1/60 s apart), %d thread(s), camera at the front\n", agents,
-              layout.c_str(), frames, threads);
-  std::printf("levels (pixel budget %g px):\n", budgetPixels);
-  std::printf("  %-8s %10s %6s %10s %9s %7s %12s %7s\n", "", "threshold", "mesh", "triangles", "vertices", "joints",
-              "switch (m)", "agents");
+  std::printf("crowd:      %d agents (%s), %d frames (1/60 s apart), %d thread(s), camera at the front, %s\n",
+              agents, layout.c_str(), frames, threads,
+              noSkinning ? "pose only (no skinning)" : "pose and CPU skinning");
+  std::printf("levels (pixel budget %g px, skinning %s):\n", budgetPixels, lodSkinningName(budget.skinning));
+  std::printf("  %-8s %10s %6s %10s %9s %7s %12s %7s %11s\n", "", "threshold", "mesh", "triangles", "vertices",
+              "joints", "switch (m)", "agents", "agent cost");
   for (const auto& level : levelsJson)
-    std::printf("  %-8s %10g %6.3f %10d %9d %7d %12.2f %7d\n", level["name"].get<std::string>().c_str(),
+    std::printf("  %-8s %10g %6.3f %10d %9d %7d %12.2f %7d %11.3f\n", level["name"].get<std::string>().c_str(),
                 level["threshold"].get<double>(), level["mesh_ratio"].get<double>(), level["triangles"].get<int>(),
                 level["vertices"].get<int>(), level["joints"].get<int>(), level["switch_distance_m"].get<double>(),
-                level["agents"].get<int>());
+                level["agents"].get<int>(), level["agent_cost"].get<double>());
+  std::printf("  (agent cost: the frame with every agent at the level over every agent at LOD0, %s)\n",
+              noSkinning ? "pose only" : "pose and skinning");
   std::printf("per frame, median of %d repetitions:\n", repetitions);
-  std::printf("  %-9s %10s %10s %10s %14s %16s %9s\n", "", "frame ms", "pose ms", "skin ms", "joints", "vertices",
-              "speedup");
+  std::printf("  %-9s %10s %10s %10s %14s %16s %9s %12s %12s\n", "", "frame ms", "pose ms", "skin ms", "joints",
+              "vertices", "speedup", "clip bytes", "bytes/s");
   for (int r = 0; r < 4; ++r) {
     const CrowdConfigurationFigures& run = runs[r];
-    std::printf("  %-9s %10.3f %10.3f %10.3f %14.0f %16.0f %8.2fx\n", run.name, run.frameMs, run.poseMs, run.skinMs,
-                run.jointsEvaluated, run.verticesSkinned, compared->speedup(r));
+    std::printf("  %-9s %10.3f %10.3f %10.3f %14.0f %16.0f %8.2fx %12zu %12.0f\n", run.name, run.frameMs, run.poseMs,
+                run.skinMs, run.jointsEvaluated, run.verticesSkinned, compared->speedup(r), run.clipBytes,
+                compared->clipSeconds > 0.0 ? static_cast<double>(run.clipBytes) / compared->clipSeconds : 0.0);
   }
   return kExitOk;
 }

@@ -6,8 +6,11 @@
 #include "test_files.h"
 #include "../unit/real_files.h"
 
+#include <algorithm>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 namespace mlod {
 namespace {
@@ -152,6 +155,113 @@ TEST_P(SceneJson, OnCharacter) {
 }
 INSTANTIATE_TEST_SUITE_P(Characters, SceneJson, ::testing::ValuesIn(test::fixtureCharacters("animated")),
                          test::fixtureName);
+
+// Guards the clip figures of each side (issue 25, item 5): clip_bytes, what the side's
+// evaluator reads for its clip (> 0), and bytes_per_second = clip_bytes / the clip's
+// duration; at a large threshold the LOD's clip is no larger than full detail's. With
+// --no-skinning on a character, nothing is skinned: no skinning figures.
+TEST(CliBenchCrowd, ClipBytesPerSide) {
+  const test::CliRun run =
+      runMotionlod({"bench-crowd", test::modelPath("BVH/01_01.bvh"), "--characters", "4", "--frames", "2",
+                    "--threshold", "300", "--unit-scale", "cmu", "--repetitions", "1", "--json"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json doc = nlohmann::json::parse(run.out);
+  const double seconds = doc["clip_seconds"].get<double>();
+  EXPECT_GT(seconds, 20.0) << "CMU 01_01 plays 22.9 s";
+  for (const char* side : {"full", "lod"}) {
+    const nlohmann::json& figures = doc[side];
+    const double bytes = figures["clip_bytes"].get<double>();
+    EXPECT_GT(bytes, 0.0) << side;
+    EXPECT_NEAR(figures["bytes_per_second"].get<double>(), bytes / seconds, 1e-9 * bytes) << side;
+  }
+  EXPECT_EQ(doc["full"]["clip_bytes"], doc["memory"]["full_bytes"]);
+  EXPECT_EQ(doc["lod"]["clip_bytes"], doc["memory"]["lod_bytes"]);
+  EXPECT_LE(doc["lod"]["clip_bytes"].get<std::int64_t>(), doc["full"]["clip_bytes"].get<std::int64_t>());
+
+  const test::CliRun poseOnly =
+      runMotionlod({"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--characters", "4", "--frames", "2",
+                    "--threshold", "50", "--repetitions", "1", "--no-skinning", "--json"});
+  ASSERT_EQ(poseOnly.status, 0) << poseOnly.err;
+  const nlohmann::json pose = nlohmann::json::parse(poseOnly.out);
+  EXPECT_FALSE(pose.contains("skinning")) << "nothing skinned";
+  EXPECT_GT(pose["full"]["clip_bytes"].get<double>(), 0.0);
+}
+
+// Guards the scene's clip and cost figures (issue 25, item 5): per configuration clip_bytes
+// and bytes_per_second (none and mesh play level 0's motion alone, so they read the same
+// bytes); per level agent_cost, the frame of every agent at the level over every agent at
+// LOD0 (1 at LOD0, > 0 everywhere); --no-skinning skins nothing (skin_ms 0, frame_ms = pose_ms).
+TEST(CliBenchCrowd, SceneClipBytesAgentCostsAndPoseOnly) {
+  for (const bool skin : {true, false}) {
+    SCOPED_TRACE(skin ? "skinned" : "--no-skinning");
+    std::vector<std::string> arguments = {"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--scene", "--agents", "6", "--frames", "2",
+                                          "--levels", "3", "--repetitions", "1", "--json"};
+    if (!skin)
+      arguments.push_back("--no-skinning");
+    const test::CliRun run = runMotionlod(arguments);
+    ASSERT_EQ(run.status, 0) << run.err;
+    const nlohmann::json doc = nlohmann::json::parse(run.out);
+    EXPECT_EQ(doc["budget_skinning"], "gpu") << "the default";
+    EXPECT_EQ(doc["cpu_skinning"], skin);
+    const double seconds = doc["clip_seconds"].get<double>();
+    ASSERT_GT(seconds, 0.0);
+    const nlohmann::json& levels = doc["levels"];
+    ASSERT_GE(levels.size(), 2u);
+    EXPECT_EQ(levels[0]["agent_cost"], 1.0);
+    for (const nlohmann::json& level : levels) {
+      EXPECT_GT(level["agent_cost"].get<double>(), 0.0) << level["name"];
+      EXPECT_GT(level["all_agents_frame_ms"].get<double>(), 0.0) << level["name"];
+    }
+    const nlohmann::json& configurations = doc["configurations"];
+    for (const char* name : {"none", "skeletal", "mesh", "both"}) {
+      const nlohmann::json& c = configurations[name];
+      const double bytes = c["clip_bytes"].get<double>();
+      EXPECT_GT(bytes, 0.0) << name;
+      EXPECT_NEAR(c["bytes_per_second"].get<double>(), bytes / seconds, 1e-9 * bytes) << name;
+      if (!skin) {
+        EXPECT_EQ(c["skin_ms"], 0.0) << name;
+        EXPECT_EQ(c["frame_ms"], c["pose_ms"]) << name;
+      } else {
+        EXPECT_GT(c["skin_ms"].get<double>(), 0.0) << name;
+      }
+    }
+    EXPECT_EQ(configurations["mesh"]["clip_bytes"], configurations["none"]["clip_bytes"]);
+  }
+}
+
+// Guards --skinning (issue 25, item 4): the generated set's skinning is said in the JSON, a
+// CPU-skinned set gives its motion less of each level's deviation (thresholds no higher than
+// the GPU's), and a value other than gpu or cpu, or --skinning without --scene, is exit 2
+// with the reason.
+TEST(CliBenchCrowd, SkinningOptionOfTheScene) {
+  const auto scene = [](const std::string& skinning) {
+    return runMotionlod({"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--scene", "--agents", "2", "--frames", "1", "--levels", "3",
+                         "--repetitions", "1", "--skinning", skinning, "--json"});
+  };
+  const test::CliRun cpu = scene("cpu");
+  ASSERT_EQ(cpu.status, 0) << cpu.err;
+  const test::CliRun gpu = scene("gpu");
+  ASSERT_EQ(gpu.status, 0) << gpu.err;
+  const nlohmann::json cpuDoc = nlohmann::json::parse(cpu.out), gpuDoc = nlohmann::json::parse(gpu.out);
+  EXPECT_EQ(cpuDoc["budget_skinning"], "cpu");
+  EXPECT_EQ(gpuDoc["budget_skinning"], "gpu");
+  double cpuTop = 0.0, gpuTop = 0.0;
+  for (const nlohmann::json& level : cpuDoc["levels"])
+    cpuTop = std::max(cpuTop, level["threshold"].get<double>());
+  for (const nlohmann::json& level : gpuDoc["levels"])
+    gpuTop = std::max(gpuTop, level["threshold"].get<double>());
+  EXPECT_LT(cpuTop, gpuTop) << "5% of the deviation against a half";
+
+  const test::CliRun bad = scene("GPU");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--skinning"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("'GPU' is neither gpu nor cpu"), std::string::npos) << bad.err;
+  EXPECT_TRUE(bad.out.empty());
+  const test::CliRun noScene = runMotionlod({"bench-crowd", test::modelPath("BVH/01_01.bvh"), "--threshold", "50",
+                                             "--characters", "2", "--frames", "1", "--skinning", "cpu"});
+  EXPECT_EQ(noScene.status, 2);
+  EXPECT_NE(noScene.err.find("--skinning applies to --scene"), std::string::npos) << noScene.err;
+}
 
 // Guards the readable table without --json, and the scene's bad input: a file without a
 // skinned mesh, a motion file that does not exist, a layout that is not one.

@@ -428,6 +428,32 @@ CrowdComparison::Spread spreadOf(std::vector<double> values) {
 
 double median(std::vector<double> values) { return spreadOf(std::move(values)).median; }
 
+bool hasOverrideAt(const JpcSettings& jpc, std::size_t level) {
+  for (const auto& [name, joint] : jpc.joints)
+    if (level < joint.thresholds.size() && joint.thresholds[level])
+      return true;
+  return false;
+}
+
+// CrowdConfigurationFigures::clipBytes: the clips of the levels used, one per motion.
+std::size_t usedClipBytes(const Crowd& crowd, const LodSet& set, const JpcSettings& jpc, const std::vector<bool>& used) {
+  std::size_t bytes = 0;
+  std::vector<double> counted; // thresholds of the override-free levels counted
+  for (int l = 0; l < crowd.levelCount(); ++l) {
+    const std::size_t level = static_cast<std::size_t>(l);
+    if (level >= used.size() || !used[level])
+      continue;
+    const double threshold = level < set.levels.size() ? set.levels[level].motionThreshold : -1.0;
+    if (!hasOverrideAt(jpc, level)) {
+      if (std::find(counted.begin(), counted.end(), threshold) != counted.end())
+        continue;
+      counted.push_back(threshold);
+    }
+    bytes += crowd.level(l).clip.byteSize();
+  }
+  return bytes;
+}
+
 } // namespace
 
 CrowdComparison::Spread CrowdComparison::frameMsSpread(int i) const {
@@ -454,7 +480,7 @@ Result<CrowdComparison> compareCrowdConfigurations(const Skeleton& skeleton, con
     skeletalSet.levels[i].meshRatio = 1.0;
     meshSet.levels[i].motionThreshold = 0.0;
   }
-  const LodSet* sets[4] = {nullptr, &skeletalSet, &meshSet, &lods};
+  const LodSet* sets[4] = {&lods, &skeletalSet, &meshSet, &lods}; // none: level 0 of "both" alone
   static const char* const kNames[4] = {"none", "skeletal", "mesh", "both"};
   Crowd crowds[4];
   CrowdComparison out;
@@ -476,13 +502,14 @@ Result<CrowdComparison> compareCrowdConfigurations(const Skeleton& skeleton, con
     crowd.setSwitches(lodSwitchesByDistance(lods), lodSwitchesByScreenSize(lods));
     crowd.setCentreHeight(settings.centreHeightCm);
     crowd.setThreads(settings.threads);
-    crowd.setSkinning(true);
+    crowd.setSkinning(settings.skinning);
     Crowd::Selection selection;
     selection.forcedLevel = c == 0 ? 0 : -1;
     crowd.setSelection(selection);
   }
   const int frames = std::max(settings.frames, 1);
   std::vector<double> poseMs[4], skinMs[4];
+  std::vector<bool> used[4]; // per configuration, the levels an agent stood at in a timed frame
   // one warm-up each, then the repetitions, alternating the configurations
   for (int r = -1; r < std::max(settings.repetitions, 1); ++r)
     for (int c = 0; c < 4; ++c) {
@@ -499,6 +526,11 @@ Result<CrowdComparison> compareCrowdConfigurations(const Skeleton& skeleton, con
         skin += stats.skinMs;
         joints += static_cast<double>(stats.jointsEvaluated);
         vertices += static_cast<double>(stats.verticesSkinned);
+        if (r >= 0) {
+          used[c].resize(stats.agentsPerLevel.size());
+          for (std::size_t l = 0; l < stats.agentsPerLevel.size(); ++l)
+            used[c][l] = used[c][l] || stats.agentsPerLevel[l] > 0;
+        }
       }
       if (r < 0)
         continue;
@@ -515,6 +547,36 @@ Result<CrowdComparison> compareCrowdConfigurations(const Skeleton& skeleton, con
     figures.poseMs = median(poseMs[c]);
     figures.skinMs = median(skinMs[c]);
     figures.frameMs = median(figures.repetitionFrameMs);
+    figures.clipBytes = usedClipBytes(crowds[c], *sets[c], settings.jpc, used[c]);
+  }
+  out.clipSeconds = crowds[3].level(0).clip.duration();
+  if (settings.levelCosts) {
+    // every agent at level k in turn, on the crowd of "both": the levels alternate within a
+    // repetition, so each repetition's levels share the machine's load
+    Crowd& crowd = crowds[3];
+    const int levelCount = crowd.levelCount();
+    std::vector<std::vector<double>> frameMs(static_cast<std::size_t>(levelCount));
+    for (int r = -1; r < std::max(settings.repetitions, 1); ++r)
+      for (int k = 0; k < levelCount; ++k) {
+        if (settings.cancel && settings.cancel->load())
+          return Error("cancelled");
+        Crowd::Selection selection;
+        selection.forcedLevel = k;
+        crowd.setSelection(selection);
+        crowd.setAgents(placed);
+        double ms = 0.0;
+        for (int frame = 0; frame < frames; ++frame) {
+          if (Error error = crowd.update(settings.startSeconds + frame * settings.frameSeconds, camera))
+            return error;
+          ms += crowd.stats().poseMs + crowd.stats().skinMs;
+        }
+        if (r >= 0)
+          frameMs[static_cast<std::size_t>(k)].push_back(ms / frames);
+      }
+    for (const std::vector<double>& times : frameMs)
+      out.levelFrameMs.push_back(median(times));
+    for (double ms : out.levelFrameMs)
+      out.levelCost.push_back(out.levelFrameMs[0] > 0.0 ? ms / out.levelFrameMs[0] : 0.0);
   }
   return out;
 }

@@ -205,7 +205,8 @@ private:
 
 // The paper's Figure 12 on one crowd (docs/architecture.md sections 5 and 6): the same agents,
 // camera and frames played in four configurations, each frame pose evaluation plus CPU
-// skinning of every agent (Crowd::setSkinning()): "none" (every agent at level 0),
+// skinning of every agent (Crowd::setSkinning(); `skinning` false: pose evaluation alone, what
+// an engine's CPU pays when the GPU skins): "none" (every agent at level 0),
 // "skeletal" (the levels' motion with level 0's mesh: every mesh ratio 1), "mesh" (level
 // 0's motion with the levels' meshes: every threshold 0) and "both" (the LOD set as it is).
 // Levels are picked by distance with hysteresis from the LOD set's switch distances.
@@ -218,6 +219,10 @@ struct CrowdComparisonSettings {
   float centreHeightCm = 0.0f;     // Crowd::setCentreHeight()
   JpcSettings jpc;                 // for the levels' motion
   const std::atomic<bool>* cancel = nullptr; // polled between builds and repetitions
+  bool skinning = true;            // skin every agent on the CPU; false: pose evaluation alone
+  // Also time the crowd of "both" with every agent forced to level k, for each level, the
+  // levels alternating within each repetition: CrowdComparison::levelFrameMs and levelCost.
+  bool levelCosts = false;
 };
 struct CrowdConfigurationFigures {
   const char* name = "";           // none, skeletal, mesh, both
@@ -228,6 +233,11 @@ struct CrowdConfigurationFigures {
   double verticesSkinned = 0.0;    // per frame
   std::vector<double> repetitionFrameMs;
   std::vector<int> agentsPerLevel; // at the last frame
+  // LodClip::byteSize() of every clip the configuration's agents read (the levels any agent
+  // stood at in any timed frame), each clip once: levels of equal motion threshold and no
+  // per-joint override there play the same motion (the "mesh" configuration's levels all
+  // play level 0's), so they count one clip.
+  std::size_t clipBytes = 0;
 };
 struct CrowdComparison {
   CrowdConfigurationFigures configurations[4]; // none, skeletal, mesh, both
@@ -237,6 +247,12 @@ struct CrowdComparison {
     int joints = 0;
   };
   std::vector<Level> levels;
+  double clipSeconds = 0.0; // the clip's duration (LodClip::duration(), level 0's), s
+  // With CrowdComparisonSettings::levelCosts, per level of "both": the frame time (ms, pose +
+  // skin, median of the repetitions) with every agent at that level, and that time over level
+  // 0's (what an agent at level k costs as a fraction of a LOD0 agent); else empty.
+  std::vector<double> levelFrameMs;
+  std::vector<double> levelCost;
   // none.frameMs / configuration i's frameMs (1 for none itself).
   double speedup(int i) const {
     return configurations[i].frameMs > 0.0 ? configurations[0].frameMs / configurations[i].frameMs : 0.0;
