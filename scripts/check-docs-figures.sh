@@ -126,8 +126,8 @@ else
 fi
 
 if [ "$cheap" -eq 0 ]; then
-  echo "== The paper's Figure 12 (docs/user-guide.md, README.md): motionlod bench-crowd BCN_Epileptic.X --scene --motion 01_03.bvh --agents 1000 --frames 60 --threads 1 --repetitions 3 --json"
-  if "$motionlod" bench-crowd "$models/X/BCN_Epileptic.X" --scene --motion "$models/BVH/01_03.bvh" --agents 1000 \
+  echo "== The paper's Figure 12 (docs/user-guide.md, README.md): motionlod bench-crowd BCN_Epileptic.X --scene --motion 01_03.bvh --skinning cpu --agents 1000 --frames 60 --threads 1 --repetitions 3 --json"
+  if "$motionlod" bench-crowd "$models/X/BCN_Epileptic.X" --scene --motion "$models/BVH/01_03.bvh" --skinning cpu --agents 1000 \
        --frames 60 --threads 1 --repetitions 3 --json >"$work/scene.json" 2>"$work/scene.err"; then
     agents=$(jq -r '[.levels[1:][] | .agents | tostring] | join(", ")' "$work/scene.json")
     exact docs/user-guide.md "130, 522 and 324 agents" "$(echo "$agents" | sed 's/, \([0-9]*\)$/ and \1/') agents" "agents per level"
