@@ -31,16 +31,15 @@ void addSkinningOption(CLI::App& command, std::optional<LodSkinning>& out, const
   command
       .add_option_function<std::string>(
           "--skinning", [&out](const std::string& text) { out = lodSkinningFromName(text); },
-          "where the character is skinned, gpu (the default: the motion takes half of each level's deviation) or "
-          "cpu (the motion takes its share of the frame cost, pose against CPU skinning), " +
-              what)
+          what + ": where the character is skinned, gpu (the default: the motion takes half of each level's "
+                 "deviation) or cpu (the motion takes its share of the frame cost, pose against CPU skinning)")
       ->type_name("gpu|cpu")
       ->check(CLI::Validator(
           [](std::string& text) {
             return lodSkinningFromName(text) ? std::string()
                                              : "'" + text + "' is neither gpu nor cpu (where the character is skinned)";
           },
-          "gpu|cpu", "skinning"));
+          "", "skinning"));
 }
 
 namespace {

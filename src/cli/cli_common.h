@@ -65,7 +65,7 @@ void addProjectOptions(CLI::App& command, ProjectFileOptions& options);
 
 // `--skinning cpu|gpu` (LodBudgetOptions::skinning): where the character of a generated LOD
 // set is skinned. Any other value is a parse error naming the two (exit 2); `out` stays
-// unset when the option is not given. `what` ends the help line (which set it applies to).
+// unset when the option is not given. `what` starts the help line (which set it applies to).
 void addSkinningOption(CLI::App& command, std::optional<LodSkinning>& out, const std::string& what);
 
 // Makes SIGINT and SIGTERM (Ctrl+C, a farm scheduler stopping the job) set the returned
