@@ -474,9 +474,8 @@ int BenchCrowdCommand::runScene() const {
               asset->skeleton.jointCount());
   std::printf("motion:     %s, clip '%s' (%d frames at %g fps, looped)\n",
               motion.empty() ? file.c_str() : motion.c_str(), clip.name.c_str(), clip.frameCount, clip.fps);
-  std::printf("crowd:      %d agents (%s), %d frames (1/60 s apart), %d thread(s), camera at the front, %s\n",
-              agents, layout.c_str(), frames, threads,
-              noSkinning ? "pose only (no skinning)" : "pose and CPU skinning");
+  std::printf("crowd:      %d agents (%s), %d frames (1/60 s apart), %d thread(s), camera at the front, %s\n", agents,
+              layout.c_str(), frames, threads, noSkinning ? "pose only (no skinning)" : "pose and CPU skinning");
   std::printf("levels (pixel budget %g px, skinning %s):\n", budgetPixels, lodSkinningName(budget.skinning));
   std::printf("  %-8s %10s %6s %10s %9s %7s %12s %7s %11s\n", "", "threshold", "mesh", "triangles", "vertices",
               "joints", "switch (m)", "agents", "agent cost");

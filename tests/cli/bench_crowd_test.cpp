@@ -2,9 +2,9 @@
 // keys, figures that hold whatever the machine's speed (no timed assertion), skinning
 // figures where the file has a mesh, and `error: FILE: reason` with exit 2 for bad input.
 
+#include "../unit/real_files.h"
 #include "cli_runner.h"
 #include "test_files.h"
-#include "../unit/real_files.h"
 
 #include <algorithm>
 #include <gtest/gtest.h>
@@ -194,8 +194,12 @@ TEST(CliBenchCrowd, ClipBytesPerSide) {
 TEST(CliBenchCrowd, SceneClipBytesAgentCostsAndPoseOnly) {
   for (const bool skin : {true, false}) {
     SCOPED_TRACE(skin ? "skinned" : "--no-skinning");
-    std::vector<std::string> arguments = {"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--scene", "--agents", "6", "--frames", "2",
-                                          "--levels", "3", "--repetitions", "1", "--json"};
+    std::vector<std::string> arguments = {"bench-crowd", test::modelPath("X/BCN_Epileptic.X"),
+                                          "--scene",     "--agents",
+                                          "6",           "--frames",
+                                          "2",           "--levels",
+                                          "3",           "--repetitions",
+                                          "1",           "--json"};
     if (!skin)
       arguments.push_back("--no-skinning");
     const test::CliRun run = runMotionlod(arguments);
@@ -235,8 +239,8 @@ TEST(CliBenchCrowd, SceneClipBytesAgentCostsAndPoseOnly) {
 // with the reason.
 TEST(CliBenchCrowd, SkinningOptionOfTheScene) {
   const auto scene = [](const std::string& skinning) {
-    return runMotionlod({"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--scene", "--agents", "2", "--frames", "1", "--levels", "3",
-                         "--repetitions", "1", "--skinning", skinning, "--json"});
+    return runMotionlod({"bench-crowd", test::modelPath("X/BCN_Epileptic.X"), "--scene", "--agents", "2", "--frames",
+                         "1", "--levels", "3", "--repetitions", "1", "--skinning", skinning, "--json"});
   };
   const test::CliRun cpu = scene("cpu");
   ASSERT_EQ(cpu.status, 0) << cpu.err;

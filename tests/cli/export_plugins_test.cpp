@@ -218,15 +218,15 @@ TEST(CliExport, SkinningIsGpuOrCpuForAFilesDefaultSet) {
   EXPECT_EQ(bad.status, 2) << bad.err;
   EXPECT_NE(bad.err.find("--skinning"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("'both' is neither gpu nor cpu"), std::string::npos) << bad.err;
-  const test::CliRun ratios = runMotionlod(
-      {"export", kSample, "--plugin", "bundle", "-o", out, "--skinning", "cpu", "--mesh-ratio", "0.5"});
+  const test::CliRun ratios =
+      runMotionlod({"export", kSample, "--plugin", "bundle", "-o", out, "--skinning", "cpu", "--mesh-ratio", "0.5"});
   EXPECT_EQ(ratios.status, 2) << ratios.err;
   EXPECT_NE(ratios.err.find("error: " + kSample + ": --skinning applies to the default LOD set"), std::string::npos)
       << ratios.err;
-  const nlohmann::json level0 = {{"name", "L0"},          {"threshold", 0.0},        {"mesh_ratio", 1.0},
-                                 {"switch_distance_cm", 0.0}, {"pixel_error", 0.0},    {"screen_size_pixels", 0.0},
-                                 {"motion_error_cm", 0.0},  {"mesh_error_cm", 0.0},    {"triangles", 0},
-                                 {"active_joints", 0}};
+  const nlohmann::json level0 = {
+      {"name", "L0"},       {"threshold", 0.0},          {"mesh_ratio", 1.0},      {"switch_distance_cm", 0.0},
+      {"pixel_error", 0.0}, {"screen_size_pixels", 0.0}, {"motion_error_cm", 0.0}, {"mesh_error_cm", 0.0},
+      {"triangles", 0},     {"active_joints", 0}};
   const nlohmann::json project = {
       {"format", "motionlod-project"},
       {"version", 4},

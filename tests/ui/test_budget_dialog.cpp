@@ -178,8 +178,9 @@ private slots:
     QVERIFY(!skinning->toolTip().isEmpty());
     QCOMPARE(skinning->currentData().toString(), QString("gpu"));
     QCOMPARE(document->levelGenerator()->plan().report.motionShare, kGpuMotionShare);
-    QVERIFY2(dialog->statusLabel()->text().contains("The motion takes 50% of each level's deviation (skinned on the GPU"),
-             qPrintable(dialog->statusLabel()->text()));
+    QVERIFY2(
+        dialog->statusLabel()->text().contains("The motion takes 50% of each level's deviation (skinned on the GPU"),
+        qPrintable(dialog->statusLabel()->text()));
 
     skinning->setCurrentIndex(skinning->findData(QString("cpu")));
     QVERIFY(!dialog->isPreviewCurrent());

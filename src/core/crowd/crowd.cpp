@@ -436,7 +436,8 @@ bool hasOverrideAt(const JpcSettings& jpc, std::size_t level) {
 }
 
 // CrowdConfigurationFigures::clipBytes: the clips of the levels used, one per motion.
-std::size_t usedClipBytes(const Crowd& crowd, const LodSet& set, const JpcSettings& jpc, const std::vector<bool>& used) {
+std::size_t usedClipBytes(const Crowd& crowd, const LodSet& set, const JpcSettings& jpc,
+                          const std::vector<bool>& used) {
   std::size_t bytes = 0;
   std::vector<double> counted; // thresholds of the override-free levels counted
   for (int l = 0; l < crowd.levelCount(); ++l) {

@@ -219,7 +219,7 @@ struct CrowdComparisonSettings {
   float centreHeightCm = 0.0f;     // Crowd::setCentreHeight()
   JpcSettings jpc;                 // for the levels' motion
   const std::atomic<bool>* cancel = nullptr; // polled between builds and repetitions
-  bool skinning = true;            // skin every agent on the CPU; false: pose evaluation alone
+  bool skinning = true;                      // skin every agent on the CPU; false: pose evaluation alone
   // Also time the crowd of "both" with every agent forced to level k, for each level, the
   // levels alternating within each repetition: CrowdComparison::levelFrameMs and levelCost.
   bool levelCosts = false;

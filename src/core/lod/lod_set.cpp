@@ -249,6 +249,14 @@ double motionShareByCost(int joints, std::size_t vertices) {
   return std::clamp(pose / (pose + skin), kMinMotionShare, kMaxMotionShare);
 }
 
+// The motion's share of a level's deviation for a character with a mesh: the option's, else
+// by where it is skinned (LodBudgetOptions::skinning).
+static double meshMotionShare(const LodBudgetOptions& options, int joints, std::size_t vertices) {
+  if (options.motionShare)
+    return *options.motionShare;
+  return options.skinning == LodSkinning::Gpu ? kGpuMotionShare : motionShareByCost(joints, vertices);
+}
+
 // fromPixelBudget() with options.mesh.cancel the one flag of the run.
 static Result<LodSet> generateLevels(const Asset& asset, double pixels, int levels, const LodBudgetOptions& options,
                                      LodBudgetReport* report) {
@@ -367,10 +375,9 @@ static Result<LodSet> generateLevels(const Asset& asset, double pixels, int leve
   // measures, motion and mesh rebound to its skeleton, spans N pixels. Without a mesh each
   // level aims where the character is height / 2^i pixels tall.
   const std::vector<double> ratios = levelRatios(options.meshRatios, levels);
-  const double motionShare = !character->mesh()                   ? 1.0
-                             : options.motionShare                 ? *options.motionShare
-                             : options.skinning == LodSkinning::Gpu ? kGpuMotionShare
-                                 : motionShareByCost(asset.skeleton.jointCount(), character->mesh()->vertexCount());
+  const double motionShare =
+      !character->mesh() ? 1.0
+                         : meshMotionShare(options, asset.skeleton.jointCount(), character->mesh()->vertexCount());
   if (report)
     report->motionShare = motionShare;
   const MeshLod* fullMotionMesh = nullptr;

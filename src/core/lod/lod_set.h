@@ -15,14 +15,15 @@
 // misses); motionShare is what the character's CPU pays for its motion: where the GPU skins
 // (LodSkinning::Gpu, the default, as engines do) the CPU pays the pose alone and the motion
 // takes kGpuMotionShare (a half); where the CPU skins (LodSkinning::Cpu) the pose's share of
-// the character's frame cost (motionShareByCost()). Without a mesh, level i is aimed at the distance where the character's bounding
-// sphere covers height / 2^i pixels (half the screen, a quarter ...), where N pixels allow a
-// deviation delta_i (error_budget.h) for the motion. Either way the level switches in at the
-// smallest distance where its measured deviation (motion + the mesh error of its own
-// rebound mesh) spans at most N pixels: never nearer than the previous level's. A level
-// whose threshold is 0 (the original's motion) or that repeats the level kept before it
-// (same threshold and mesh ratio) is left out and reported, so a set may hold fewer levels
-// than asked. Every figure stays editable; validate() checks an edited set.
+// the character's frame cost (motionShareByCost()). Without a mesh, level i is aimed at the
+// distance where the character's bounding sphere covers height / 2^i pixels (half the
+// screen, a quarter ...), where N pixels allow a deviation delta_i (error_budget.h) for the
+// motion. Either way the level switches in at the smallest distance where its measured
+// deviation (motion + the mesh error of its own rebound mesh) spans at most N pixels: never
+// nearer than the previous level's. A level whose threshold is 0 (the original's motion) or
+// that repeats the level kept before it (same threshold and mesh ratio) is left out and
+// reported, so a set may hold fewer levels than asked. Every figure stays editable;
+// validate() checks an edited set.
 //
 // Units: thresholds in cm·degrees, lengths and errors in cm, sizes and errors on screen in
 // pixels.

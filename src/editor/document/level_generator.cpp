@@ -45,8 +45,8 @@ bool LevelGenerator::preview(double pixels, int levels, const LodProjection& pro
   return launch(pixels, levels, projection, skinning, false, out_error);
 }
 
-bool LevelGenerator::launch(double pixels, int levels, const LodProjection& projection, LodSkinning skinning,
-                            bool land, QString* out_error) {
+bool LevelGenerator::launch(double pixels, int levels, const LodProjection& projection, LodSkinning skinning, bool land,
+                            QString* out_error) {
   const auto refuse = [&](const QString& reason) {
     if (out_error)
       *out_error = reason;

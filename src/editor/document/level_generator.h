@@ -52,8 +52,9 @@ public:
   ~LevelGenerator() override;                  // cancels and waits for the worker
 
   // Starts generating up to `levels` levels within `pixels` (> 0) on screen under the
-  // projection and skinning of the set in view (LodSet::skinning); they land when done (finished()). Returns false with a reason
-  // when no asset is in view, the budget is bad, or a worker still runs.
+  // projection and skinning of the set in view (LodSet::skinning); they land when done
+  // (finished()). Returns false with a reason when no asset is in view, the budget is bad,
+  // or a worker still runs.
   bool start(double pixels, int levels, QString* out_error = nullptr);
   // The same under `projection`, for a character skinned where `skinning` says
   // (LodBudgetOptions::skinning), landing nothing: previewed() then plan().

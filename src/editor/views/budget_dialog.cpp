@@ -313,12 +313,11 @@ void BudgetDialog::showPlan() {
                 .arg(dropped);
   m_overridesTitle->setText(title);
   const QString why = plan.lods.skinning == LodSkinning::Gpu ? tr("skinned on the GPU, the CPU pays the pose alone")
-                                                              : tr("its share of the frame cost, skinned on the CPU");
-  const QString share =
-      plan.report.motionShare > 0.0 && plan.report.motionShare < 1.0
-          ? tr(" The motion takes %1% of each level's deviation (%2), the mesh the rest.")
-                .arg(QString::number(100.0 * plan.report.motionShare, 'f', 0), why)
-          : QString();
+                                                             : tr("its share of the frame cost, skinned on the CPU");
+  const QString share = plan.report.motionShare > 0.0 && plan.report.motionShare < 1.0
+                            ? tr(" The motion takes %1% of each level's deviation (%2), the mesh the rest.")
+                                  .arg(QString::number(100.0 * plan.report.motionShare, 'f', 0), why)
+                            : QString();
   m_status->setText(tr("Levels within %1 px: %2.%3 Apply replaces the current levels (one undo step).")
                         .arg(plan.pixels)
                         .arg(levels.size())
