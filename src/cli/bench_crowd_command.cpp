@@ -62,7 +62,7 @@ void BenchCrowdCommand::attach(CLI::App& app) {
   command->add_option("--threads", threads, "threads to spread characters over (default 1)")->check(CLI::Range(1, 256));
   command
       ->add_option("--blend-frames", blendFrames, "frames over which resuming joints blend back (default 4; 0 = off)")
-      ->check(CLI::Range(0, 10000));
+      ->check(CLI::Range(0, kMaxBlendFrames));
   command->add_option("--repetitions", repetitions, "timed repetitions of each side (default 5; median)")
       ->check(CLI::Range(1, 1000));
   command->add_flag("--palette-only", paletteOnly, "write the skinning palette only, no model matrices");
@@ -179,12 +179,7 @@ int BenchCrowdCommand::run() const {
   std::vector<CrowdLevel> sideLevels[2];
   sideLevels[0].push_back(std::move(fullLevel).value());
   sideLevels[1].push_back(std::move(lodLevel).value());
-  int animated = 0;
-  for (int j = 0; j < static_cast<int>(joints); ++j)
-    animated += (sideLevels[0].front().clip.flags(j) &
-                 (LodClip::kRotationAnimated | LodClip::kTranslationAnimated | LodClip::kScaleAnimated))
-                    ? 1
-                    : 0;
+  const int animated = sideLevels[0].front().clip.animatedJointCount();
   for (int s = 0; s < 2; ++s) {
     Crowd& crowd = sides[s].crowd;
     crowd.setLevels(std::move(sideLevels[s]));

@@ -36,8 +36,6 @@ glm::quat nlerp(const glm::quat& a, const glm::quat& b, float t) {
   return q * (1.0f / std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w));
 }
 
-glm::quat positiveW(const glm::quat& q) { return q.w < 0.0f ? -q : q; }
-
 bool checkSource(const LodClipSource& source, std::string* out_error) {
   if (!std::isfinite(source.fps) || source.fps <= 0.0 || source.fps > 1e6)
     return fail(out_error, "frame rate " + std::to_string(source.fps) + " is not in (0, 1e6] fps");
@@ -56,8 +54,9 @@ bool checkSource(const LodClipSource& source, std::string* out_error) {
     if (std::abs(glm::length(source.rotations[i]) - 1.0f) > 1e-3f)
       return fail(out_error, "a rotation is not a unit quaternion");
   }
-  if (source.blendFrames < 0 || source.blendFrames > 10000)
-    return fail(out_error, "blend frames " + std::to_string(source.blendFrames) + " is not in [0, 10000]");
+  if (source.blendFrames < 0 || source.blendFrames > kMaxBlendFrames)
+    return fail(out_error, "blend frames " + std::to_string(source.blendFrames) + " is not in [0, " +
+                               std::to_string(kMaxBlendFrames) + "]");
   if (source.clusterBegin.empty()) {
     if (!source.clusters.empty())
       return fail(out_error, "clusters are given without clusterBegin");
@@ -229,7 +228,7 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   clip.m_segmentBegin[joints] = static_cast<std::uint32_t>(clip.m_segments.size());
   clip.m_clusterBegin[joints] = static_cast<std::uint32_t>(clip.m_clusters.size());
 
-  clip.m_blendFrames = std::clamp(source.blendFrames, 0, 10000);
+  clip.m_blendFrames = std::clamp(source.blendFrames, 0, kMaxBlendFrames);
   clip.buildPlans();
   return clip;
 }
@@ -244,12 +243,19 @@ std::size_t LodClip::byteSize() const {
          m_rotations.size() * sizeof(glm::quat) + m_staticLocals.size() * sizeof(float) + planByteSize();
 }
 
+int LodClip::animatedJointCount() const {
+  int count = 0;
+  for (const std::uint8_t flags : m_flags)
+    count += (flags & (kRotationAnimated | kTranslationAnimated | kScaleAnimated)) ? 1 : 0;
+  return count;
+}
+
 std::size_t LodClip::planByteSize() const {
   return m_planBegin.size() * sizeof(std::uint32_t) + m_plans.size() * sizeof(float);
 }
 
 void LodClip::setBlendFrames(int frames) {
-  frames = std::clamp(frames, 0, 10000);
+  frames = std::clamp(frames, 0, kMaxBlendFrames);
   if (frames == m_blendFrames)
     return;
   m_blendFrames = frames;

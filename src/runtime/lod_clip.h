@@ -49,6 +49,11 @@
 
 namespace mlod {
 
+// The most frames of unfreeze and level-change blending (LodClipSource::blendFrames,
+// LodClip::setBlendFrames(), PoseEvaluatorJob::blendFrames, Crowd and the CLI's
+// --blend-frames).
+inline constexpr int kMaxBlendFrames = 10000;
+
 // Storage aligned to 64 bytes (a cache line): per-frame plans start on a line.
 template <typename T> struct CacheLineAllocator {
   using value_type = T;
@@ -84,7 +89,7 @@ struct LodClipSource {
   // with its key inside. clusterBegin has jointCount + 1 entries, or none (no clusters).
   std::span<const LodCluster> clusters;
   std::span<const std::uint32_t> clusterBegin;
-  // Frames of unfreeze blending the plans are made for, [0, 10000] (0 = none: M'(t)).
+  // Frames of unfreeze blending the plans are made for, [0, kMaxBlendFrames] (0 = none: M'(t)).
   int blendFrames = 0;
 };
 
@@ -173,6 +178,9 @@ public:
   int clusterCount() const { return static_cast<int>(m_clusters.size()); }
   // Bytes the clip holds (what an engine pays per clip and level).
   std::size_t byteSize() const;
+  // Joints with an animated channel (rotation, translation or scale): what full detail
+  // samples every frame.
+  int animatedJointCount() const;
 
   // Frame position (frames, in [0, frameCount - 1]) of `seconds`, and for a looping clip
   // the number of whole periods before it (0 otherwise). A non-looping clip clamps.
@@ -229,7 +237,7 @@ public:
   bool scaled() const { return m_scaled; }
   // Frames of unfreeze blending the plans are made for (0 = none).
   int blendFrames() const { return m_blendFrames; }
-  // Makes the plans for `frames` of unfreeze blending ([0, 10000]). Not while a job reads
+  // Makes the plans for `frames` of unfreeze blending ([0, kMaxBlendFrames]). Not while a job reads
   // the clip. A clip without clusters has no windows: only the figure changes.
   void setBlendFrames(int frames);
   // Index of the segment of `joint` that holds frame i0 (binary search).
@@ -295,6 +303,9 @@ private:
   std::vector<float, CacheLineAllocator<float>> m_plans;
   std::size_t m_maxPlanFloats = 0;
 };
+
+// The same rotation with w >= 0.
+inline glm::quat positiveW(const glm::quat& q) { return q.w < 0.0f ? -q : q; }
 
 // nlerp(identity, offset, weight): the offset scaled down to `weight` in [0, 1] (offset.w >= 0).
 inline glm::quat scaleOffset(const glm::quat& offset, float weight) {

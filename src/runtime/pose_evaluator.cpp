@@ -119,13 +119,16 @@ inline glm::quat lerpOffset(const glm::quat& offset, float weight) {
   return glm::quat(1.0f - weight + weight * offset.w, weight * offset.x, weight * offset.y, weight * offset.z);
 }
 
-glm::quat positiveW(const glm::quat& q) {
-  return q.w < 0.0f ? -q : q;
-}
-
 // An offset below float resolution changes nothing: the joint need not blend.
 bool isIdentity(const glm::quat& q) {
   return std::abs(q.x) + std::abs(q.y) + std::abs(q.z) <= 1e-7f;
+}
+
+// A looping clip's wrap offset of `joint`: the jump from its last frame's rotation to its
+// first's, which decays over the first blendFrames frames of every later period.
+glm::quat wrapOffset(const LodClip& clip, int joint, int blendFrames) {
+  return positiveW(clip.rotationAt(joint, clip.frameCount() - 1, blendFrames) *
+                   glm::inverse(clip.rotationAt(joint, 0.0, blendFrames)));
 }
 
 // The rotation of `joint` that `clip` shows at `seconds` without level blending: M'
@@ -138,8 +141,7 @@ glm::quat shownRotation(const LodClip& clip, int joint, double seconds, int blen
   float fraction = 0.0f;
   clip.split(f, i0, fraction);
   if (blendFrames > 0 && clip.looping() && loop >= 1 && i0 < blendFrames) {
-    const glm::quat wrap = positiveW(clip.rotationAt(joint, clip.frameCount() - 1, blendFrames) *
-                                     glm::inverse(clip.rotationAt(joint, 0.0, blendFrames)));
+    const glm::quat wrap = wrapOffset(clip, joint, blendFrames);
     q = scaleOffset(wrap, static_cast<float>(1.0 - std::min(f / blendFrames, 1.0))) * q;
   }
   return q;
@@ -401,9 +403,7 @@ struct PoseEvaluation {
       Scratch& scratch = blends.scratch;
       if (scratch.wrapClip != &clip || scratch.wrapFrames != blendFrames) {
         for (int j = 0; j < joints; ++j)
-          scratch.wrapOffsets[static_cast<std::size_t>(j)] =
-              positiveW(clip.rotationAt(j, clip.frameCount() - 1, blendFrames) *
-                        glm::inverse(clip.rotationAt(j, 0.0, blendFrames)));
+          scratch.wrapOffsets[static_cast<std::size_t>(j)] = wrapOffset(clip, j, blendFrames);
         scratch.wrapClip = &clip;
         scratch.wrapFrames = blendFrames;
       }
@@ -546,43 +546,52 @@ std::size_t PoseEvaluatorContext::byteSize() const {
   return sizeof(*this) + bytesPerCharacter() * m_states.size() + scratch;
 }
 
-bool PoseEvaluatorJob::validate() const {
-  if (!context)
+bool PoseEvaluatorJob::validate(std::string* out_error) const {
+  const auto refuse = [out_error](const std::string& why) {
+    if (out_error)
+      *out_error = why;
     return false;
+  };
+  if (!context)
+    return refuse("no context");
   const std::size_t joints = parents.size();
   if (joints < 1 || joints > 32767)
-    return false;
+    return refuse("joint count " + std::to_string(joints) + " is not in [1, 32767]");
   for (std::size_t j = 0; j < joints; ++j)
     if (parents[j] < -1 || parents[j] >= static_cast<std::int32_t>(j))
-      return false;
+      return refuse("joint " + std::to_string(j) + "'s parent does not come before it");
   if (inverseBinds.size() != joints)
-    return false;
+    return refuse("inverse binds must hold one matrix per joint");
   for (const glm::mat4& m : inverseBinds)
     if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f)
-      return false;
+      return refuse("an inverse bind is not affine (bottom row 0 0 0 1)");
   const std::size_t characters = clips.size();
   if (times.size() != characters)
-    return false;
+    return refuse("clips and times must hold one entry per character");
   if (context->jointCount() != static_cast<int>(joints) ||
       static_cast<std::size_t>(context->characterCount()) < characters)
-    return false;
+    return refuse("the context is not sized for " + std::to_string(characters) + " characters of " +
+                  std::to_string(joints) + " joints");
   if (context->threadCount() < (pool ? pool->threadCount() : 1))
-    return false;
-  if (blendFrames < 0 || blendFrames > 10000)
-    return false;
+    return refuse("the context has fewer threads than the pool");
+  if (blendFrames < 0 || blendFrames > kMaxBlendFrames)
+    return refuse("blend frames " + std::to_string(blendFrames) + " is not in [0, " + std::to_string(kMaxBlendFrames) +
+                  "]");
   if (out_palette.size() != characters * joints || (!out_models.empty() && out_models.size() != characters * joints))
-    return false;
+    return refuse("outputs must hold characters x joints matrices (models may be empty)");
   for (std::size_t c = 0; c < characters; ++c) {
     const LodClip* clip = clips[c];
+    const std::string who = "character " + std::to_string(c);
     if (!clip || clip->jointCount() != static_cast<int>(joints))
-      return false;
+      return refuse(who + ": no clip, or a clip of another joint count");
     if (clip->clusterCount() > 0 && clip->blendFrames() != blendFrames)
-      return false;
+      return refuse(who + ": its clip's plans are made for " + std::to_string(clip->blendFrames()) +
+                    " blend frames, the job asks " + std::to_string(blendFrames));
     const double t = times[c];
     if (!std::isfinite(t) || t < 0.0)
-      return false;
+      return refuse(who + ": its time is not finite and >= 0");
     if (!clip->looping() && t * clip->fps() > clip->frameCount() - 1 + 1e-6)
-      return false;
+      return refuse(who + ": its time is past the end of a clip that does not loop");
   }
   return true;
 }

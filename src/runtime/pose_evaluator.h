@@ -38,6 +38,11 @@
 // Cost: the job never allocates; the context holds every buffer, sized once. Characters
 // are spread over the threads of an optional WorkerPool; the result does not depend on
 // the thread count (each character's output depends on its own inputs and state alone).
+//
+// Clip lifetime: a character's state keeps the `const LodClip*` of its last run and reads
+// that clip again at a level switch (to blend from what it showed). Before a clip is freed
+// or moved, or its plans are made again (LodClip::setBlendFrames()), reset the characters
+// that played it (PoseEvaluatorContext::reset()).
 
 #include "runtime/lod_clip.h"
 #include "runtime/worker_pool.h"
@@ -47,6 +52,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace mlod {
@@ -138,10 +144,11 @@ struct PoseEvaluatorJob {
   // Rules: a context sized as above; parents valid; inverseBinds one per joint and affine;
   // clips and times one per character; every clip non-null with the skeleton's joint
   // count; every time finite, >= 0 and, for a clip that does not loop, at most its
-  // duration (a frame position <= frameCount - 1 + 1e-6); blendFrames in [0, 10000] and
+  // duration (a frame position <= frameCount - 1 + 1e-6); blendFrames in [0, kMaxBlendFrames] and
   // equal to the blendFrames() of every clip with clusters;
   // out_palette characters x joints; out_models empty or characters x joints.
-  bool validate() const;
+  // Returns false and, where out_error is given, says which rule the job breaks.
+  bool validate(std::string* out_error = nullptr) const;
   // Returns false (and writes nothing) when validate() fails.
   bool run() const;
 };

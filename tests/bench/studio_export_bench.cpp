@@ -163,7 +163,8 @@ int main(int argc, char** argv) {
     const double cpu = cpuSeconds();
     clock.start();
     QString error;
-    if (!generator->preview(1.0, QByteArray(argv[3]).toInt(), document->lods().projection, &error)) {
+    if (!generator->preview(1.0, QByteArray(argv[3]).toInt(), document->lods().projection, document->lods().skinning,
+                            &error)) {
       std::fprintf(stderr, "error: no preview: %s\n", qPrintable(error));
       return 1;
     }
@@ -179,7 +180,8 @@ int main(int argc, char** argv) {
     previewed = false;
     const double cpuAgain = cpuSeconds();
     clock.restart();
-    if (!generator->preview(2.0, QByteArray(argv[3]).toInt(), document->lods().projection, &error) ||
+    if (!generator->preview(2.0, QByteArray(argv[3]).toInt(), document->lods().projection, document->lods().skinning,
+                            &error) ||
         !waitFor([&] { return previewed; }, 600)) {
       std::fprintf(stderr, "error: no second preview: %s\n", qPrintable(error));
       return 1;

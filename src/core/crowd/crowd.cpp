@@ -30,15 +30,6 @@ double threadCpuSeconds() {
 #endif
 }
 
-// Joints a character samples per frame when nothing is clustered: every joint the clip moves.
-int animatedJoints(const LodClip& clip) {
-  int count = 0;
-  for (int j = 0; j < clip.jointCount(); ++j)
-    if (clip.flags(j) & (LodClip::kRotationAnimated | LodClip::kTranslationAnimated | LodClip::kScaleAnimated))
-      ++count;
-  return count;
-}
-
 // A capsule radius for a skeleton: 3% of its rest extent, at least 0.5 cm.
 float capsuleRadiusFor(const Skeleton& skeleton) {
   const std::vector<glm::mat4> rest = skeleton.restModelMatrices();
@@ -67,7 +58,7 @@ Result<CrowdLevel> finishLevel(Skeleton skeleton, const SkinnedMesh* mesh, const
     level.capsules = true;
   }
   level.skeleton = std::move(skeleton);
-  level.fullDetailSampled = fullDetailSampled >= 0 ? fullDetailSampled : animatedJoints(level.clip);
+  level.fullDetailSampled = fullDetailSampled >= 0 ? fullDetailSampled : level.clip.animatedJointCount();
   return level;
 }
 
@@ -232,7 +223,7 @@ void Crowd::setThreads(int threads) {
 }
 
 void Crowd::setBlendFrames(int frames) {
-  m_blendFrames = std::clamp(frames, 0, 10000);
+  m_blendFrames = std::clamp(frames, 0, kMaxBlendFrames);
   for (CrowdLevel& level : m_levels)
     level.clip.setBlendFrames(m_blendFrames); // the unfreeze windows are in the clip's plans
   for (auto& slots : m_slotAgent)

@@ -748,7 +748,9 @@ TEST(PoseEvaluator, RejectsInvalidJobs) {
     job.out_palette = palette;
     return job;
   };
-  ASSERT_TRUE(valid().validate());
+  std::string accepted = "unchanged";
+  ASSERT_TRUE(valid().validate(&accepted));
+  EXPECT_EQ(accepted, "unchanged") << "a valid job leaves the message alone";
   std::vector<PoseEvaluatorJob> invalid;
   {
     PoseEvaluatorJob job = valid();
@@ -835,7 +837,9 @@ TEST(PoseEvaluator, RejectsInvalidJobs) {
     invalid.push_back(job);
   }
   for (std::size_t i = 0; i < invalid.size(); ++i) {
-    EXPECT_FALSE(invalid[i].validate()) << "case " << i;
+    std::string why;
+    EXPECT_FALSE(invalid[i].validate(&why)) << "case " << i;
+    EXPECT_FALSE(why.empty()) << "case " << i << ": validate() says why it refuses";
     EXPECT_FALSE(invalid[i].run()) << "case " << i;
   }
   EXPECT_EQ(palette[0], glm::mat4(7.0f)) << "a failed run writes nothing";
