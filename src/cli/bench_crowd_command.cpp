@@ -27,6 +27,11 @@ std::string number(double value) {
   out << value;
   return out.str();
 }
+
+// bytes_per_second: a clip's bytes over its duration (0 for a one-frame clip).
+double bytesPerSecond(std::size_t bytes, double seconds) {
+  return seconds > 0.0 ? static_cast<double>(bytes) / seconds : 0.0;
+}
 } // namespace
 
 void BenchCrowdCommand::attach(CLI::App& app) {
@@ -162,9 +167,6 @@ int BenchCrowdCommand::run() const {
   // every clip a side's evaluator reads, each once: one each here
   const std::size_t fullBytes = full.byteSize(), lodBytes = lod.byteSize();
   const double clipSeconds = full.duration();
-  const auto perSecond = [clipSeconds](std::size_t bytes) {
-    return clipSeconds > 0.0 ? static_cast<double>(bytes) / clipSeconds : 0.0;
-  };
   const std::size_t fullPlanBytes = full.planByteSize(), lodPlanBytes = lod.planByteSize();
   const int planFrames = full.planFrames();
 
@@ -235,7 +237,7 @@ int BenchCrowdCommand::run() const {
     nlohmann::ordered_json out;
     const double seconds = median(side.poseSeconds);
     out["clip_bytes"] = clipBytes;
-    out["bytes_per_second"] = perSecond(clipBytes);
+    out["bytes_per_second"] = bytesPerSecond(clipBytes, clipSeconds);
     out["seconds"] = seconds;
     out["joints_evaluated"] = side.sampled;
     out["char_frames_per_second"] = seconds > 0.0 ? charFrames / seconds : 0.0;
@@ -333,7 +335,7 @@ int BenchCrowdCommand::run() const {
               "character\n",
               fullBytes, lodBytes, fullPlanBytes, lodPlanBytes, planFrames, perCharacter);
   std::printf("            per second of animation (%.3f s): %.0f bytes/s full, %.0f bytes/s LOD\n", clipSeconds,
-              perSecond(fullBytes), perSecond(lodBytes));
+              bytesPerSecond(fullBytes, clipSeconds), bytesPerSecond(lodBytes, clipSeconds));
   return kExitOk;
 }
 
@@ -452,8 +454,7 @@ int BenchCrowdCommand::runScene() const {
     out["vertices_skinned"] = run.verticesSkinned;
     out["repetition_frame_ms"] = run.repetitionFrameMs;
     out["clip_bytes"] = run.clipBytes;
-    out["bytes_per_second"] =
-        compared->clipSeconds > 0.0 ? static_cast<double>(run.clipBytes) / compared->clipSeconds : 0.0;
+    out["bytes_per_second"] = bytesPerSecond(run.clipBytes, compared->clipSeconds);
     configurations[run.name] = out;
   }
   doc["configurations"] = configurations;
@@ -488,7 +489,7 @@ int BenchCrowdCommand::runScene() const {
     const CrowdConfigurationFigures& run = runs[r];
     std::printf("  %-9s %10.3f %10.3f %10.3f %14.0f %16.0f %8.2fx %12zu %12.0f\n", run.name, run.frameMs, run.poseMs,
                 run.skinMs, run.jointsEvaluated, run.verticesSkinned, compared->speedup(r), run.clipBytes,
-                compared->clipSeconds > 0.0 ? static_cast<double>(run.clipBytes) / compared->clipSeconds : 0.0);
+                bytesPerSecond(run.clipBytes, compared->clipSeconds));
   }
   return kExitOk;
 }
