@@ -167,8 +167,6 @@ int BenchCrowdCommand::run() const {
   // every clip a side's evaluator reads, each once: one each here
   const std::size_t fullBytes = full.byteSize(), lodBytes = lod.byteSize();
   const double clipSeconds = full.duration();
-  const std::size_t fullPlanBytes = full.planByteSize(), lodPlanBytes = lod.planByteSize();
-  const int planFrames = full.planFrames();
 
   // the crowd: starts spread over the clip (golden-ratio steps), 1/60 s per frame
   const std::size_t n = static_cast<std::size_t>(characters);
@@ -274,9 +272,12 @@ int BenchCrowdCommand::run() const {
     std::transform(sides[0].poseSeconds.begin(), sides[0].poseSeconds.end(), sides[1].poseSeconds.begin(),
                    std::back_inserter(pairs), std::divides<>());
   doc["speedup_pairs"] = runFull && runLod ? nlohmann::ordered_json(pairs) : nlohmann::ordered_json();
-  doc["memory"] = {{"full_bytes", fullBytes},          {"lod_bytes", lodBytes},
-                   {"full_plan_bytes", fullPlanBytes}, {"lod_plan_bytes", lodPlanBytes},
-                   {"plan_frames", planFrames},        {"per_character_bytes", perCharacter}};
+  doc["memory"] = {{"full_bytes", fullBytes},
+                   {"lod_bytes", lodBytes},
+                   {"precision_cm", full.precisionCm()},
+                   {"full_encoded_error_cm", full.encodedErrorCm()},
+                   {"lod_encoded_error_cm", lod.encodedErrorCm()},
+                   {"per_character_bytes", perCharacter}};
   double fullSkin = 0.0, lodSkin = 0.0;
   if (skinning && !noSkinning) {
     fullSkin = median(sides[0].skinSeconds);
@@ -331,9 +332,9 @@ int BenchCrowdCommand::run() const {
       std::printf("; pose + skinning speedup %.3fx", (fullSeconds + fullSkin) / (lodSeconds + lodSkin));
     std::printf("\n");
   }
-  std::printf("memory:     clip %zu bytes full, %zu bytes LOD (plans %zu and %zu bytes, %d frames); %zu bytes per "
-              "character\n",
-              fullBytes, lodBytes, fullPlanBytes, lodPlanBytes, planFrames, perCharacter);
+  std::printf("memory:     clip %zu bytes full, %zu bytes LOD (precision %.4g cm; encoded error %.4g and %.4g cm); "
+              "%zu bytes per character\n",
+              fullBytes, lodBytes, full.precisionCm(), full.encodedErrorCm(), lod.encodedErrorCm(), perCharacter);
   std::printf("            per second of animation (%.3f s): %.0f bytes/s full, %.0f bytes/s LOD\n", clipSeconds,
               bytesPerSecond(fullBytes, clipSeconds), bytesPerSecond(lodBytes, clipSeconds));
   return kExitOk;

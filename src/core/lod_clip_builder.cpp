@@ -4,7 +4,8 @@
 
 namespace mlod {
 
-Result<LodClip> buildLodClip(const Clip& clip, const ClusterSet* clusters, std::optional<bool> looping) {
+Result<LodClip> buildLodClip(const Clip& clip, const ClusterSet* clusters, std::optional<bool> looping,
+                             std::span<const std::int16_t> parents) {
   if (clip.frameCount < 1 || clip.jointCount < 1)
     return Error("clip '" + clip.name + "' has no frames or no joints");
   const std::size_t n = static_cast<std::size_t>(clip.jointCount) * static_cast<std::size_t>(clip.frameCount);
@@ -37,6 +38,8 @@ Result<LodClip> buildLodClip(const Clip& clip, const ClusterSet* clusters, std::
   source.scales = clip.scales;
   source.clusters = flat;
   source.clusterBegin = begin;
+  if (parents.size() == static_cast<std::size_t>(clip.jointCount))
+    source.parents = parents;
   std::string message;
   std::optional<LodClip> built = LodClip::build(source, &message);
   if (!built)
@@ -45,11 +48,11 @@ Result<LodClip> buildLodClip(const Clip& clip, const ClusterSet* clusters, std::
 }
 
 Result<std::vector<LodClip>> buildLodClips(const Clip& clip, std::span<const ClusterSet> levels,
-                                           std::optional<bool> looping) {
+                                           std::optional<bool> looping, std::span<const std::int16_t> parents) {
   std::vector<LodClip> out;
   out.reserve(levels.size());
   for (const ClusterSet& level : levels) {
-    Result<LodClip> built = buildLodClip(clip, &level, looping);
+    Result<LodClip> built = buildLodClip(clip, &level, looping, parents);
     if (!built)
       return built.error();
     out.push_back(std::move(built).value());

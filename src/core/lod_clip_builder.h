@@ -22,13 +22,16 @@ namespace mlod {
 
 // The runtime clip of `clip` at one level: `clusters` from JPC (null, or a set without
 // joints, for full detail: the same clip without clusters). `looping` overrides the clip's
-// own flag. Errors: a clip or cluster set that does not validate, or that do not match.
+// own flag. `parents` (the skeleton's parentIndices(), or none) shares the clip's precision
+// out along chains (LodClip's header); without them the bounds are coarser (more bytes).
+// Errors: a clip or cluster set that does not validate, or that do not match.
 Result<LodClip> buildLodClip(const Clip& clip, const ClusterSet* clusters = nullptr,
-                             std::optional<bool> looping = std::nullopt);
+                             std::optional<bool> looping = std::nullopt, std::span<const std::int16_t> parents = {});
 
 // One LodClip per level, in order.
 Result<std::vector<LodClip>> buildLodClips(const Clip& clip, std::span<const ClusterSet> levels,
-                                           std::optional<bool> looping = std::nullopt);
+                                           std::optional<bool> looping = std::nullopt,
+                                           std::span<const std::int16_t> parents = {});
 
 // The palette's inverse binds, one per joint: the joint's inverse bind matrix where a mesh
 // is bound to it, else the inverse of its rest model matrix (as if a mesh were bound in the

@@ -684,7 +684,10 @@ std::optional<BundleLevelRuntime> buildBundleLevel(const BundleLevel& level, std
   BundleLevelRuntime out;
   std::string message;
   for (const BundleClip& clip : level.clips) {
-    std::optional<LodClip> built = clip.build(&message);
+    LodClipSource source = clip.source();
+    if (level.parents.size() == static_cast<std::size_t>(clip.jointCount))
+      source.parents = level.parents;
+    std::optional<LodClip> built = LodClip::build(source, &message);
     if (!built) {
       if (out_error)
         *out_error = "level '" + level.name + "' clip '" + clip.name + "': " + message;

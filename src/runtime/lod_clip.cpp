@@ -21,12 +21,24 @@ bool finite(const glm::quat& q) {
   return std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z) && std::isfinite(q.w);
 }
 
-// One value throughout, bit for bit: the channel is static (a lossless saving that full
+// One value throughout, bit for bit: the rotation is static (a lossless saving that full
 // detail gets too).
-template <typename T>
-bool constantTrack(std::span<const T> track) {
-  for (const T& value : track)
-    if (std::memcmp(&value, &track[0], sizeof(T)) != 0)
+bool constantTrack(std::span<const glm::quat> track) {
+  for (const glm::quat& value : track)
+    if (std::memcmp(&value, &track[0], sizeof(glm::quat)) != 0)
+      return false;
+  return true;
+}
+
+// One value throughout but for float rounding (within 1e-6 of its size, and far below the
+// precision): the translation or scale is static, its first value.
+bool constantTrack(std::span<const glm::vec3> track, double precisionCm) {
+  const glm::vec3 first = track[0];
+  const double size = std::max({1.0, double(std::abs(first.x)), double(std::abs(first.y)), double(std::abs(first.z))});
+  const double rounding = std::min(1e-6 * size, 1e-3 * precisionCm);
+  for (const glm::vec3& value : track)
+    if (std::abs(double(value.x) - first.x) > rounding || std::abs(double(value.y) - first.y) > rounding ||
+        std::abs(double(value.z) - first.z) > rounding)
       return false;
   return true;
 }
@@ -53,6 +65,15 @@ bool checkSource(const LodClipSource& source, std::string* out_error) {
       return fail(out_error, "a track holds a value that is not finite");
     if (std::abs(glm::length(source.rotations[i]) - 1.0f) > 1e-3f)
       return fail(out_error, "a rotation is not a unit quaternion");
+  }
+  if (!std::isfinite(source.precisionCm) || source.precisionCm <= 0.0 || source.precisionCm > 1e3)
+    return fail(out_error, "precision " + std::to_string(source.precisionCm) + " cm is not in (0, 1000]");
+  if (!source.parents.empty()) {
+    if (source.parents.size() != static_cast<std::size_t>(source.jointCount))
+      return fail(out_error, "parents must hold one entry per joint");
+    for (std::size_t j = 0; j < source.parents.size(); ++j)
+      if (source.parents[j] < -1 || source.parents[j] >= static_cast<std::int32_t>(j))
+        return fail(out_error, "joint " + std::to_string(j) + "'s parent does not come before it");
   }
   if (source.blendFrames < 0 || source.blendFrames > kMaxBlendFrames)
     return fail(out_error, "blend frames " + std::to_string(source.blendFrames) + " is not in [0, " +
@@ -83,6 +104,75 @@ bool checkSource(const LodClipSource& source, std::string* out_error) {
   return true;
 }
 
+// How far an error in each joint's channels moves a joint or a shell point (LodClip's
+// header): per joint the lever of its rotation (cm: the longest chain of bones below it in
+// model space, plus the shell), the factor of its translation (its parents' scale) and the
+// animated channels on the longest path from a root.
+struct Levers {
+  std::vector<double> rotation;
+  std::vector<double> translation;
+  int pathChannels = 1;
+};
+
+Levers leversOf(const LodClipSource& source, std::span<const std::uint8_t> flags) {
+  constexpr double kShellCm = 3.0;
+  const std::size_t joints = static_cast<std::size_t>(source.jointCount);
+  const std::size_t frames = static_cast<std::size_t>(source.frameCount);
+  std::vector<double> bone(joints, 0.0), scale(joints, 1.0);
+  for (std::size_t j = 0; j < joints; ++j)
+    for (std::size_t f = 0; f < frames; ++f) {
+      bone[j] = std::max(bone[j], double(glm::length(source.translations[j * frames + f])));
+      const glm::vec3 s = glm::abs(source.scales[j * frames + f]);
+      scale[j] = std::max({scale[j], double(s.x), double(s.y), double(s.z)});
+    }
+  const auto channels = [&](std::size_t j) {
+    const std::uint8_t f = flags[j];
+    return int((f & LodClip::kRotationAnimated) != 0) + int((f & LodClip::kTranslationAnimated) != 0) +
+           int((f & LodClip::kScaleAnimated) != 0);
+  };
+  Levers out;
+  out.rotation.assign(joints, kShellCm);
+  out.translation.assign(joints, 1.0);
+  if (source.parents.size() == joints) {
+    // accumulated scale (the largest per joint, multiplied down the chain)
+    std::vector<double> accumulated(joints, 1.0);
+    std::vector<int> path(joints, 0);
+    for (std::size_t j = 0; j < joints; ++j) {
+      const int p = source.parents[j];
+      const double above = p >= 0 ? accumulated[static_cast<std::size_t>(p)] : 1.0;
+      accumulated[j] = above * scale[j];
+      out.translation[j] = above;
+      path[j] = channels(j) + (p >= 0 ? path[static_cast<std::size_t>(p)] : 0);
+      out.pathChannels = std::max(out.pathChannels, path[j]);
+    }
+    std::vector<double> below(joints, 0.0);
+    for (std::size_t j = joints; j-- > 1;) {
+      const int p = source.parents[j];
+      if (p >= 0)
+        below[static_cast<std::size_t>(p)] =
+            std::max(below[static_cast<std::size_t>(p)], accumulated[static_cast<std::size_t>(p)] * bone[j] + below[j]);
+    }
+    for (std::size_t j = 0; j < joints; ++j)
+      out.rotation[j] = kShellCm + below[j];
+  } else {
+    // every joint may lie below every other
+    double reach = kShellCm, product = 1.0;
+    int all = 0;
+    for (std::size_t j = 0; j < joints; ++j) {
+      product *= scale[j];
+      all += channels(j);
+    }
+    for (std::size_t j = 0; j < joints; ++j)
+      reach += product * bone[j];
+    std::fill(out.rotation.begin(), out.rotation.end(), reach);
+    std::fill(out.translation.begin(), out.translation.end(), product);
+    out.pathChannels = std::max(all, 1);
+  }
+  return out;
+}
+
+glm::vec4 asVec4(const glm::quat& q) { return glm::vec4(q.x, q.y, q.z, q.w); }
+
 } // namespace
 
 std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* out_error) {
@@ -93,313 +183,152 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   clip.m_frameCount = source.frameCount;
   clip.m_jointCount = source.jointCount;
   clip.m_looping = source.looping;
+  clip.m_precisionCm = source.precisionCm;
+  clip.m_blendFrames = std::clamp(source.blendFrames, 0, kMaxBlendFrames);
   const std::size_t joints = static_cast<std::size_t>(source.jointCount);
   const std::size_t frames = static_cast<std::size_t>(source.frameCount);
   clip.m_flags.assign(joints, 0);
-  clip.m_staticPair.assign(joints, 0);
+  clip.m_staticRotation.resize(joints);
   clip.m_staticTranslation.resize(joints);
   clip.m_staticScale.resize(joints);
-  clip.m_locals.resize(joints);
-  clip.m_translationTrack.assign(joints, -1);
-  clip.m_scaleTrack.assign(joints, -1);
-  clip.m_segmentBegin.assign(joints + 1, 0);
-  clip.m_clusterBegin.assign(joints + 1, 0);
+  clip.m_rotationStream.assign(joints, -1);
+  clip.m_exitStream.assign(joints, -1);
+  clip.m_translationStream.assign(joints, -1);
+  clip.m_scaleStream.assign(joints, -1);
+  clip.m_regionBegin.assign(joints + 1, 0);
 
   for (std::size_t j = 0; j < joints; ++j) {
-    const std::span<const glm::quat> rotations = source.rotations.subspan(j * frames, frames);
-    const std::span<const glm::vec3> translations = source.translations.subspan(j * frames, frames);
     const std::span<const glm::vec3> scales = source.scales.subspan(j * frames, frames);
     std::uint8_t flags = 0;
-    if (!constantTrack(rotations))
+    if (!constantTrack(source.rotations.subspan(j * frames, frames)))
       flags |= kRotationAnimated;
-    if (!constantTrack(translations)) {
+    if (!constantTrack(source.translations.subspan(j * frames, frames), source.precisionCm))
       flags |= kTranslationAnimated;
-      clip.m_translationTrack[j] = static_cast<std::int32_t>(clip.m_tracks.size());
-      clip.m_tracks.insert(clip.m_tracks.end(), translations.begin(), translations.end());
-    }
-    if (!constantTrack(scales) || scales[0] != glm::vec3(1.0f))
-      flags |= kScaled;
-    if (!constantTrack(scales)) {
+    if (!constantTrack(scales, source.precisionCm))
       flags |= kScaleAnimated;
-      clip.m_scaleTrack[j] = static_cast<std::int32_t>(clip.m_tracks.size());
-      clip.m_tracks.insert(clip.m_tracks.end(), scales.begin(), scales.end());
-    }
+    if ((flags & kScaleAnimated) || scales[0] != glm::vec3(1.0f))
+      flags |= kScaled;
     clip.m_flags[j] = flags;
-    clip.m_staticPair[j] = static_cast<std::int32_t>(clip.m_rotations.size());
-    clip.m_rotations.push_back(rotations[0]);
-    clip.m_rotations.push_back(rotations[0]);
-    clip.m_staticTranslation[j] = translations[0];
+    clip.m_staticRotation[j] = source.rotations[j * frames];
+    clip.m_staticTranslation[j] = source.translations[j * frames];
     clip.m_staticScale[j] = scales[0];
-    clip.m_locals[j] = toMatrix(Transform{translations[0], rotations[0], scales[0]});
-
-    clip.m_segmentBegin[j] = static_cast<std::uint32_t>(clip.m_segments.size());
-    clip.m_clusterBegin[j] = static_cast<std::uint32_t>(clip.m_clusters.size());
-    if (!(flags & kRotationAnimated)) {
-      // a joint that never turns is the same at every level: its clusters change nothing
-      continue;
-    }
-    std::span<const LodCluster> given;
-    if (!source.clusterBegin.empty())
-      given = source.clusters.subspan(source.clusterBegin[j], source.clusterBegin[j + 1] - source.clusterBegin[j]);
-    const std::int32_t n = source.frameCount;
-    const std::int32_t lastI0 = std::max(n - 2, 0);
-    const std::size_t clusterBase = clip.m_clusters.size();
-    // the rotation M' holds at frame i; `inCluster` = the cluster holding frame i, or -1
-    std::size_t cursor = 0;
-    const auto clusterOf = [&](std::int32_t i) -> int {
-      while (cursor < given.size() && given[cursor].last < i)
-        ++cursor;
-      return cursor < given.size() && given[cursor].first <= i ? static_cast<int>(cursor) : -1;
-    };
-    for (const LodCluster& cluster : given) {
-      Cluster out;
-      out.first = cluster.first;
-      out.last = cluster.last;
-      out.key = cluster.key;
-      out.keyPair = static_cast<std::int32_t>(clip.m_rotations.size());
-      const glm::quat key = rotations[static_cast<std::size_t>(cluster.key)];
-      clip.m_rotations.push_back(key);
-      clip.m_rotations.push_back(key);
-      out.local = static_cast<std::int32_t>(clip.m_locals.size());
-      out.joint = static_cast<std::int32_t>(j);
-      clip.m_locals.push_back(toMatrix(Transform{translations[0], key, scales[0]}));
-      clip.m_clusters.push_back(out);
-    }
-    // Segments in i0 order: frozen [first, last - 1] per cluster, sampled in between.
-    std::int32_t i0 = 0;
-    int previous = -1;
-    while (i0 <= lastI0) {
-      const int c = clusterOf(i0);
-      Segment segment;
-      segment.first = i0;
-      if (c >= 0 && i0 < given[static_cast<std::size_t>(c)].last) {
-        segment.last = given[static_cast<std::size_t>(c)].last - 1;
-        segment.cluster = c;
-        segment.previous = c - 1;
-        previous = c;
-      } else {
-        // sampled up to the frame before the next cluster's first frame
-        const std::size_t next = c >= 0 ? static_cast<std::size_t>(c) + 1 : cursor;
-        segment.last = next < given.size() ? given[next].first - 1 : lastI0;
-        segment.last = std::min(segment.last, lastI0);
-        segment.previous = previous;
-        segment.rotation = static_cast<std::int32_t>(clip.m_rotations.size());
-        // R(first .. last + 1), sign-aligned so that nlerp needs no sign test
-        std::size_t scan = 0;
-        glm::quat before(1.0f, 0.0f, 0.0f, 0.0f);
-        for (std::int32_t i = segment.first; i <= segment.last + 1; ++i) {
-          const std::int32_t frame = std::min(i, n - 1);
-          while (scan < given.size() && given[scan].last < frame)
-            ++scan;
-          const bool clustered = scan < given.size() && given[scan].first <= frame;
-          glm::quat q = rotations[static_cast<std::size_t>(clustered ? given[scan].key : frame)];
-          if (i > segment.first && glm::dot(before, q) < 0.0f)
-            q = -q;
-          clip.m_rotations.push_back(q);
-          before = q;
-        }
-        // the cluster that ended here, if any, blends out from its error at its last frame
-        if (c >= 0 && i0 == given[static_cast<std::size_t>(c)].last) {
-          const std::size_t at = static_cast<std::size_t>(segment.rotation);
-          Cluster& ended = clip.m_clusters[clusterBase + static_cast<std::size_t>(c)];
-          glm::quat last = rotations[static_cast<std::size_t>(i0)];
-          if (glm::dot(last, clip.m_rotations[at + 1]) < 0.0f)
-            last = -last;
-          ended.lastRotation = last;
-          ended.exitOffset = positiveW(clip.m_rotations[at] * glm::inverse(last));
-          segment.previous = c;
-          previous = c;
-        }
-      }
-      if (segment.cluster >= 0) {
-        const Cluster& cluster = clip.m_clusters[clusterBase + static_cast<std::size_t>(segment.cluster)];
-        segment.base = cluster.keyPair;
-        segment.step = 0;
-        segment.local = cluster.local;
-      } else {
-        segment.base = segment.rotation - segment.first;
-        segment.step = 1;
-        segment.local = static_cast<std::int32_t>(j);
-      }
-      clip.m_segments.push_back(segment);
-      i0 = segment.last + 1;
-    }
   }
-  clip.m_segmentBegin[joints] = static_cast<std::uint32_t>(clip.m_segments.size());
-  clip.m_clusterBegin[joints] = static_cast<std::uint32_t>(clip.m_clusters.size());
 
-  clip.m_blendFrames = std::clamp(source.blendFrames, 0, kMaxBlendFrames);
-  clip.buildPlans();
+  const Levers levers = leversOf(source, clip.m_flags);
+  const double share = source.precisionCm / levers.pathChannels;
+  double worstCm = 0.0;
+  std::vector<glm::vec4> values;
+  const auto addStream = [&](bool rotation, double arm) {
+    double error = 0.0;
+    const int stream = clip.m_streams.add(values, rotation, share / arm, &error);
+    worstCm = std::max(worstCm, error * arm * levers.pathChannels);
+    return stream;
+  };
+  // A channel whose decoded values are one value throughout is static at that value (it
+  // varied by less than its tolerance): what a reader sees never moves, so nothing samples it.
+  const auto keptIfMoving = [&](int stream, std::uint8_t flag, std::size_t j) {
+    if (!clip.m_streams.constant(stream))
+      return stream;
+    const glm::vec4 value = clip.m_streams.value(stream, 0);
+    if (flag == kRotationAnimated)
+      clip.m_staticRotation[j] = internal::toQuat(value);
+    else if (flag == kTranslationAnimated)
+      clip.m_staticTranslation[j] = glm::vec3(value);
+    else
+      clip.m_staticScale[j] = glm::vec3(value);
+    clip.m_streams.dropLast();
+    clip.m_flags[j] = static_cast<std::uint8_t>(clip.m_flags[j] & ~flag);
+    return -1;
+  };
+  std::vector<glm::vec4> exits;
+  for (std::size_t j = 0; j < joints; ++j) {
+    const std::uint8_t flags = clip.m_flags[j];
+    clip.m_regionBegin[j] = static_cast<std::uint32_t>(clip.m_regions.size());
+    if (flags & kRotationAnimated) {
+      // a joint that never turns is the same at every level: its clusters change nothing
+      const glm::quat* q = source.rotations.data() + j * frames;
+      std::span<const LodCluster> given;
+      if (!source.clusterBegin.empty())
+        given = source.clusters.subspan(source.clusterBegin[j], source.clusterBegin[j + 1] - source.clusterBegin[j]);
+      values.clear();
+      exits.clear();
+      // regions: each cluster (or frame 0 alone) and the frames after it up to the next
+      std::size_t next = 0;
+      std::int32_t frame = 0;
+      while (frame < source.frameCount) {
+        Region region;
+        region.first = frame;
+        region.entry = static_cast<std::uint32_t>(values.size());
+        std::int32_t last = frame;
+        glm::quat exit(1.0f, 0.0f, 0.0f, 0.0f);
+        if (next < given.size() && given[next].first == frame) {
+          const LodCluster& cluster = given[next++];
+          last = cluster.last;
+          values.push_back(asVec4(q[cluster.key]));
+          if (last < source.frameCount - 1)
+            exit = positiveW(q[cluster.key] * glm::inverse(q[last]));
+        } else {
+          values.push_back(asVec4(q[frame]));
+        }
+        const std::int32_t end = next < given.size() ? given[next].first : source.frameCount;
+        for (std::int32_t i = last + 1; i < end; ++i)
+          values.push_back(asVec4(q[i]));
+        clip.m_regions.push_back(region);
+        exits.push_back(asVec4(exit));
+        frame = end;
+      }
+      clip.m_regions.push_back(Region{source.frameCount, static_cast<std::uint32_t>(values.size())});
+      clip.m_rotationStream[j] = keptIfMoving(addStream(true, levers.rotation[j]), kRotationAnimated, j);
+      if (clip.m_rotationStream[j] >= 0) {
+        clip.m_clusterCount += static_cast<int>(given.size());
+        values.swap(exits);
+        clip.m_exitStream[j] = addStream(true, levers.rotation[j]);
+      } else {
+        clip.m_regions.resize(clip.m_regionBegin[j]);
+      }
+    }
+    const auto addVectors = [&](std::span<const glm::vec3> track, double arm) {
+      values.clear();
+      for (const glm::vec3& v : track)
+        values.emplace_back(v, 0.0f);
+      return addStream(false, arm);
+    };
+    if (flags & kTranslationAnimated)
+      clip.m_translationStream[j] = keptIfMoving(
+          addVectors(source.translations.subspan(j * frames, frames), levers.translation[j]), kTranslationAnimated, j);
+    if (flags & kScaleAnimated)
+      clip.m_scaleStream[j] = keptIfMoving(
+          addVectors(source.scales.subspan(j * frames, frames), levers.rotation[j] * levers.translation[j]),
+          kScaleAnimated, j);
+    std::uint8_t& kept = clip.m_flags[j];
+    if (!(kept & kScaleAnimated) && clip.m_staticScale[j] == glm::vec3(1.0f))
+      kept = static_cast<std::uint8_t>(kept & ~kScaled);
+    clip.m_scaled = clip.m_scaled || (kept & kScaled);
+    if (kept & kRotationAnimated)
+      clip.m_rotationJoints.push_back(static_cast<std::int16_t>(j));
+    if (kept & (kTranslationAnimated | kScaleAnimated))
+      clip.m_vectorJoints.push_back(static_cast<std::int16_t>(j));
+  }
+  clip.m_regionBegin[joints] = static_cast<std::uint32_t>(clip.m_regions.size());
+  clip.m_streams.finish();
+  clip.m_encodedErrorCm = worstCm;
   return clip;
 }
 
 std::size_t LodClip::byteSize() const {
-  return sizeof(LodClip) + m_flags.size() * sizeof(std::uint8_t) + m_staticPair.size() * sizeof(std::int32_t) +
-         m_staticTranslation.size() * sizeof(glm::vec3) + m_staticScale.size() * sizeof(glm::vec3) +
-         m_locals.size() * sizeof(glm::mat4) + m_translationTrack.size() * sizeof(std::int32_t) +
-         m_scaleTrack.size() * sizeof(std::int32_t) + m_tracks.size() * sizeof(glm::vec3) +
-         m_segmentBegin.size() * sizeof(std::uint32_t) + m_segments.size() * sizeof(Segment) +
-         m_clusterBegin.size() * sizeof(std::uint32_t) + m_clusters.size() * sizeof(Cluster) +
-         m_rotations.size() * sizeof(glm::quat) + m_staticLocals.size() * sizeof(float) + planByteSize();
+  return sizeof(LodClip) + m_flags.size() * sizeof(std::uint8_t) + m_staticRotation.size() * sizeof(glm::quat) +
+         (m_staticTranslation.size() + m_staticScale.size()) * sizeof(glm::vec3) +
+         (m_rotationJoints.size() + m_vectorJoints.size()) * sizeof(std::int16_t) +
+         (m_rotationStream.size() + m_exitStream.size() + m_translationStream.size() + m_scaleStream.size()) *
+             sizeof(std::int32_t) +
+         m_regionBegin.size() * sizeof(std::uint32_t) + m_regions.size() * sizeof(Region) + m_streams.byteSize();
 }
 
 int LodClip::animatedJointCount() const {
   int count = 0;
   for (const std::uint8_t flags : m_flags)
-    count += (flags & (kRotationAnimated | kTranslationAnimated | kScaleAnimated)) ? 1 : 0;
+    count += (flags & kAnimated) ? 1 : 0;
   return count;
-}
-
-std::size_t LodClip::planByteSize() const {
-  return m_planBegin.size() * sizeof(std::uint32_t) + m_plans.size() * sizeof(float);
-}
-
-void LodClip::setBlendFrames(int frames) {
-  frames = std::clamp(frames, 0, kMaxBlendFrames);
-  if (frames == m_blendFrames)
-    return;
-  m_blendFrames = frames;
-  if (!m_clusters.empty())
-    buildPlans();
-}
-
-bool LodClip::inUnfreezeWindow(int joint, int i0, int blendFrames) const {
-  if (blendFrames <= 0 || !(flags(joint) & kRotationAnimated))
-    return false;
-  // the latest cluster that ended at or before the segment's first frame: windows of older
-  // ones end earlier (clusters are sorted); a cluster that reaches the clip's end has
-  // last > i0
-  const int latest = segments(joint)[static_cast<std::size_t>(findSegment(joint, i0))].previous;
-  return latest >= 0 && clusters(joint)[static_cast<std::size_t>(latest)].last + blendFrames > i0;
-}
-
-void LodClip::buildPlans() {
-  const std::size_t joints = static_cast<std::size_t>(m_jointCount);
-  const std::int32_t planFrames = std::max(m_frameCount - 1, 1);
-  const int blendFrames = m_blendFrames;
-  m_scaled = false;
-  for (std::size_t j = 0; j < joints; ++j)
-    m_scaled = m_scaled || (m_flags[j] & kScaled);
-
-  // every joint's static local matrix in lane layout
-  m_staticLocals.assign(((joints + kLanes - 1) / kLanes) * kLanes * kLocalArrays, 0.0f);
-  const auto writeLane = [](float* lane, const glm::mat4& local) {
-    const float values[kLocalArrays] = {local[0][0], local[0][1], local[0][2], local[1][0], local[1][1], local[1][2],
-                                        local[2][0], local[2][1], local[2][2], local[3][0], local[3][1], local[3][2]};
-    for (int e = 0; e < kLocalArrays; ++e)
-      lane[kLanes * e] = values[e];
-  };
-  for (std::size_t j = 0; j < joints; ++j)
-    writeLane(m_staticLocals.data() + laneOffset(static_cast<std::uint32_t>(j)), m_locals[j]);
-
-  // the plan of every frame i0: each joint's segment, walked forward
-  const std::size_t arrays = static_cast<std::size_t>(planArrays());
-  const std::size_t slotsAt = static_cast<std::size_t>(planSlotsAt());
-  m_planBegin.assign(static_cast<std::size_t>(planFrames) + 1, 0);
-  m_plans.clear();
-  std::vector<std::size_t> cursor(joints, 0);
-  struct Slot {
-    std::size_t joint;
-    glm::quat a, b;
-  };
-  std::vector<Slot> slots;
-  std::vector<std::pair<std::size_t, std::int32_t>> constants; // joint, index in m_locals
-  const auto pairAt = [&](const glm::vec3* track, const glm::vec3& value, std::int32_t i0, glm::vec3& a,
-                          glm::vec3& step) {
-    if (track) {
-      a = track[i0];
-      step = track[std::min(i0 + 1, m_frameCount - 1)] - a;
-    } else {
-      a = value;
-      step = glm::vec3(0.0f);
-    }
-  };
-  for (std::int32_t i0 = 0; i0 < planFrames; ++i0) {
-    slots.clear();
-    constants.clear();
-    std::vector<std::uint32_t> refs(joints, 0);
-    for (std::size_t j = 0; j < joints; ++j) {
-      const int joint = static_cast<int>(j);
-      const std::uint8_t flags = m_flags[j];
-      std::int32_t rotation = m_staticPair[j];
-      std::int32_t local = -1; // frozen in a cluster: its key's local matrix
-      bool sampled = (flags & (kTranslationAnimated | kScaleAnimated)) != 0;
-      bool window = false;
-      if (flags & kRotationAnimated) {
-        const std::span<const Segment> list = segments(joint);
-        while (cursor[j] + 1 < list.size() && list[cursor[j] + 1].first <= i0)
-          ++cursor[j];
-        const Segment& segment = list[cursor[j]];
-        rotation = segment.base + segment.step * i0;
-        window = blendFrames > 0 && segment.previous >= 0 &&
-                 clusters(joint)[static_cast<std::size_t>(segment.previous)].last + blendFrames > i0;
-        if (segment.cluster >= 0)
-          local = segment.local;
-        sampled = sampled || window || segment.cluster < 0;
-      }
-      if (!sampled) {
-        if (local >= 0) {
-          constants.emplace_back(j, local);
-        } else {
-          refs[j] = (kRefStatic << kRefShift) | laneOffset(static_cast<std::uint32_t>(j));
-        }
-        continue;
-      }
-      Slot slot{j, m_rotations[static_cast<std::size_t>(rotation)],
-                m_rotations[static_cast<std::size_t>(rotation) + 1]};
-      if (window) {
-        slot.a = composedRotation(joint, i0, blendFrames);
-        slot.b = composedRotation(joint, i0 + 1, blendFrames);
-        if (glm::dot(slot.a, slot.b) < 0.0f)
-          slot.b = -slot.b;
-      }
-      refs[j] = (kRefSlot << kRefShift) | laneOffset(static_cast<std::uint32_t>(slots.size()));
-      slots.push_back(slot);
-    }
-    const std::size_t slotBlocks = (slots.size() + kLanes - 1) / kLanes;
-    const std::size_t constantsAt = slotsAt + slotBlocks * arrays * kLanes;
-    const std::size_t size = constantsAt + (constants.size() + kLanes - 1) / kLanes * kLanes * kLocalArrays;
-    const std::size_t begin = m_plans.size();
-    m_planBegin[static_cast<std::size_t>(i0)] = static_cast<std::uint32_t>(begin);
-    m_plans.resize(begin + (size + 15) / 16 * 16, 0.0f);
-    float* plan = m_plans.data() + begin;
-    plan[0] = planFloat(static_cast<std::uint32_t>(slots.size()));
-    plan[1] = planFloat(static_cast<std::uint32_t>(slotBlocks));
-    for (std::size_t k = 0; k < constants.size(); ++k) {
-      const std::uint32_t at = static_cast<std::uint32_t>(constantsAt) + laneOffset(static_cast<std::uint32_t>(k));
-      refs[constants[k].first] = (kRefPlan << kRefShift) | at;
-      writeLane(plan + at, m_locals[static_cast<std::size_t>(constants[k].second)]);
-    }
-    for (std::size_t j = 0; j < joints; ++j)
-      plan[kPlanHeader + j] = planFloat(refs[j]);
-    for (std::size_t k = 0; k < slotBlocks * kLanes; ++k) {
-      float* lane = plan + slotsAt + (k / kLanes) * arrays * kLanes + k % kLanes;
-      const auto put = [&](int array, float value) { lane[static_cast<std::size_t>(array) * kLanes] = value; };
-      if (k >= slots.size()) { // padding: the identity
-        put(kQw, 1.0f);
-        if (m_scaled)
-          for (const int array : {kSx0, kSy0, kSz0})
-            put(array, 1.0f);
-        continue;
-      }
-      const Slot& slot = slots[k];
-      const int joint = static_cast<int>(slot.joint);
-      const glm::quat d = slot.b - slot.a;
-      put(kQx, slot.a.x), put(kQy, slot.a.y), put(kQz, slot.a.z), put(kQw, slot.a.w);
-      put(kDx, d.x), put(kDy, d.y), put(kDz, d.z), put(kDw, d.w);
-      glm::vec3 a, step;
-      pairAt(translationTrack(joint), m_staticTranslation[slot.joint], i0, a, step);
-      put(kTx0, a.x), put(kTy0, a.y), put(kTz0, a.z), put(kTdx, step.x), put(kTdy, step.y), put(kTdz, step.z);
-      if (m_scaled) {
-        pairAt(scaleTrack(joint), m_staticScale[slot.joint], i0, a, step);
-        put(kSx0, a.x), put(kSy0, a.y), put(kSz0, a.z), put(kSdx, step.x), put(kSdy, step.y), put(kSdz, step.z);
-      }
-    }
-  }
-  m_planBegin[static_cast<std::size_t>(planFrames)] = static_cast<std::uint32_t>(m_plans.size());
-  m_maxPlanFloats = 0;
-  for (std::size_t f = 0; f < static_cast<std::size_t>(planFrames); ++f)
-    m_maxPlanFloats = std::max<std::size_t>(m_maxPlanFloats, m_planBegin[f + 1] - m_planBegin[f]);
 }
 
 double LodClip::wrapped(double g, std::int64_t* out_loop) const {
@@ -415,72 +344,106 @@ double LodClip::wrapped(double g, std::int64_t* out_loop) const {
   return std::max(f, 0.0);
 }
 
-int LodClip::findSegment(int joint, int i0) const {
-  const std::span<const Segment> list = segments(joint);
-  const auto found =
-      std::upper_bound(list.begin(), list.end(), i0, [](int value, const Segment& s) { return value < s.first; });
-  return static_cast<int>(found - list.begin()) - 1;
+std::uint32_t LodClip::regionOf(int joint, std::int32_t i) const {
+  const Region* begin = m_regions.data() + regionBegin(joint);
+  const Region* end = m_regions.data() + regionBegin(joint + 1) - 1; // the sentinel
+  const Region* found = std::upper_bound(begin, end, i, [](std::int32_t value, const Region& r) { return value < r.first; });
+  return static_cast<std::uint32_t>(found - m_regions.data()) - 1;
+}
+
+void LodClip::windowOffsets(int joint, int window, std::int32_t i0, float fraction, int blendFrames,
+                            glm::quat& out_first, glm::quat& out_outer) const {
+  // exit offsets are stored one per region of the joint
+  const std::uint32_t first = regionBegin(joint);
+  const int exits = exitStream(joint);
+  const std::uint32_t c = static_cast<std::uint32_t>(window);
+  const auto exitOf = [&](std::uint32_t at) { return positiveW(internal::toQuat(m_streams.value(exits, at - first))); };
+  const glm::quat latest = exitOf(c);
+  out_first = lastOf(c) == i0 ? glm::conjugate(latest) : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+  const double f = static_cast<double>(i0) + fraction;
+  glm::quat outer(1.0f, 0.0f, 0.0f, 0.0f);
+  for (std::uint32_t at = c + 1; at-- > first;) {
+    const std::int32_t last = lastOf(at);
+    if (last + blendFrames <= i0)
+      break; // older clusters ended earlier still
+    if (last <= m_regions[at].first || last >= m_frameCount - 1)
+      continue; // frame 0 alone, or a cluster that reaches the clip's end
+    const double w = std::clamp((f - last) / blendFrames, 0.0, 1.0);
+    outer = scaleOffset(at == c ? latest : exitOf(at), static_cast<float>(1.0 - w)) * outer;
+  }
+  out_outer = outer;
+}
+
+bool LodClip::frozen(int joint, int i0, int blendFrames) const {
+  const std::uint8_t f = flags(joint);
+  if (f & (kTranslationAnimated | kScaleAnimated))
+    return false;
+  if (!(f & kRotationAnimated))
+    return true;
+  const std::uint32_t r = regionOf(joint, i0);
+  return i0 < lastOf(r) && windowRegion(joint, r, i0, blendFrames) < 0;
 }
 
 glm::quat LodClip::rotationAt(int joint, double frame, int blendFrames) const {
   if (!(flags(joint) & kRotationAnimated))
-    return m_rotations[static_cast<std::size_t>(staticRotationPair(joint))];
+    return staticRotation(joint);
   std::int32_t i0 = 0;
   float fraction = 0.0f;
   split(frame, i0, fraction);
-  if (!inUnfreezeWindow(joint, i0, blendFrames))
-    return composedRotation(joint, frame, 0);
-  // inside a window: the nlerp of V(i0) and V(i0 + 1)
-  const glm::quat a = composedRotation(joint, i0, blendFrames);
-  glm::quat b = composedRotation(joint, i0 + 1, blendFrames);
+  const std::uint32_t r = regionOf(joint, i0);
+  const std::int32_t i1 = std::min(i0 + 1, m_frameCount - 1);
+  glm::quat a = rotationEntry(joint, entryOf(r, i0));
+  glm::quat b = rotationEntry(joint, entryOf(r, i1));
+  const int window = windowRegion(joint, r, i0, blendFrames);
+  glm::quat outer(1.0f, 0.0f, 0.0f, 0.0f);
+  if (window >= 0) {
+    glm::quat before(1.0f, 0.0f, 0.0f, 0.0f);
+    windowOffsets(joint, window, i0, fraction, blendFrames, before, outer);
+    a = before * a;
+  }
   if (glm::dot(a, b) < 0.0f)
     b = -b;
-  return nlerp(a, b, fraction);
+  const glm::quat s = nlerp(a, b, fraction);
+  return window >= 0 ? glm::normalize(outer * s) : s;
 }
 
-glm::quat LodClip::composedRotation(int joint, double frame, int blendFrames) const {
+std::vector<LodClip::Cluster> LodClip::clusters(int joint) const {
+  std::vector<Cluster> out;
   if (!(flags(joint) & kRotationAnimated))
-    return m_rotations[static_cast<std::size_t>(staticRotationPair(joint))];
-  std::int32_t i0 = 0;
-  float fraction = 0.0f;
-  split(frame, i0, fraction);
-  const Segment& segment = segments(joint)[static_cast<std::size_t>(findSegment(joint, i0))];
-  const std::span<const Cluster> list = clusters(joint);
-  const int latest = segment.previous;
-  glm::quat s;
-  if (segment.cluster >= 0) {
-    s = m_rotations[static_cast<std::size_t>(list[static_cast<std::size_t>(segment.cluster)].keyPair)];
-  } else {
-    const glm::quat* p = &m_rotations[static_cast<std::size_t>(segment.rotation + i0 - segment.first)];
-    const bool hold = blendFrames > 0 && latest >= 0 && list[static_cast<std::size_t>(latest)].last == i0;
-    s = nlerp(hold ? list[static_cast<std::size_t>(latest)].lastRotation : p[0], p[1], fraction);
+    return out;
+  for (std::uint32_t r = regionBegin(joint); r + 1 < regionBegin(joint + 1); ++r) {
+    const std::int32_t last = lastOf(r);
+    if (last == m_regions[r].first)
+      continue; // frame 0 alone
+    Cluster cluster;
+    cluster.first = m_regions[r].first;
+    cluster.last = last;
+    cluster.key = rotationEntry(joint, m_regions[r].entry);
+    cluster.exitOffset = positiveW(internal::toQuat(m_streams.value(exitStream(joint), r - regionBegin(joint))));
+    cluster.lastRotation = glm::conjugate(cluster.exitOffset) * cluster.key;
+    cluster.joint = joint;
+    out.push_back(cluster);
   }
-  if (blendFrames > 0)
-    for (int c = latest; c >= 0 && list[static_cast<std::size_t>(c)].last + blendFrames > i0; --c) {
-      const Cluster& cluster = list[static_cast<std::size_t>(c)];
-      const double w = std::clamp((frame - cluster.last) / blendFrames, 0.0, 1.0);
-      s = scaleOffset(cluster.exitOffset, static_cast<float>(1.0 - w)) * s;
-    }
-  return s;
+  return out;
 }
 
-glm::vec3 LodClip::interpolate(const glm::vec3* track, double frame) const {
+glm::vec3 LodClip::vectorAt(int stream, const glm::vec3& fixed, double frame) const {
+  if (stream < 0)
+    return fixed;
   std::int32_t i0 = 0;
   float fraction = 0.0f;
   split(frame, i0, fraction);
-  const glm::vec3& a = track[i0];
-  const glm::vec3& b = track[std::min(i0 + 1, m_frameCount - 1)];
+  const glm::vec3 a(m_streams.value(stream, static_cast<std::uint32_t>(i0)));
+  const glm::vec3 b(m_streams.value(stream, static_cast<std::uint32_t>(std::min(i0 + 1, m_frameCount - 1))));
   return a + (b - a) * fraction;
 }
 
 glm::vec3 LodClip::translationAt(int joint, double frame) const {
-  const glm::vec3* track = translationTrack(joint);
-  return track ? interpolate(track, frame) : staticTranslation(joint);
+  return vectorAt(translationStream(joint), staticTranslation(joint), frame);
 }
 
 glm::vec3 LodClip::scaleAt(int joint, double frame) const {
-  const glm::vec3* track = scaleTrack(joint);
-  return track ? interpolate(track, frame) : staticScale(joint);
+  return vectorAt(scaleStream(joint), staticScale(joint), frame);
 }
 
 } // namespace mlod

@@ -1,8 +1,7 @@
-// The crowd pose evaluator: per character, the clip's plan of its frame (shared by every
-// character playing the clip, one contiguous record) holds the sampled joints' values ready
-// to lerp 8 at once (structure of arrays) and says where every other joint's local matrix
-// lies; the few joints that blend (a loop wrap, a level change) get their offsets, and the
-// hierarchy is walked once.
+// The crowd pose evaluator: per character, the joints that move are decoded from the clip's
+// compressed streams (two entries, nlerped or lerped) into the character's pose, a joint
+// frozen in a cluster keeps the key it decoded when the cluster began, the few joints that
+// blend (a loop wrap, a level change) get their offsets, and the hierarchy is walked once.
 #include "runtime/pose_evaluator.h"
 
 #include <algorithm>
@@ -29,15 +28,16 @@ constexpr int kLanes = LodClip::kLanes;
 constexpr std::size_t kLocalBlock = static_cast<std::size_t>(kLanes) * LodClip::kLocalArrays;
 // Arrays of a local matrix in lane layout (LodClip::laneOffset()).
 enum LocalArray { kM00, kM01, kM02, kM10, kM11, kM12, kM20, kM21, kM22, kTx, kTy, kTz };
-// The sampled joints' lerped rotations (A) and scales, blocks of 8 lanes (slot k at
-// sampleOffset(k)).
-enum SampleArray { kAx, kAy, kAz, kAw, kSx, kSy, kSz, kSampleArrays };
-constexpr std::size_t kSampleBlock = static_cast<std::size_t>(kLanes) * kSampleArrays;
+// A character's pose (PoseEvaluatorContext::m_pose): per joint its rotation (lerped, of
+// any non-zero length), scale and translation, blocks of 8 joints (joint j at poseOffset(j)).
+enum PoseArray { kAx, kAy, kAz, kAw, kSx, kSy, kSz, kPx, kPy, kPz, kPoseArrays };
+constexpr std::size_t kPoseBlock = static_cast<std::size_t>(kLanes) * kPoseArrays;
 
-// The sample lane of the slot whose local lane offset is `localOffset`.
-inline std::size_t sampleOffset(std::uint32_t localOffset) {
-  return (localOffset / kLocalBlock) * kSampleBlock + localOffset % kLocalBlock;
+inline std::size_t poseOffset(int j) {
+  const std::size_t u = static_cast<std::size_t>(j);
+  return (u / kLanes) * kPoseBlock + u % kLanes;
 }
+inline std::size_t poseBlocks(int joints) { return std::max<std::size_t>((static_cast<std::size_t>(joints) + kLanes - 1) / kLanes, 1); }
 
 typedef float v4 __attribute__((vector_size(16)));
 
@@ -67,28 +67,10 @@ inline void mulAffine(const float* __restrict a, const float* __restrict b, floa
   store4(out + 12, a0 * b[12] + a1 * b[13] + a2 * b[14] + a3);
 }
 
-// A block of 8 slots of a plan (LodClip::PlanArray) lerped to `fraction`: rotations (the
-// unnormalised nlerp) and scales into the samples, translations into the locals.
-template <bool Scaled>
-inline void lerpBlock(const float* __restrict plan, float fraction, float* __restrict s, float* __restrict l) {
-  for (int c = 0; c < 4; ++c)
-    for (int i = 0; i < kLanes; ++i)
-      s[(kAx + c) * kLanes + i] =
-          plan[(LodClip::kQx + c) * kLanes + i] + plan[(LodClip::kDx + c) * kLanes + i] * fraction;
-  for (int c = 0; c < 3; ++c)
-    for (int i = 0; i < kLanes; ++i)
-      l[(kTx + c) * kLanes + i] =
-          plan[(LodClip::kTx0 + c) * kLanes + i] + plan[(LodClip::kTdx + c) * kLanes + i] * fraction;
-  if constexpr (Scaled)
-    for (int c = 0; c < 3; ++c)
-      for (int i = 0; i < kLanes; ++i)
-        s[(kSx + c) * kLanes + i] =
-            plan[(LodClip::kSx0 + c) * kLanes + i] + plan[(LodClip::kSdx + c) * kLanes + i] * fraction;
-}
-
-// Local rotation-scale matrices of a block's 8 slots from their rotations in A, of any
-// non-zero length (glm::mat3_cast of the normalised quaternion: 2 becomes 2 / |q|^2), so
-// that blend offsets multiplied into them need no normalisation of their own.
+// Local matrices of a block's 8 joints from their pose: the rotation of any non-zero length
+// (glm::mat3_cast of the normalised quaternion: 2 becomes 2 / |q|^2, so that lerped
+// rotations and blend offsets multiplied into them need no normalisation of their own),
+// scale and translation.
 template <bool Scaled> inline void matrixBlock(const float* __restrict s, float* __restrict l) {
   for (int i = 0; i < kLanes; ++i) {
     const float x = s[kAx * kLanes + i], y = s[kAy * kLanes + i], z = s[kAz * kLanes + i], w = s[kAw * kLanes + i];
@@ -111,6 +93,9 @@ template <bool Scaled> inline void matrixBlock(const float* __restrict s, float*
     l[kM20 * kLanes + i] = (xz + wy) * sz;
     l[kM21 * kLanes + i] = (yz - wx) * sz;
     l[kM22 * kLanes + i] = (1.0f - (xx + yy)) * sz;
+    l[kTx * kLanes + i] = s[kPx * kLanes + i];
+    l[kTy * kLanes + i] = s[kPy * kLanes + i];
+    l[kTz * kLanes + i] = s[kPz * kLanes + i];
   }
 }
 
@@ -150,12 +135,10 @@ glm::quat shownRotation(const LodClip& clip, int joint, double seconds, int blen
 const glm::mat4 kIdentity(1.0f);
 
 // The hierarchy pass of one character, parents first: the same two products for every joint
-// (model = parent's model x local, palette = model x inverse bind), its local matrix read
-// where its ref says (the plan, the character's slots or the clip's static locals: an
-// indexed base, not a branch). `refs`: the plan's refs (LodClip::plan()); joint 0 is a root.
+// (model = parent's model x local, palette = model x inverse bind), its local matrix in lane
+// layout (LodClip::laneOffset()). Joint 0 is a root.
 struct Hierarchy {
-  const float* bases[4]; // by ref source: the plan, the character's computed locals, the clip's static locals
-  const float* refs;
+  const float* locals;
   const std::int16_t* parents;
   const float* inverseBinds; // column-major 4x4 per joint
   const float* splat;        // inverse binds as AVX operands (PoseEvaluatorContext::m_splat)
@@ -163,10 +146,7 @@ struct Hierarchy {
   float* palette;
   int joints;
 
-  const float* local(int j) const {
-    const std::uint32_t ref = LodClip::planWord(refs[j]);
-    return bases[ref >> LodClip::kRefShift] + (ref & LodClip::kRefOffset);
-  }
+  const float* local(int j) const { return locals + LodClip::laneOffset(static_cast<std::uint32_t>(j)); }
   const float* parent(int j, bool singleRoot) const {
     const int p = parents[j];
     return j > 0 && (singleRoot || p >= 0) ? models + 16 * p : glm::value_ptr(kIdentity);
@@ -188,8 +168,7 @@ template <bool SingleRoot> void hierarchyBase(const Hierarchy& h) {
 // x86-64-v3 (AVX2, FMA): the palette product two columns at a time, model columns
 // broadcast to both halves, the inverse bind's elements pre-splatted (m_splat).
 template <bool SingleRoot> __attribute__((target("arch=x86-64-v3"))) void hierarchyV3(const Hierarchy& h) {
-  const float* bases[4] = {h.bases[0], h.bases[1], h.bases[2], h.bases[3]};
-  const float* __restrict refs = h.refs;
+  const float* __restrict locals = h.locals;
   const std::int16_t* __restrict parents = h.parents;
   const float* __restrict splat = h.splat;
   float* models = h.models;
@@ -197,8 +176,7 @@ template <bool SingleRoot> __attribute__((target("arch=x86-64-v3"))) void hierar
   const int joints = h.joints;
   for (int j = 0; j < joints; ++j) {
     float* model = models + 16 * j;
-    const std::uint32_t ref = LodClip::planWord(refs[j]);
-    const float* local = bases[ref >> LodClip::kRefShift] + (ref & LodClip::kRefOffset);
+    const float* local = locals + LodClip::laneOffset(static_cast<std::uint32_t>(j));
     const int p = parents[j];
     const float* parent = j > 0 && (SingleRoot || p >= 0) ? models + 16 * p : glm::value_ptr(kIdentity);
     mulLane(parent, local, model);
@@ -221,6 +199,36 @@ template <bool SingleRoot> __attribute__((target("arch=x86-64-v3"))) void hierar
 const bool kHasV3 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 #endif
 
+// One character's decode (internal/pose_decode.inl): its clip and frame, its pose and its
+// per-joint region cursors and held keys.
+struct DecodeJob {
+  const LodClip& clip;
+  std::int32_t i0;
+  float fraction;
+  int blendFrames;
+  float* pose;
+  std::uint32_t* cursor;
+  std::uint32_t* held;
+};
+// held[j] when the pose holds no key of joint j
+constexpr std::uint32_t kNoKey = 0xffffffffu;
+
+namespace decode_base {
+#include "runtime/internal/pose_decode.inl"
+} // namespace decode_base
+
+#if defined(MLOD_HIERARCHY_V3) && !defined(__clang__)
+#define MLOD_DECODE_V3_BUILT 1
+#pragma GCC push_options
+#pragma GCC target("arch=x86-64-v3")
+namespace decode_v3 {
+#define MLOD_DECODE_V3 1
+#include "runtime/internal/pose_decode.inl"
+#undef MLOD_DECODE_V3
+} // namespace decode_v3
+#pragma GCC pop_options
+#endif
+
 } // namespace
 
 struct PoseEvaluation {
@@ -230,26 +238,15 @@ struct PoseEvaluation {
   static void runRange(void* data, int begin, int end, int thread) {
     const PoseEvaluatorJob& job = *static_cast<const PoseEvaluatorJob*>(data);
     Scratch& scratch = job.context->m_scratch[static_cast<std::size_t>(thread)];
-    Where next = begin < end ? locate(job, begin) : Where{};
+    const std::size_t poseFloats = job.context->m_poseFloats;
     for (int c = begin; c < end; ++c) {
-      const Where now = next;
       if (c + 1 < end) {
-        // the next character's plan on its way to the cache while this one is evaluated
-        // (characters play at unrelated frames: their plans lie far apart)
-        next = locate(job, c + 1);
-        const LodClip& clip = *job.clips[static_cast<std::size_t>(c) + 1];
-        const float* plan = clip.plan(next.i0);
-        // as much as the largest plan of the clip (the same count for every character: no
-        // branch to mispredict; a prefetch past the end is harmless)
-        const std::size_t floats = clip.maxPlanFloats();
-        for (std::size_t at = 0; at < floats; at += 64) {
-          __builtin_prefetch(plan + at);
-          __builtin_prefetch(plan + at + 16);
-          __builtin_prefetch(plan + at + 32);
-          __builtin_prefetch(plan + at + 48);
-        }
+        // the next character's pose on its way to the cache while this one is evaluated
+        const float* next = job.context->m_pose.data() + static_cast<std::size_t>(c + 1) * poseFloats;
+        for (std::size_t at = 0; at < poseFloats; at += 16)
+          __builtin_prefetch(next + at, 1);
       }
-      evaluate(job, c, now, scratch);
+      evaluate(job, c, locate(job, c), scratch);
     }
   }
 
@@ -269,64 +266,21 @@ struct PoseEvaluation {
     return where;
   }
 
-  // One character's blending joints (a loop wrap, a level change), as it is being
-  // evaluated: its plan's refs (copied to scratch when a constant joint has to be sampled)
-  // and its slot count.
-  struct Blends {
-    const LodClip& clip;
-    Scratch& scratch;
-    const float* refs;
-    int slots;
-    std::int32_t i0;
-
-    // The sample lane of joint j, made a slot of its own (its constant rotation, static
-    // translation and scale) when the plan has it constant.
-    float* lane(int j) {
-      const std::uint32_t ref = LodClip::planWord(refs[j]);
-      if ((ref >> LodClip::kRefShift) == LodClip::kRefSlot)
-        return scratch.samples.data() + sampleOffset(ref & LodClip::kRefOffset);
-      return newSlot(j);
+  // A character's pose when it starts a clip: every joint's static rotation, scale and
+  // translation (the animated channels are decoded over them), no region, no key held.
+  static void startClip(const LodClip& clip, float* pose, std::uint32_t* cursor, std::uint32_t* held) {
+    for (int j = 0; j < clip.jointCount(); ++j) {
+      float* p = pose + poseOffset(j);
+      const glm::quat& q = clip.staticRotation(j);
+      const glm::vec3& s = clip.staticScale(j);
+      const glm::vec3& t = clip.staticTranslation(j);
+      const float values[kPoseArrays] = {q.x, q.y, q.z, q.w, s.x, s.y, s.z, t.x, t.y, t.z};
+      for (int a = 0; a < kPoseArrays; ++a)
+        p[a * kLanes] = values[a];
+      cursor[j] = (clip.flags(j) & LodClip::kRotationAnimated) ? clip.regionBegin(j) : 0;
+      held[j] = kNoKey;
     }
-    __attribute__((noinline)) float* newSlot(int j) {
-      if (refs != scratch.refs.data()) {
-        std::copy_n(refs, clip.jointCount(), scratch.refs.data());
-        refs = scratch.refs.data();
-      }
-      const std::uint32_t offset = LodClip::laneOffset(static_cast<std::uint32_t>(slots++));
-      scratch.refs[static_cast<std::size_t>(j)] =
-          LodClip::planFloat((LodClip::kRefSlot << LodClip::kRefShift) | offset);
-      // a constant joint is static or frozen in a cluster: its key
-      std::int32_t keyPair = clip.staticRotationPair(j);
-      if (clip.flags(j) & LodClip::kRotationAnimated)
-        keyPair = clip.segments(j)[static_cast<std::size_t>(clip.findSegment(j, i0))].base;
-      const glm::quat& q = clip.rotations()[static_cast<std::size_t>(keyPair)];
-      float* s = scratch.samples.data() + sampleOffset(offset);
-      s[kAx * kLanes] = q.x;
-      s[kAy * kLanes] = q.y;
-      s[kAz * kLanes] = q.z;
-      s[kAw * kLanes] = q.w;
-      const glm::vec3& scale = clip.staticScale(j);
-      s[kSx * kLanes] = scale.x;
-      s[kSy * kLanes] = scale.y;
-      s[kSz * kLanes] = scale.z;
-      float* l = scratch.locals.data() + offset;
-      const glm::vec3& translation = clip.staticTranslation(j);
-      l[kTx * kLanes] = translation.x;
-      l[kTy * kLanes] = translation.y;
-      l[kTz * kLanes] = translation.z;
-      return s;
-    }
-
-    // Joint j's (lerped) rotation premultiplied by `offset` (unnormalised).
-    void apply(int j, const glm::quat& offset) {
-      float* s = lane(j);
-      const glm::quat r = offset * glm::quat(s[kAw * kLanes], s[kAx * kLanes], s[kAy * kLanes], s[kAz * kLanes]);
-      s[kAx * kLanes] = r.x;
-      s[kAy * kLanes] = r.y;
-      s[kAz * kLanes] = r.z;
-      s[kAw * kLanes] = r.w;
-    }
-  };
+  }
 
   static void evaluate(const PoseEvaluatorJob& job, int c, const Where& where, Scratch& scratch) {
     PoseEvaluatorContext& ctx = *job.context;
@@ -334,12 +288,15 @@ struct PoseEvaluation {
     State& st = ctx.m_states[static_cast<std::size_t>(c)];
     const double t = job.times[static_cast<std::size_t>(c)];
     const int blendFrames = job.blendFrames;
+    const std::size_t at = static_cast<std::size_t>(c) * static_cast<std::size_t>(ctx.m_joints);
     if (st.clip != &clip) {
       if (st.clip && blendFrames > 0 && st.blendFrames == blendFrames)
         startLevelBlend(job, c, t);
       else
         st.levelBlend = false;
       st.clip = &clip;
+      startClip(clip, ctx.m_pose.data() + static_cast<std::size_t>(c) * ctx.m_poseFloats, &ctx.m_cursor[at],
+                &ctx.m_held[at]);
     }
     st.blendFrames = blendFrames;
     if (clip.scaled())
@@ -388,30 +345,38 @@ struct PoseEvaluation {
     st.levelSeconds = blendFrames / after.fps();
   }
 
-  // The wrap's and a level change's offsets (a few frames per period or switch).
-  static void blendWrapAndLevel(const PoseEvaluatorJob& job, int c, double t, double f, std::int64_t loop,
-                                Blends& blends) {
+  // Joint j's rotation in `pose` premultiplied by `offset` (unnormalised).
+  static void apply(float* pose, int j, const glm::quat& offset) {
+    float* s = pose + poseOffset(j);
+    const glm::quat r = offset * glm::quat(s[kAw * kLanes], s[kAx * kLanes], s[kAy * kLanes], s[kAz * kLanes]);
+    s[kAx * kLanes] = r.x;
+    s[kAy * kLanes] = r.y;
+    s[kAz * kLanes] = r.z;
+    s[kAw * kLanes] = r.w;
+  }
+
+  // The wrap's and a level change's offsets (a few frames per period or switch), into a
+  // copy of the character's pose (its held keys stay as they are).
+  static void blendWrapAndLevel(const PoseEvaluatorJob& job, int c, double t, const Where& where, const LodClip& clip,
+                                Scratch& scratch, float* pose) {
     PoseEvaluatorContext& ctx = *job.context;
     State& st = ctx.m_states[static_cast<std::size_t>(c)];
-    const LodClip& clip = blends.clip;
-    const std::int32_t i0 = blends.i0;
     const int blendFrames = job.blendFrames;
     const double inverseBlendFrames = 1.0 / blendFrames;
     const int joints = clip.jointCount();
-    if (clip.looping() && loop >= 1 && i0 < blendFrames) {
+    if (clip.looping() && where.loop >= 1 && where.i0 < blendFrames) {
       // the wrap's offsets depend on the clip and N alone: once per thread and run
-      Scratch& scratch = blends.scratch;
       if (scratch.wrapClip != &clip || scratch.wrapFrames != blendFrames) {
         for (int j = 0; j < joints; ++j)
           scratch.wrapOffsets[static_cast<std::size_t>(j)] = wrapOffset(clip, j, blendFrames);
         scratch.wrapClip = &clip;
         scratch.wrapFrames = blendFrames;
       }
-      const float weight = 1.0f - static_cast<float>(std::min(f * inverseBlendFrames, 1.0));
+      const float weight = 1.0f - static_cast<float>(std::min(where.f * inverseBlendFrames, 1.0));
       for (int j = 0; j < joints; ++j) {
         const glm::quat& wrap = scratch.wrapOffsets[static_cast<std::size_t>(j)];
         if (!isIdentity(wrap))
-          blends.apply(j, lerpOffset(wrap, weight));
+          apply(pose, j, lerpOffset(wrap, weight));
       }
     }
     if (st.levelBlend) {
@@ -420,7 +385,7 @@ struct PoseEvaluation {
         const glm::quat* offsets = &ctx.m_levelOffset[static_cast<std::size_t>(c) * static_cast<std::size_t>(joints)];
         for (int j = 0; j < joints; ++j)
           if (!isIdentity(offsets[j]))
-            blends.apply(j, lerpOffset(offsets[j], static_cast<float>(1.0 - w)));
+            apply(pose, j, lerpOffset(offsets[j], static_cast<float>(1.0 - w)));
       } else {
         st.levelBlend = false;
       }
@@ -431,59 +396,48 @@ struct PoseEvaluation {
   template <bool Scaled, bool SingleRoot>
   __attribute__((always_inline)) static inline void pose(const PoseEvaluatorJob& job, int c, double t,
                                                          const Where& where, Scratch& scratch) {
+    PoseEvaluatorContext& ctx = *job.context;
     const LodClip& clip = *job.clips[static_cast<std::size_t>(c)];
-    const double f = where.f;
-    const std::int64_t loop = where.loop;
     const std::int32_t i0 = where.i0;
     const float fraction = where.fraction;
-    const float* plan = clip.plan(i0);
-    const int count = static_cast<int>(LodClip::planWord(plan[0]));
-    const int countBlocks = static_cast<int>(LodClip::planWord(plan[1]));
-
-    // 1. the sampled joints' rotations (and scales) and translations lerped, 8 slots at once,
-    //    and their local matrices; 2. first, for the few characters whose joints blend (a
-    //    wrap, a level change; unfreeze windows are in the plan), offsets into their
-    //    rotations, constant joints becoming slots
-    float* __restrict samples = scratch.samples.data();
-    float* __restrict locals = scratch.locals.data();
-    const float* slotPlan = plan + clip.planSlotsAt();
-    const std::size_t planBlock = static_cast<std::size_t>(clip.planArrays()) * kLanes;
-    Blends blends{clip, scratch, plan + LodClip::kPlanHeader, count, i0};
-    const auto lerp = [&](int b) {
-      lerpBlock<Scaled>(slotPlan + static_cast<std::size_t>(b) * planBlock, fraction,
-                        samples + static_cast<std::size_t>(b) * kSampleBlock,
-                        locals + static_cast<std::size_t>(b) * kLocalBlock);
-    };
-    const auto matrices = [&](int b) {
-      matrixBlock<Scaled>(samples + static_cast<std::size_t>(b) * kSampleBlock,
-                          locals + static_cast<std::size_t>(b) * kLocalBlock);
-    };
-    if (job.blendFrames > 0 && ((clip.looping() && loop >= 1 && i0 < job.blendFrames) ||
-                                job.context->m_states[static_cast<std::size_t>(c)].levelBlend)) {
-      for (int b = 0; b < countBlocks; ++b)
-        lerp(b);
-      blendWrapAndLevel(job, c, t, f, loop, blends);
-      const int blocks = (blends.slots + kLanes - 1) / kLanes;
-      for (int b = 0; b < blocks; ++b)
-        matrices(b);
-    } else {
-      for (int b = 0; b < countBlocks; ++b) {
-        lerp(b);
-        matrices(b);
-      }
-    }
-    scratch.sampled += blends.slots;
-
-    // 4. the hierarchy
+    const int blendFrames = job.blendFrames;
     const int joints = clip.jointCount();
-    const std::size_t base = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
-    const Hierarchy hierarchy{{plan, locals, clip.staticLocals(), clip.staticLocals()},
-                              blends.refs,
+    const std::size_t at = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
+    float* __restrict pose = ctx.m_pose.data() + static_cast<std::size_t>(c) * ctx.m_poseFloats;
+    std::uint32_t* __restrict cursor = &ctx.m_cursor[at];
+    std::uint32_t* __restrict held = &ctx.m_held[at];
+    // 1. rotations, translations and scales into the character's pose
+    const DecodeJob decode{clip, i0, fraction, blendFrames, pose, cursor, held};
+#ifdef MLOD_DECODE_V3_BUILT
+    const std::int64_t sampled = kHasV3 ? decode_v3::decodePose(decode) : decode_base::decodePose(decode);
+#else
+    const std::int64_t sampled = decode_base::decodePose(decode);
+#endif
+
+    // 2. the local matrices, 8 joints at once; first, for the few characters whose joints
+    //    blend (a wrap, a level change), their offsets into a copy of the pose
+    const float* source = pose;
+    const int blocks = static_cast<int>(poseBlocks(joints));
+    if (blendFrames > 0 && ((clip.looping() && where.loop >= 1 && i0 < blendFrames) ||
+                            ctx.m_states[static_cast<std::size_t>(c)].levelBlend)) {
+      float* copy = scratch.samples.data();
+      std::copy_n(pose, static_cast<std::size_t>(blocks) * kPoseBlock, copy);
+      blendWrapAndLevel(job, c, t, where, clip, scratch, copy);
+      source = copy;
+    }
+    float* __restrict locals = scratch.locals.data();
+    for (int b = 0; b < blocks; ++b)
+      matrixBlock<Scaled>(source + static_cast<std::size_t>(b) * kPoseBlock,
+                          locals + static_cast<std::size_t>(b) * kLocalBlock);
+    scratch.sampled += sampled;
+
+    // 3. the hierarchy
+    const Hierarchy hierarchy{locals,
                               job.parents.data(),
                               glm::value_ptr(job.inverseBinds[0]),
-                              job.context->m_splat.data(),
-                              glm::value_ptr(job.out_models.empty() ? scratch.models[0] : job.out_models[base]),
-                              glm::value_ptr(job.out_palette[base]),
+                              ctx.m_splat.data(),
+                              glm::value_ptr(job.out_models.empty() ? scratch.models[0] : job.out_models[at]),
+                              glm::value_ptr(job.out_palette[at]),
                               joints};
 #ifdef MLOD_HIERARCHY_V3
     if (kHasV3) {
@@ -505,20 +459,22 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
   m_states.assign(static_cast<std::size_t>(characters), CharacterState{});
   m_levelOffset.assign(static_cast<std::size_t>(characters) * static_cast<std::size_t>(joints),
                        glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
-  const std::size_t blocks = std::max<std::size_t>((static_cast<std::size_t>(joints) + kLanes - 1) / kLanes, 1);
+  const std::size_t blocks = poseBlocks(joints);
+  m_poseFloats = blocks * kPoseBlock;
+  m_pose.assign(static_cast<std::size_t>(characters) * m_poseFloats, 0.0f);
+  // lanes past the last joint hold the identity (their matrices are computed too, and must
+  // not be NaNs)
+  for (std::size_t b = 0; b < m_pose.size() / kPoseBlock; ++b)
+    for (const int array : {kAw, kSx, kSy, kSz})
+      std::fill_n(m_pose.begin() + static_cast<std::ptrdiff_t>(b * kPoseBlock + array * kLanes), kLanes, 1.0f);
+  m_cursor.assign(static_cast<std::size_t>(characters) * static_cast<std::size_t>(joints), 0);
+  m_held.assign(static_cast<std::size_t>(characters) * static_cast<std::size_t>(joints), 0);
   m_scratch.clear();
   m_scratch.resize(static_cast<std::size_t>(threads));
   for (Scratch& scratch : m_scratch) {
-    // every lane holds a valid rotation and scale from the start (lanes past a character's
-    // slots are computed too, and must not produce NaNs)
-    scratch.samples.assign(kSampleBlock * blocks, 0.0f);
-    for (std::size_t b = 0; b < blocks; ++b)
-      for (const int array : {kAw, kSx, kSy, kSz})
-        std::fill_n(scratch.samples.begin() + static_cast<std::ptrdiff_t>(b * kSampleBlock + array * kLanes), kLanes,
-                    1.0f);
+    scratch.samples.assign(kPoseBlock * blocks, 0.0f);
     scratch.locals.assign(kLocalBlock * blocks, 0.0f);
     scratch.models.assign(std::max<std::size_t>(static_cast<std::size_t>(joints), 1), glm::mat4(1.0f));
-    scratch.refs.assign(static_cast<std::size_t>(joints), 0.0f);
     scratch.wrapOffsets.assign(static_cast<std::size_t>(joints), glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
     scratch.wrapClip = nullptr;
   }
@@ -535,14 +491,15 @@ void PoseEvaluatorContext::reset(int character) {
 }
 
 std::size_t PoseEvaluatorContext::bytesPerCharacter() const {
-  return sizeof(CharacterState) + sizeof(glm::quat) * static_cast<std::size_t>(m_joints);
+  return sizeof(CharacterState) + sizeof(glm::quat) * static_cast<std::size_t>(m_joints) +
+         m_poseFloats * sizeof(float) + 2 * sizeof(std::uint32_t) * static_cast<std::size_t>(m_joints);
 }
 
 std::size_t PoseEvaluatorContext::byteSize() const {
   std::size_t scratch = 0;
   for (const Scratch& s : m_scratch)
     scratch += sizeof(Scratch) + (s.samples.size() + s.locals.size()) * sizeof(float) +
-               s.models.size() * sizeof(glm::mat4) + s.refs.size() * sizeof(float);
+               s.models.size() * sizeof(glm::mat4);
   return sizeof(*this) + bytesPerCharacter() * m_states.size() + scratch;
 }
 
@@ -585,7 +542,7 @@ bool PoseEvaluatorJob::validate(std::string* out_error) const {
     if (!clip || clip->jointCount() != static_cast<int>(joints))
       return refuse(who + ": no clip, or a clip of another joint count");
     if (clip->clusterCount() > 0 && clip->blendFrames() != blendFrames)
-      return refuse(who + ": its clip's plans are made for " + std::to_string(clip->blendFrames()) +
+      return refuse(who + ": its clip is set for " + std::to_string(clip->blendFrames()) +
                     " blend frames, the job asks " + std::to_string(blendFrames));
     const double t = times[c];
     if (!std::isfinite(t) || t < 0.0)

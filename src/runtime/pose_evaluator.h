@@ -6,24 +6,24 @@
 // For every character of a crowd (a LodClip = the level it plays, and a time in seconds)
 // PoseEvaluatorJob writes the model-space matrices of its joints and its skinning palette
 // (model x inverse bind). Per character, at frame position f = time x fps, i0 = floor(f):
-// - what to sample, what is constant and where each joint's local matrix is read depend on
-//   the clip and i0 alone: the clip's plan of frame i0 (LodClip::plan()), precomputed once
-//   per clip and shared by every character playing it. A character holds no plan, only its
-//   time, its level and its blend state;
-// - a *sampled* joint (rotation outside a cluster or in an unfreeze window, or an animated
-//   translation or scale) has its rotation nlerped, translation and scale lerped from the
-//   values the plan holds for i0 (contiguous, structure of arrays), 8 joints at once;
-// - a *constant* joint (frozen inside a cluster with static translation and scale, or a
-//   joint the clip never moves: BVH end sites) reads its local matrix where the clip stores
-//   it: no sampling, no copy;
-// - the hierarchy pass is the same two products (model = parent's model x local; palette =
-//   model x inverse bind) for every joint, without a branch on its kind.
+// - a *moving* joint (rotation outside a cluster or in an unfreeze window, or an animated
+//   translation or scale) has its two entries around f decoded from the clip's compressed
+//   streams (internal/compressed_tracks.h), its rotation nlerped, translation and scale
+//   lerped;
+// - a *frozen* joint (both frames inside one cluster, no window) keeps the key it decoded
+//   when its cluster began: the character's pose holds it, and a cursor per joint (the
+//   clip's region it was last in) finds the cluster again in one compare;
+// - a joint the clip never moves (BVH end sites) keeps its static values, written once
+//   when the character starts the clip;
+// - the local matrices are made 8 joints at once from the pose, and the hierarchy pass is
+//   the same two products (model = parent's model x local; palette = model x inverse bind)
+//   for every joint, without a branch on its kind.
 //
-// With blendFrames = 0 the result is forward kinematics of the simplified motion M'(t)
-// (LodClip::rotationAt() etc.). With blendFrames = N > 0, joints resume without popping:
-// - after a cluster ends, as LodClip describes (a property of the clip, N and f alone: the
-//   clip's plans hold it, made for N = LodClip::blendFrames(); a joint in a window costs
-//   what a sampled joint costs);
+// With blendFrames = 0 the result is forward kinematics of the simplified motion M'(t) as
+// the clip stores it (LodClip::rotationAt() etc.). With blendFrames = N > 0, joints resume
+// without popping:
+// - after a cluster ends, as LodClip describes (a property of the clip, N and f alone,
+//   worked out as the clip plays: LodClip::windowOffsets());
 // - at a looping clip's wrap (from the second period on, for f < N): the jump from the
 //   pose at the last frame to the pose at frame 0 decays over N frames (rotations; the
 //   root's translation wraps as the clip does: root motion is the caller's business);
@@ -31,18 +31,18 @@
 //   that differs decays from the old clip's to the new clip's over N frames of the new
 //   clip, starting at the time of the first run with the new clip. This one depends on
 //   the character's history; PoseEvaluatorContext keeps it.
-// A blending joint's lerped rotation is multiplied by its offsets before it becomes a
-// matrix (unnormalised: the matrix divides by the squared length); a constant joint that
-// blends is sampled for that frame. Translations are never blended.
+// A blending joint's rotation is multiplied by its offsets before it becomes a matrix
+// (unnormalised: the matrix divides by the squared length), in a copy of the pose, so that
+// the keys it holds stay as they are. Translations are never blended.
 //
 // Cost: the job never allocates; the context holds every buffer, sized once. Characters
 // are spread over the threads of an optional WorkerPool; the result does not depend on
 // the thread count (each character's output depends on its own inputs and state alone).
 //
-// Clip lifetime: a character's state keeps the `const LodClip*` of its last run and reads
-// that clip again at a level switch (to blend from what it showed). Before a clip is freed
-// or moved, or its plans are made again (LodClip::setBlendFrames()), reset the characters
-// that played it (PoseEvaluatorContext::reset()).
+// Clip lifetime: a character's state keeps the `const LodClip*` of its last run, keys and
+// region cursors of it, and reads that clip again at a level switch (to blend from what it
+// showed). Before a clip is freed or moved, reset the characters that played it
+// (PoseEvaluatorContext::reset()).
 
 #include "runtime/lod_clip.h"
 #include "runtime/worker_pool.h"
@@ -69,6 +69,7 @@ public:
 
   // Sizes the context for up to `characters` characters of `joints` joints evaluated on up
   // to `threads` threads (the WorkerPool's threadCount()). Forgets every character's state.
+  // Per character it holds the pose (40 bytes a joint) and two words a joint.
   void resize(int characters, int joints, int threads = 1);
   // Forgets every character's state (the clip of its last run: no level blend follows).
   // Call it after changing the skeleton's inverse binds in place.
@@ -97,10 +98,9 @@ private:
     double levelSeconds = 0.0;
   };
   struct alignas(64) Scratch {
-    std::vector<float> samples;         // the sampled joints' lerped rotations (and scales), blocks of 8 lanes
-    std::vector<float> locals;          // their local matrices, lane layout (LodClip::laneOffset())
+    std::vector<float> samples;         // a blending character's pose, copied to take its offsets
+    std::vector<float> locals;          // a character's local matrices, lane layout (LodClip::laneOffset())
     std::vector<glm::mat4> models;      // model matrices when the job has no out_models
-    std::vector<float> refs;            // a plan's refs, copied when a constant joint blends
     std::vector<glm::quat> wrapOffsets; // a looping clip's wrap offsets for wrapFrames
     const LodClip* wrapClip = nullptr;  // the clip of wrapOffsets (none at the start of a run)
     int wrapFrames = 0;
@@ -111,6 +111,13 @@ private:
   int m_joints = 0;
   std::vector<CharacterState> m_states;
   std::vector<glm::quat> m_levelOffset;     // per character x joint
+  // Per character: its pose (rotations, scales, translations of its joints, blocks of 8:
+  // pose_evaluator.cpp), and per joint the region of its clip it was last in and the region
+  // whose key its pose holds (or none).
+  std::vector<float> m_pose;
+  std::size_t m_poseFloats = 0;
+  std::vector<std::uint32_t> m_cursor;
+  std::vector<std::uint32_t> m_held;
   std::vector<float> m_splat;               // the job's inverse binds laid out for the palette product
   const void* m_inverseBindsSeen = nullptr; // the inverse binds m_splat holds
   std::vector<Scratch> m_scratch;
@@ -129,7 +136,7 @@ struct PoseEvaluatorJob {
   std::span<const LodClip* const> clips;
   std::span<const double> times;
   // Frames over which a resuming joint blends back (0 = off: exactly M'(t)). A clip with
-  // clusters must have its plans made for it (LodClip::blendFrames()).
+  // clusters must be set for it (LodClip::blendFrames(): the N its level is played with).
   int blendFrames = 0;
   // Threads to spread characters over; null = the calling thread only.
   WorkerPool* pool = nullptr;

@@ -45,7 +45,8 @@ float capsuleRadiusFor(const Skeleton& skeleton) {
 Result<CrowdLevel> finishLevel(Skeleton skeleton, const SkinnedMesh* mesh, const Clip& clip, const ClusterSet* clusters,
                                int fullDetailSampled) {
   CrowdLevel level;
-  Result<LodClip> lod = buildLodClip(clip, clusters, true);
+  const std::vector<std::int16_t> parents = skeleton.parentIndices();
+  Result<LodClip> lod = buildLodClip(clip, clusters, true, parents);
   if (!lod)
     return lod.error();
   level.clip = std::move(lod).value();

@@ -180,7 +180,7 @@ static Result<LodPackage> assemblePackage(const Asset& asset, const LodSet& lods
       for (std::size_t c = 0; c < out.clips.size(); ++c) {
         if (cancelled(cancel))
           return Error(kLodPackageCancelled);
-        Result<LodClip> runtime = buildLodClip(out.clips[c]);
+        Result<LodClip> runtime = buildLodClip(out.clips[c], nullptr, std::nullopt, out.skeleton.parentIndices());
         if (!runtime)
           return Error("level " + settings.name + ": " + runtime.message());
         level.runtimeClips.push_back(std::move(runtime).value());
@@ -198,7 +198,8 @@ static Result<LodPackage> assemblePackage(const Asset& asset, const LodSet& lods
         if (cancelled(cancel))
           return Error(kLodPackageCancelled);
         ClusterSet clusters = reducedClusters(levelMotion.bones, levelMotion.clusters[c]);
-        Result<LodClip> runtime = buildLodClip(levelMotion.clips[c], &clusters);
+        Result<LodClip> runtime =
+            buildLodClip(levelMotion.clips[c], &clusters, std::nullopt, levelMotion.bones.skeleton.parentIndices());
         if (!runtime)
           return Error("level " + settings.name + ": " + runtime.message());
         level.runtimeClips.push_back(std::move(runtime).value());

@@ -73,8 +73,12 @@ void ScriptedRun::next() {
     return; // importFinished() calls next
   }
   Document* document = m_window->document();
-  if (!m_options.joint.isEmpty() && document->currentAssetPtr() && document->currentJoint() < 0)
+  // the joint asked for wins over the one the window picks when an analysis finishes first
+  // (once: a later step leaves the user's choice alone)
+  if (!m_options.joint.isEmpty() && document->currentAssetPtr() && !m_jointApplied) {
     document->setCurrentJoint(document->currentAssetPtr()->skeleton.find(m_options.joint.toStdString()));
+    m_jointApplied = true;
+  }
   if (m_options.level > 0)
     document->setCurrentLevel(m_options.level);
   if (document->isAnalysing() || document->isLoading())

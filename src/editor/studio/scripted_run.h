@@ -60,6 +60,7 @@ private:
   ScriptedRunOptions m_options;
   int m_status = 0;
   bool m_shotStarted = false;
+  bool m_jointApplied = false;
 };
 
 } // namespace mlod

@@ -48,6 +48,9 @@ struct Chain {
     s.scales = scales;
     s.clusters = clusters;
     s.clusterBegin = clusterBegin;
+    // quantized far below these tests' tolerances: they check M' and its blends, not the
+    // precision (PoseEvaluator.QuantizationStaysWithinThePrecision does)
+    s.precisionCm = 1e-5;
     return s;
   }
   // M': joint 1's rotation at frame t
@@ -59,10 +62,10 @@ struct Chain {
   }
 };
 
-// Guards the layout: static channels found, joint 1's frames cut into frozen segments
-// (one per cluster, i0 in [first, last - 1]) and sampled ones between, covering i0 in
-// [0, frames - 2].
-TEST(LodClip, SegmentsCoverTheClip) {
+// Guards the layout: static channels found; joint 1's rotation cut into regions (frame 0
+// alone, then each cluster and the frames after it), one stored entry per cluster and per
+// frame outside clusters; frozen exactly for i0 in [first, last - 1] of a cluster.
+TEST(LodClip, RegionsCoverTheClip) {
   const Chain chain;
   std::string error;
   const std::optional<LodClip> clip = LodClip::build(chain.source(), &error);
@@ -71,23 +74,33 @@ TEST(LodClip, SegmentsCoverTheClip) {
   EXPECT_EQ(clip->flags(1), LodClip::kRotationAnimated);
   EXPECT_EQ(clip->flags(2), 0);
   EXPECT_EQ(clip->clusterCount(), 3);
-  const std::span<const LodClip::Segment> segments = clip->segments(1);
-  // sampled [0,2], frozen [3,6], sampled [7,7], frozen [8,11], sampled [12,14], frozen [15,18]
-  ASSERT_EQ(segments.size(), 6u);
-  const int expected[6][3] = {{0, 2, -1}, {3, 6, 0}, {7, 7, -1}, {8, 11, 1}, {12, 14, -1}, {15, 18, 2}};
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    EXPECT_EQ(segments[s].first, expected[s][0]) << "segment " << s;
-    EXPECT_EQ(segments[s].last, expected[s][1]) << "segment " << s;
-    EXPECT_EQ(segments[s].cluster, expected[s][2]) << "segment " << s;
+  EXPECT_EQ(clip->regionBegin(0), clip->regionBegin(1)) << "a joint that never turns has no regions";
+  EXPECT_EQ(clip->regionBegin(3) - clip->regionBegin(2), 0u);
+  // [0] + frames 1, 2; [3, 7]; [8, 12] + frames 13, 14; [15, 19]; the sentinel
+  const std::uint32_t r0 = clip->regionBegin(1);
+  ASSERT_EQ(clip->regionBegin(2) - r0, 5u);
+  const int expected[5][3] = {{0, 0, 0}, {3, 7, 3}, {8, 12, 4}, {15, 19, 7}, {20, 20, 8}};
+  for (std::uint32_t r = 0; r < 5; ++r) {
+    const LodClip::Region& region = clip->regions()[r0 + r];
+    EXPECT_EQ(region.first, expected[r][0]) << "region " << r;
+    EXPECT_EQ(region.entry, static_cast<std::uint32_t>(expected[r][2])) << "region " << r;
+    if (r < 4) {
+      EXPECT_EQ(clip->lastOf(r0 + r), expected[r][1]) << "region " << r;
+    }
   }
-  EXPECT_EQ(segments[2].previous, 0) << "the sampled segment after cluster 0 starts at its last frame";
   for (int i0 = 0; i0 <= Chain::kFrames - 2; ++i0) {
-    const int s = clip->findSegment(1, i0);
-    ASSERT_GE(s, 0);
-    EXPECT_GE(i0, segments[static_cast<std::size_t>(s)].first);
-    EXPECT_LE(i0, segments[static_cast<std::size_t>(s)].last);
+    const std::uint32_t r = clip->regionOf(1, i0);
+    EXPECT_GE(i0, clip->regions()[r].first);
+    EXPECT_LT(i0, clip->regions()[r + 1].first);
+    const bool inside = (i0 >= 3 && i0 <= 6) || (i0 >= 8 && i0 <= 11) || (i0 >= 15 && i0 <= 18);
+    EXPECT_EQ(clip->frozen(1, i0), inside) << "i0 " << i0;
+    EXPECT_FALSE(clip->frozen(0, i0)) << "joint 0 translates";
+    EXPECT_TRUE(clip->frozen(2, i0)) << "joint 2 never moves";
   }
-  EXPECT_TRUE(clip->segments(0).empty()) << "a joint that never turns has no segments";
+  const std::vector<LodClip::Cluster> clusters = clip->clusters(1);
+  ASSERT_EQ(clusters.size(), 3u);
+  EXPECT_EQ(clusters[1].first, 8);
+  EXPECT_EQ(clusters[1].last, 12);
 }
 
 // Guards M'(t): at every frame the key inside clusters and the original outside; between
@@ -114,7 +127,7 @@ TEST(LodClip, ClusterEndBlendsOverNFrames) {
   const std::optional<LodClip> clip = LodClip::build(chain.source());
   ASSERT_TRUE(clip);
   const int n = 4;
-  const LodClip::Cluster& cluster = clip->clusters(1)[1];
+  const LodClip::Cluster cluster = clip->clusters(1)[1];
   EXPECT_NEAR(angleBetween(cluster.exitOffset, glm::quat(1, 0, 0, 0)), 4.0f, 1e-3f);
   EXPECT_LT(angleBetween(cluster.lastRotation, turn(24.0f)), 1e-3f);
   const auto nlerp = [](const glm::quat& a, const glm::quat& b, float t) { return glm::normalize(a * (1.0f - t) + b * t); };
@@ -134,7 +147,7 @@ TEST(LodClip, ClusterEndBlendsOverNFrames) {
   }
   EXPECT_LT(angleBetween(clip->rotationAt(1, 12.0, n), turn(20.0f)), 1e-3f) << "at its last frame: the key";
   // the last cluster reaches the clip's end: nothing to leave
-  EXPECT_EQ(clip->clusters(1)[2].exitOffset, glm::quat(1, 0, 0, 0));
+  EXPECT_LT(angleBetween(clip->clusters(1)[2].exitOffset, glm::quat(1, 0, 0, 0)), 1e-4f);
 }
 
 // Guards frame positions: clamped when the clip does not loop; wrapped, with the period

@@ -725,6 +725,85 @@ std::vector<std::string> randomFrameFiles() {
 }
 INSTANTIATE_TEST_SUITE_P(Fixtures, RandomFrames, ::testing::ValuesIn(randomFrameFiles()), test::fixtureName);
 
+// Guards the precision (docs/architecture.md section 5, "Compressed clips"): a clip built as
+// production builds it (with the skeleton's parents, default precision) shows, at random
+// frame positions of a two-thread crowd, every joint and every point 3 cm from one (ACL's
+// shell) within the precision of forward kinematics of the unquantized M'(t), at full
+// detail and at two levels; the encoder's own bound says so too; and a joint frozen in a
+// cluster holds one key (the same bits at every frame of it).
+class Quantized : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Quantized, StaysWithinThePrecision) {
+  const std::string file = GetParam();
+  const Asset& asset = runtimeAsset(file);
+  const Clip& clip = asset.clips.front();
+  const Rig rig(asset.skeleton);
+  const std::size_t joints = static_cast<std::size_t>(rig.joints());
+  const std::vector<JpcLevelResult>& levels = levelsOf(file);
+  for (const std::size_t index : {std::size_t{0}, std::size_t{2}, levels.size() - 1}) {
+    const JpcLevelResult& level = levels[index];
+    const std::string what = file + " E=" + std::to_string(level.threshold);
+    Result<LodClip> built = buildLodClip(clip, &level.clusters, false, rig.parents);
+    ASSERT_TRUE(built) << built.message();
+    const LodClip& lod = *built;
+    const double precision = lod.precisionCm();
+    EXPECT_EQ(precision, kDefaultClipPrecisionCm);
+    EXPECT_LE(lod.encodedErrorCm(), precision) << what;
+    const Clip simplified = simplifiedClip(clip, level.clusters);
+    constexpr int kCharacters = 64;
+    WorkerPool pool(2);
+    PoseEvaluatorContext context(kCharacters, rig.joints(), 2);
+    std::mt19937 random(7u + static_cast<unsigned>(index));
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const std::vector<const LodClip*> clips(kCharacters, &lod);
+    std::vector<double> times(kCharacters);
+    for (double& t : times)
+      t = unit(random) * lod.duration();
+    std::vector<glm::mat4> models(kCharacters * joints), palette(kCharacters * joints), expected;
+    PoseEvaluatorJob job;
+    job.parents = rig.parents;
+    job.inverseBinds = rig.inverseBinds;
+    job.clips = clips;
+    job.times = times;
+    job.pool = &pool;
+    job.context = &context;
+    job.out_models = models;
+    job.out_palette = palette;
+    ASSERT_TRUE(job.run());
+    double worst = 0.0, worstRatio = 0.0;
+    for (std::size_t c = 0; c < kCharacters; ++c) {
+      plainModels(asset.skeleton, simplified, times[c] * clip.fps, expected);
+      for (std::size_t j = 0; j < joints; ++j) {
+        const glm::mat4& actual = models[c * joints + j];
+        const glm::vec3 at(actual[3]), want(expected[j][3]);
+        // float forward kinematics itself rounds at about 1e-5 of the position (cm)
+        const double allowed = precision + 2e-5 * std::max(1.0f, glm::length(want));
+        double error = glm::distance(at, want);
+        for (int k = 0; k < 3; ++k) {
+          const glm::vec3 shell = at + 3.0f * glm::normalize(glm::vec3(actual[k]));
+          const glm::vec3 wanted = want + 3.0f * glm::normalize(glm::vec3(expected[j][k]));
+          error = std::max(error, double(glm::distance(shell, wanted)));
+        }
+        worst = std::max(worst, error);
+        worstRatio = std::max(worstRatio, error / allowed);
+        ASSERT_LE(error, allowed) << what << ": character " << c << " joint " << j << " at frame position "
+                                  << times[c] * clip.fps;
+      }
+    }
+    RecordProperty(what + " worst error (cm)", std::to_string(worst));
+    // a frozen joint holds its key: the same bits through the cluster
+    for (int j = 0; j < lod.jointCount(); ++j)
+      for (const LodClip::Cluster& cluster : lod.clusters(j)) {
+        const glm::quat key = lod.rotationAt(j, cluster.first);
+        for (int f = cluster.first + 1; f <= cluster.last; ++f) {
+          const glm::quat shown = lod.rotationAt(j, f);
+          ASSERT_EQ(std::memcmp(&key, &shown, sizeof key), 0) << what << ": joint " << j << " frame " << f;
+        }
+      }
+  }
+}
+INSTANTIATE_TEST_SUITE_P(Fixtures, Quantized, ::testing::ValuesIn(randomFrameFiles()), test::fixtureName);
+
 // Guards validate(): each invalid input in turn fails, and run() then writes nothing.
 TEST(PoseEvaluator, RejectsInvalidJobs) {
   const Asset& asset = runtimeAsset(kCmu);

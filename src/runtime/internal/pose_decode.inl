@@ -1,0 +1,274 @@
+// The pose evaluator's decode of one character (pose_evaluator.cpp includes this file
+// twice: once as it is, once under `#pragma GCC target("arch=x86-64-v3")` with
+// MLOD_DECODE_V3 defined, so that one loop is built for both instruction sets and picked at
+// load time).
+//
+// Per joint whose rotation animates: the region of its clip that holds i0 (the character's
+// cursor, one compare while it stays), then
+// - frozen (both frames inside one cluster, no unfreeze window): the key, decoded once when
+//   the cluster began and kept in the character's pose (held[j] = the region);
+// - in an unfreeze window: its two frames lerped as below, with the window's offsets
+//   (LodClip::windowOffsets());
+// - else: its two entries decoded, sign-aligned and lerped (left unnormalised: the matrix
+//   divides by the squared length).
+// Then every animated translation and scale, lerped. Returns the joints whose local matrix
+// changed this frame (PoseEvaluatorContext::jointsSampled()).
+//
+// Not a header: no include guard, no includes; it expects the names of pose_evaluator.cpp
+// (kLanes, PoseArray, poseOffset(), DecodeJob, kNoKey) and the runtime's headers.
+
+#ifdef MLOD_DECODE_V3
+#define MLOD_DECODE_INLINE __attribute__((always_inline)) inline
+// Per bit width b: the shifts of a frame's three values in its 64-bit word (0, b, 2b; 64
+// clears the fourth lane).
+struct alignas(32) Shifts {
+  long long s[4];
+};
+constexpr Shifts shiftsOf(int b) { return {{0, b, 2 * b, 64}}; }
+alignas(32) constexpr Shifts kShifts[internal::kMaxBits + 1] = {
+    shiftsOf(0),  shiftsOf(1),  shiftsOf(2),  shiftsOf(3),  shiftsOf(4),  shiftsOf(5),  shiftsOf(6),
+    shiftsOf(7),  shiftsOf(8),  shiftsOf(9),  shiftsOf(10), shiftsOf(11), shiftsOf(12), shiftsOf(13),
+    shiftsOf(14), shiftsOf(15), shiftsOf(16), shiftsOf(17), shiftsOf(18), shiftsOf(19)};
+
+using Value = __m128;
+
+// A chunk's low ends and steps per slot (internal::view()).
+struct View {
+  __m128 low, step;
+};
+MLOD_DECODE_INLINE View viewOf(const internal::Stream& stream, const internal::Chunk& chunk) {
+  // the chunk's 12 bytes and 4 of the next (the streams end with a spare chunk)
+  const __m128i d = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&chunk));
+  const __m128 start = _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_srli_si128(d, 6)));
+  const __m128 extent = _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_srli_si128(d, 9)));
+  const __m128 unit = _mm_loadu_ps(stream.unit); // lane 3 is 0: so are the low end's and the step's
+  const int b = chunk.bits;
+  View out;
+  out.low = _mm_add_ps(_mm_loadu_ps(stream.min), _mm_mul_ps(unit, start));
+  out.step = _mm_mul_ps(_mm_mul_ps(unit, extent), _mm_set1_ps(b <= internal::kMaxBits ? internal::kInverseTop[b] : 0.0f));
+  return out;
+}
+MLOD_DECODE_INLINE __m128 slotsOf(const internal::Chunk& chunk, const View& view, const std::uint8_t* bits,
+                                  std::uint32_t k) {
+  const int b = chunk.bits;
+  if (__builtin_expect(b == internal::kRawBits, 0)) {
+    float v[3];
+    std::memcpy(v, bits + chunk.bitOffset / 8 + 12 * k, sizeof v);
+    return _mm_setr_ps(v[0], v[1], v[2], 0.0f);
+  }
+  const std::uint64_t at = chunk.bitOffset + 3u * static_cast<std::uint64_t>(b) * k;
+  std::uint64_t word;
+  std::memcpy(&word, bits + at / 8, sizeof word);
+  word >>= at % 8;
+  __m256i w = _mm256_srlv_epi64(_mm256_set1_epi64x(static_cast<long long>(word)),
+                                _mm256_load_si256(reinterpret_cast<const __m256i*>(kShifts[b].s)));
+  w = _mm256_and_si256(w, _mm256_set1_epi64x(static_cast<long long>((std::uint64_t{1} << b) - 1)));
+  const __m128i q = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(w, _mm256_setr_epi32(0, 2, 4, 6, 0, 0, 0, 0)));
+  return _mm_add_ps(view.low, _mm_mul_ps(view.step, _mm_cvtepi32_ps(q)));
+}
+alignas(16) constexpr int kPlaceV3[4][4] = {{3, 0, 1, 2}, {0, 3, 1, 2}, {0, 1, 3, 2}, {0, 1, 2, 3}};
+MLOD_DECODE_INLINE __m128 rotationOf(__m128 v, int drop) {
+  const __m128 rest = _mm_max_ps(_mm_sub_ps(_mm_set1_ps(1.0f), _mm_dp_ps(v, v, 0x7f)), _mm_setzero_ps());
+  v = _mm_blend_ps(v, _mm_sqrt_ps(rest), 8);
+  return _mm_permutevar_ps(v, _mm_load_si128(reinterpret_cast<const __m128i*>(kPlaceV3[drop])));
+}
+template <bool Rotation>
+MLOD_DECODE_INLINE void decodePair(const internal::Stream& stream, const internal::Chunk* chunks,
+                                  const std::uint8_t* bits, std::uint32_t e, __m128& out_a, __m128& out_b) {
+  const internal::Chunk* chunk = chunks + stream.chunkBegin + e / internal::kChunkEntries;
+  const std::uint32_t k = e % internal::kChunkEntries;
+  const View here = viewOf(stream, *chunk);
+  out_a = slotsOf(*chunk, here, bits, k);
+  if (Rotation)
+    out_a = rotationOf(out_a, chunk->drop);
+  if (k + 1 < internal::kChunkEntries) {
+    out_b = slotsOf(*chunk, here, bits, k + 1);
+    if (Rotation)
+      out_b = rotationOf(out_b, chunk->drop);
+  } else {
+    const View next = viewOf(stream, chunk[1]);
+    out_b = slotsOf(chunk[1], next, bits, 0);
+    if (Rotation)
+      out_b = rotationOf(out_b, chunk[1].drop);
+  }
+}
+MLOD_DECODE_INLINE __m128 decodeKey(const internal::Stream& stream, const internal::Chunk* chunks,
+                                    const std::uint8_t* bits, std::uint32_t e) {
+  const internal::Chunk& chunk = chunks[stream.chunkBegin + e / internal::kChunkEntries];
+  return rotationOf(slotsOf(chunk, viewOf(stream, chunk), bits, e % internal::kChunkEntries), chunk.drop);
+}
+MLOD_DECODE_INLINE __m128 fromQuat(const glm::quat& q) { return _mm_setr_ps(q.x, q.y, q.z, q.w); }
+MLOD_DECODE_INLINE glm::quat toQuat(__m128 v) {
+  float f[4];
+  _mm_storeu_ps(f, v);
+  return glm::quat(f[3], f[0], f[1], f[2]);
+}
+// a + (b - a) * fraction, b taken the shorter way
+MLOD_DECODE_INLINE __m128 lerpShorter(__m128 a, __m128 b, float fraction) {
+  const __m128 sign = _mm_and_ps(_mm_dp_ps(a, b, 0xff), _mm_set1_ps(-0.0f));
+  b = _mm_xor_ps(b, sign);
+  return _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), _mm_set1_ps(fraction)));
+}
+MLOD_DECODE_INLINE __m128 lerp(__m128 a, __m128 b, float fraction) {
+  return _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), _mm_set1_ps(fraction)));
+}
+// Quaternions as x, y, z, w lanes: a * b.
+MLOD_DECODE_INLINE __m128 mulQuat(__m128 a, __m128 b) {
+  const __m128 ax = _mm_shuffle_ps(a, a, 0x00), ay = _mm_shuffle_ps(a, a, 0x55), az = _mm_shuffle_ps(a, a, 0xaa),
+               aw = _mm_shuffle_ps(a, a, 0xff);
+  // lanes x, y, z, w of ax * (bw, -bz, by, -bx), ay * (bz, bw, -bx, -by), az * (-by, bx, bw, -bz)
+  const __m128 bx = _mm_xor_ps(_mm_shuffle_ps(b, b, _MM_SHUFFLE(0, 1, 2, 3)), _mm_setr_ps(0.0f, -0.0f, 0.0f, -0.0f));
+  const __m128 by = _mm_xor_ps(_mm_shuffle_ps(b, b, _MM_SHUFFLE(1, 0, 3, 2)), _mm_setr_ps(0.0f, 0.0f, -0.0f, -0.0f));
+  const __m128 bz = _mm_xor_ps(_mm_shuffle_ps(b, b, _MM_SHUFFLE(2, 3, 0, 1)), _mm_setr_ps(-0.0f, 0.0f, 0.0f, -0.0f));
+  __m128 r = _mm_mul_ps(aw, b);
+  r = _mm_add_ps(r, _mm_mul_ps(ax, bx));
+  r = _mm_add_ps(r, _mm_mul_ps(ay, by));
+  return _mm_add_ps(r, _mm_mul_ps(az, bz));
+}
+// The same rotation with w >= 0, and its inverse (a unit quaternion's conjugate).
+MLOD_DECODE_INLINE __m128 positiveW(__m128 q) {
+  return _mm_xor_ps(q, _mm_and_ps(_mm_shuffle_ps(q, q, 0xff), _mm_set1_ps(-0.0f)));
+}
+MLOD_DECODE_INLINE __m128 conjugate(__m128 q) { return _mm_xor_ps(q, _mm_setr_ps(-0.0f, -0.0f, -0.0f, 0.0f)); }
+// nlerp(identity, offset, weight) before normalisation (offset.w >= 0)
+MLOD_DECODE_INLINE __m128 lerpOffset(__m128 offset, float weight) {
+  return _mm_add_ps(_mm_mul_ps(offset, _mm_set1_ps(weight)), _mm_setr_ps(0.0f, 0.0f, 0.0f, 1.0f - weight));
+}
+// Four lanes (or three) into the pose's arrays `first`, first + 1, ... of joint lane p.
+MLOD_DECODE_INLINE void put4(float* p, __m128 v) {
+  _mm_store_ss(p, v);
+  p[kLanes] = _mm_cvtss_f32(_mm_shuffle_ps(v, v, 1));
+  p[2 * kLanes] = _mm_cvtss_f32(_mm_shuffle_ps(v, v, 2));
+  p[3 * kLanes] = _mm_cvtss_f32(_mm_shuffle_ps(v, v, 3));
+}
+MLOD_DECODE_INLINE void put3(float* p, __m128 v) {
+  _mm_store_ss(p, v);
+  p[kLanes] = _mm_cvtss_f32(_mm_shuffle_ps(v, v, 1));
+  p[2 * kLanes] = _mm_cvtss_f32(_mm_shuffle_ps(v, v, 2));
+}
+#else
+#define MLOD_DECODE_INLINE inline
+using Value = internal::F4;
+template <bool Rotation>
+MLOD_DECODE_INLINE void decodePair(const internal::Stream& stream, const internal::Chunk* chunks,
+                                  const std::uint8_t* bits, std::uint32_t e, Value& out_a, Value& out_b) {
+  internal::decodeTwo<Rotation>(stream, chunks, bits, e, out_a, out_b);
+}
+MLOD_DECODE_INLINE Value decodeKey(const internal::Stream& stream, const internal::Chunk* chunks,
+                                   const std::uint8_t* bits, std::uint32_t e) {
+  return internal::decodeRotation(stream, chunks, bits, e);
+}
+MLOD_DECODE_INLINE Value fromQuat(const glm::quat& q) { return Value{q.x, q.y, q.z, q.w}; }
+MLOD_DECODE_INLINE glm::quat toQuat(Value v) { return glm::quat(v[3], v[0], v[1], v[2]); }
+MLOD_DECODE_INLINE Value lerpShorter(Value a, Value b, float fraction) {
+  const Value ab = a * b;
+  if (ab[0] + ab[1] + ab[2] + ab[3] < 0.0f)
+    b = -b;
+  return a + (b - a) * fraction;
+}
+MLOD_DECODE_INLINE Value lerp(Value a, Value b, float fraction) { return a + (b - a) * fraction; }
+MLOD_DECODE_INLINE Value mulQuat(Value a, Value b) { return fromQuat(toQuat(a) * toQuat(b)); }
+MLOD_DECODE_INLINE Value positiveW(Value q) { return q[3] < 0.0f ? -q : q; }
+MLOD_DECODE_INLINE Value conjugate(Value q) { return Value{-q[0], -q[1], -q[2], q[3]}; }
+MLOD_DECODE_INLINE Value lerpOffset(Value offset, float weight) {
+  return offset * weight + Value{0.0f, 0.0f, 0.0f, 1.0f - weight};
+}
+MLOD_DECODE_INLINE void put4(float* p, Value v) {
+  for (int i = 0; i < 4; ++i)
+    p[i * kLanes] = v[i];
+}
+MLOD_DECODE_INLINE void put3(float* p, Value v) {
+  for (int i = 0; i < 3; ++i)
+    p[i * kLanes] = v[i];
+}
+#endif
+
+std::int64_t decodePose(const DecodeJob& job) {
+  const LodClip& clip = job.clip;
+  const std::int32_t i0 = job.i0;
+  const float fraction = job.fraction;
+  const int blendFrames = job.blendFrames;
+  float* __restrict pose = job.pose;
+  std::uint32_t* __restrict cursor = job.cursor;
+  std::uint32_t* __restrict held = job.held;
+  const internal::CompressedStreams& streams = clip.streams();
+  const internal::Chunk* chunks = streams.chunks();
+  const std::uint8_t* bits = streams.bits();
+  const LodClip::Region* regions = clip.regions().data();
+  const std::uint8_t* flags = clip.jointFlags();
+  std::int64_t sampled = 0;
+  for (const std::int16_t joint : clip.rotationJoints()) {
+    const int j = joint;
+    std::uint32_t r = cursor[j];
+    if (i0 < regions[r].first || i0 >= regions[r + 1].first) {
+      // the next region (a character plays forward), else a search
+      r = i0 >= regions[r + 1].first && r + 2 < clip.regionBegin(j + 1) && i0 < regions[r + 2].first
+              ? r + 1
+              : clip.regionOf(j, i0);
+      cursor[j] = r;
+    }
+    float* p = pose + poseOffset(j) + kAx * kLanes;
+    const internal::Stream& stream = streams.stream(clip.rotationStream(j));
+    const std::int32_t last = clip.lastOf(r);
+    const int window = clip.windowRegion(j, r, i0, blendFrames);
+    if (i0 < last && window < 0) {
+      if (held[j] != r) {
+        put4(p, decodeKey(stream, chunks, bits, regions[r].entry));
+        held[j] = r;
+      }
+      continue;
+    }
+    held[j] = kNoKey;
+    sampled += (flags[j] & (LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 0 : 1;
+    Value a, b;
+    if (i0 >= last) {
+      // frames i0 and i0 + 1 are consecutive entries
+      decodePair<true>(stream, chunks, bits, regions[r].entry + static_cast<std::uint32_t>(i0 - last), a, b);
+    } else {
+      // inside a cluster, in the window of the one before: both frames show the key
+      a = decodeKey(stream, chunks, bits, regions[r].entry);
+      b = a;
+    }
+    if (window < 0) {
+      put4(p, lerpShorter(a, b, fraction));
+      continue;
+    }
+    // the window's offsets (LodClip::windowOffsets(), with this decoder; left unnormalised)
+    const internal::Stream& exits = streams.stream(clip.exitStream(j));
+    const std::uint32_t first = clip.regionBegin(j);
+    const std::uint32_t c = static_cast<std::uint32_t>(window);
+    const std::int32_t latestLast = clip.lastOf(c);
+    const Value latest = positiveW(decodeKey(exits, chunks, bits, c - first));
+    if (latestLast == i0)
+      a = mulQuat(conjugate(latest), a);
+    const float f = static_cast<float>(i0) + fraction;
+    Value outer = lerpOffset(latest, 1.0f - std::min((f - static_cast<float>(latestLast)) / blendFrames, 1.0f));
+    for (std::uint32_t at = c; at-- > first;) {
+      const std::int32_t older = clip.lastOf(at);
+      if (older + blendFrames <= i0)
+        break; // older clusters ended earlier still
+      if (older <= regions[at].first)
+        continue; // frame 0 alone
+      const Value exit = positiveW(decodeKey(exits, chunks, bits, at - first));
+      outer = mulQuat(lerpOffset(exit, 1.0f - std::min((f - static_cast<float>(older)) / blendFrames, 1.0f)), outer);
+    }
+    put4(p, mulQuat(outer, lerpShorter(a, b, fraction)));
+  }
+  for (const std::int16_t joint : clip.vectorJoints()) {
+    const int j = joint;
+    float* p = pose + poseOffset(j);
+    ++sampled;
+    Value a, b;
+    if (const int translation = clip.translationStream(j); translation >= 0) {
+      decodePair<false>(streams.stream(translation), chunks, bits, static_cast<std::uint32_t>(i0), a, b);
+      put3(p + kPx * kLanes, lerp(a, b, fraction));
+    }
+    if (const int scale = clip.scaleStream(j); scale >= 0) {
+      decodePair<false>(streams.stream(scale), chunks, bits, static_cast<std::uint32_t>(i0), a, b);
+      put3(p + kSx * kLanes, lerp(a, b, fraction));
+    }
+  }
+  return sampled;
+}
+
+#undef MLOD_DECODE_INLINE
