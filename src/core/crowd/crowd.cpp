@@ -226,7 +226,7 @@ void Crowd::setThreads(int threads) {
 void Crowd::setBlendFrames(int frames) {
   m_blendFrames = std::clamp(frames, 0, kMaxBlendFrames);
   for (CrowdLevel& level : m_levels)
-    level.clip.setBlendFrames(m_blendFrames); // the unfreeze windows are in the clip's plans
+    level.clip.setBlendFrames(m_blendFrames); // the N the level is played with (PoseEvaluatorJob checks it)
   for (auto& slots : m_slotAgent)
     slots.clear();
   for (PoseEvaluatorContext& context : m_contexts)
@@ -326,7 +326,7 @@ Error Crowd::update(double seconds, const glm::vec3& camera) {
     if (slots.size() != static_cast<std::size_t>(context.characterCount())) // forgotten (setAgents() and the like)
       slots.assign(static_cast<std::size_t>(context.characterCount()), -1);
     for (std::size_t k = 0; k < count; ++k)
-      if (slots[k] != list[k]) { // another agent in this slot: its plan is not this one's
+      if (slots[k] != list[k]) { // another agent in this slot: the keys and cursors it holds are not this one's
         context.reset(static_cast<int>(k));
         slots[k] = list[k];
       }

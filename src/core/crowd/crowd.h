@@ -135,7 +135,7 @@ public:
   // Write each agent's model matrices too (levelModels()), as well as its palette.
   void setModels(bool on) { m_writeModels = on; }
   // Frames over which resuming joints blend back (PoseEvaluatorJob::blendFrames; 0 = off,
-  // the default): makes the levels' clips' plans for it. Forgets the agents' state.
+  // the default): the levels' clips are set for it. Forgets the agents' state.
   void setBlendFrames(int frames);
   void setAgents(std::vector<CrowdAgent> agents);
   void setSelection(const Selection& selection) { m_selection = selection; }

@@ -21,14 +21,14 @@ void evaluate(const LodClip& clip, std::span<const std::int16_t> parents, std::s
   const int characters = 7;
   const int joints = static_cast<int>(parents.size());
   PoseEvaluatorContext context(characters, joints);
-  LodClip baked = clip; // its plans made for the blending
+  LodClip baked = clip; // set for the blending
   baked.setBlendFrames(blendFrames);
   std::vector<const LodClip*> clips(characters, &baked);
   models.assign(std::size_t(characters * joints), glm::mat4(0.0f));
   palette.assign(std::size_t(characters * joints), glm::mat4(0.0f));
   std::vector<double> times(characters);
   std::vector<glm::mat4> frameModels, framePalette;
-  for (int step = 0; step < 40; ++step) { // stepping forward: incremental plans, blends
+  for (int step = 0; step < 40; ++step) { // stepping forward: held keys, cursors, blends
     for (int c = 0; c < characters; ++c)
       times[std::size_t(c)] = std::min(clip.duration(), clip.duration() * (double(c) / characters + step * 0.013));
     PoseEvaluatorJob job;

@@ -34,7 +34,7 @@ struct Rig {
   int joints() const { return static_cast<int>(parents.size()); }
 };
 
-// The runtime clip, its plans made for `blendFrames` of unfreeze blending.
+// The runtime clip, set for `blendFrames` of unfreeze blending.
 LodClip lodClip(const Clip& clip, const ClusterSet* clusters, bool looping = false, int blendFrames = 0) {
   Result<LodClip> built = buildLodClip(clip, clusters, looping);
   if (!built)
@@ -208,7 +208,7 @@ TEST(PoseEvaluator, ThresholdZeroAndFullDetailEqualTheOriginal) {
   expectPlainKinematics(asset.skeleton, clip, rig, play(rig, full, times, 0), times, "full detail");
 }
 
-// Guards the shared per-frame plans (a character keeps no plan of its own): one character
+// Guards what a character keeps (held keys, region cursors): one character
 // stepping through the clip gives bit for bit what a whole crowd in one run (one
 // character per frame, each evaluated once) gives.
 TEST(PoseEvaluator, SteppingEqualsFreshCharacters) {
@@ -912,7 +912,7 @@ TEST(PoseEvaluator, RejectsInvalidJobs) {
   for (const int blendFrames : {0, 5}) {
     PoseEvaluatorJob job = valid();
     job.clips = clusteredClips;
-    job.blendFrames = blendFrames; // the clip's plans were made for 4 frames of blending
+    job.blendFrames = blendFrames; // the clip is set for 4 frames of blending
     invalid.push_back(job);
   }
   for (std::size_t i = 0; i < invalid.size(); ++i) {
@@ -926,7 +926,7 @@ TEST(PoseEvaluator, RejectsInvalidJobs) {
     PoseEvaluatorJob job = valid();
     job.clips = clusteredClips;
     job.blendFrames = 4;
-    EXPECT_TRUE(job.validate()) << "plans made for the job's blending";
+    EXPECT_TRUE(job.validate()) << "a clip set for the job's blending";
   }
   // a looping clip takes any time >= 0
   const LodClip* loopingClips[2] = {&looping, &looping};
