@@ -27,11 +27,6 @@ std::string number(double value) {
   out << value;
   return out.str();
 }
-
-// bytes_per_second: a clip's bytes over its duration (0 for a one-frame clip).
-double bytesPerSecond(std::size_t bytes, double seconds) {
-  return seconds > 0.0 ? static_cast<double>(bytes) / seconds : 0.0;
-}
 } // namespace
 
 void BenchCrowdCommand::attach(CLI::App& app) {

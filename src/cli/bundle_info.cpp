@@ -80,7 +80,10 @@ int describeBundle(const std::string& file, bool json) {
                        {"fps", level.clips[c].fps},
                        {"looping", level.clips[c].looping},
                        {"clusters", level.clips[c].clusters.size()},
-                       {"bytes", runtime[l].clips[c].byteSize()}});
+                       {"bytes", runtime[l].clips[c].byteSize()},
+                       {"bytes_per_second", bytesPerSecond(runtime[l].clips[c].byteSize(), runtime[l].clips[c].duration())},
+                       {"precision_cm", runtime[l].clips[c].precisionCm()},
+                       {"encoded_error_cm", runtime[l].clips[c].encodedErrorCm()}});
     nlohmann::json mesh = nullptr;
     if (level.mesh)
       mesh = {{"vertices", level.mesh->positions.size()}, {"triangles", level.mesh->indices.size() / 3}};
@@ -119,10 +122,14 @@ int describeBundle(const std::string& file, bool json) {
     if (level.mesh)
       std::printf("  mesh %zu vertices, %zu triangles", level.mesh->positions.size(), level.mesh->indices.size() / 3);
     std::printf("\n");
-    for (std::size_t c = 0; c < level.clips.size(); ++c)
-      std::printf("       clip %-20s %6d frames %8.3f fps  %5zu clusters  %8zu bytes at run time\n",
+    for (std::size_t c = 0; c < level.clips.size(); ++c) {
+      const LodClip& clip = runtime[l].clips[c];
+      std::printf("       clip %-20s %6d frames %8.3f fps  %5zu clusters  %8zu bytes at run time (%.0f bytes/s, "
+                  "error bound %.4g cm, precision %.4g)\n",
                   level.clips[c].name.c_str(), level.clips[c].frameCount, level.clips[c].fps,
-                  level.clips[c].clusters.size(), runtime[l].clips[c].byteSize());
+                  level.clips[c].clusters.size(), clip.byteSize(), bytesPerSecond(clip.byteSize(), clip.duration()), clip.encodedErrorCm(),
+                  clip.precisionCm());
+    }
   }
   std::printf("read and built in %.3f s\n", seconds);
   return kExitOk;

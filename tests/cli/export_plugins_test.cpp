@@ -126,9 +126,22 @@ TEST(CliExport, BundleLevelsAndInfo) {
   EXPECT_EQ(doc["levels"][0]["clips"][0]["clusters"], 0);
   EXPECT_GT(doc["levels"][1]["clips"][0]["clusters"].get<int>(), 0);
   EXPECT_EQ(doc["bytes"].get<std::int64_t>(), std::int64_t(fs::file_size(out)));
+  // what each level's clip costs at run time: fewer bytes at level 2 (frozen joints store one
+  // key per cluster), per second of animation, quantized within the default precision
+  for (const nlohmann::json& level : doc["levels"]) {
+    const nlohmann::json& clip = level["clips"][0];
+    const double seconds = (clip["frames"].get<double>() - 1.0) / clip["fps"].get<double>();
+    EXPECT_NEAR(clip["bytes_per_second"].get<double>(), clip["bytes"].get<double>() / seconds, 1e-6);
+    EXPECT_EQ(clip["precision_cm"].get<double>(), 0.01);
+    EXPECT_GT(clip["encoded_error_cm"].get<double>(), 0.0);
+    EXPECT_LE(clip["encoded_error_cm"].get<double>(), clip["precision_cm"].get<double>());
+  }
+  EXPECT_LT(doc["levels"][1]["clips"][0]["bytes"].get<std::int64_t>(),
+            doc["levels"][0]["clips"][0]["bytes"].get<std::int64_t>());
   const test::CliRun text = runMotionlod({"info", out});
   EXPECT_EQ(text.status, 0);
   EXPECT_NE(text.out.find("Motion LOD runtime bundle, version 1"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("bytes/s, error bound "), std::string::npos) << text.out;
 }
 
 // The file's own unit (BVH: 1 cm per unit) makes the CMU skeleton small enough that its
