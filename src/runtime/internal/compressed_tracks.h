@@ -110,9 +110,6 @@ typedef float F4 __attribute__((vector_size(16)));
 typedef std::int32_t I4 __attribute__((vector_size(16)));
 typedef std::uint8_t B4 __attribute__((vector_size(4)));
 
-// Per dropped component: for each of x, y, z, w, the lane that holds it (3: the rebuilt one).
-inline constexpr I4 kPlace[4] = {{3, 0, 1, 2}, {0, 3, 1, 2}, {0, 1, 3, 2}, {0, 1, 2, 3}};
-
 // One chunk, ready to read entries from: per slot its low end and step (lane 3: 0).
 struct ChunkView {
   F4 low;
@@ -157,8 +154,13 @@ inline F4 slotValues(const ChunkView& chunk, const std::uint8_t* bits, std::uint
 // A rotation's slots as x, y, z, w (the dropped component rebuilt).
 inline F4 rotationOf(F4 v, int drop) {
   const float rest = 1.0f - (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  v[3] = rest > 0.0f ? std::sqrt(rest) : 0.0f;
-  return __builtin_shuffle(v, kPlace[drop]);
+  const std::uint8_t* kept = kKept[drop];
+  F4 out;
+  out[kept[0]] = v[0];
+  out[kept[1]] = v[1];
+  out[kept[2]] = v[2];
+  out[drop] = rest > 0.0f ? std::sqrt(rest) : 0.0f;
+  return out;
 }
 // Entries e and e + 1 of a stream (a rotation's as x, y, z, w).
 template <bool Rotation>
