@@ -132,6 +132,16 @@ json reportJson(const LodPackage& package) {
                          {"max_joint_position_error_cm", m.maxJointPositionErrorCm},
                          {"mean_joint_position_error_cm", m.meanJointPositionErrorCm},
                          {"joints", jointsJson(package, level, m)}});
+      // what the runtime holds for it (the compressed LodClip the package built)
+      if (c < level.runtimeClips.size()) {
+        const LodClip& runtime = level.runtimeClips[c];
+        json& clip = perClip.back();
+        clip["runtime_bytes"] = runtime.byteSize();
+        clip["runtime_bytes_per_second"] =
+            runtime.duration() > 0.0 ? static_cast<double>(runtime.byteSize()) / runtime.duration() : 0.0;
+        clip["precision_cm"] = runtime.precisionCm();
+        clip["encoded_error_cm"] = runtime.encodedErrorCm();
+      }
     }
     entry["clips"] = std::move(perClip);
     levels.push_back(std::move(entry));

@@ -152,6 +152,11 @@ TEST_P(ReportOnRealData, JsonHoldsThePackagesFigures) {
       EXPECT_EQ(t.at("max_error").get<double>(), m.maxError);
       EXPECT_EQ(t.at("max_joint_position_error_cm").get<double>(), m.maxJointPositionErrorCm);
       EXPECT_EQ(t.at("mean_joint_position_error_cm").get<double>(), m.meanJointPositionErrorCm);
+      const LodClip& runtime = level.runtimeClips[c];
+      EXPECT_EQ(t.at("runtime_bytes").get<std::size_t>(), runtime.byteSize());
+      EXPECT_NEAR(t.at("runtime_bytes_per_second").get<double>(), runtime.byteSize() / runtime.duration(), 1e-6);
+      EXPECT_EQ(t.at("precision_cm").get<double>(), kDefaultClipPrecisionCm);
+      EXPECT_LE(t.at("encoded_error_cm").get<double>(), t.at("precision_cm").get<double>());
       ASSERT_EQ(int(t.at("joints").size()), clusterableJoints(m));
       std::size_t k = 0;
       for (std::size_t j = 0; j < m.joints.size(); ++j) {
