@@ -169,7 +169,7 @@ int CompressedStreams::add(std::span<const glm::vec4> values, bool rotation, dou
       chosenError = measure(kRawBits, trial);
       m_bitCount = (m_bitCount + 7) / 8 * 8;
     }
-    encodeWith(chosen, trial);
+    // `trial` holds the chosen width's bits (the search stopped on it, or raw encoded them)
     chunk.bits = static_cast<std::uint8_t>(chosen);
     chunk.bitOffset = static_cast<std::uint32_t>(m_bitCount);
     const std::uint64_t payload = chosen == kRawBits ? 96u * (end - begin) : 3u * static_cast<std::uint64_t>(chosen) * (end - begin);
