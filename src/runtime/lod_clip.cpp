@@ -281,6 +281,8 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
       clip.m_rotationStream[j] = keptIfMoving(addStream(true, levers.rotation[j]), kRotationAnimated, j);
       if (clip.m_rotationStream[j] >= 0) {
         clip.m_clusterCount += static_cast<int>(given.size());
+        if (given.empty())
+          clip.m_flags[j] = static_cast<std::uint8_t>(clip.m_flags[j] | kEveryFrame);
         values.swap(exits);
         clip.m_exitStream[j] = addStream(true, levers.rotation[j]);
       } else {

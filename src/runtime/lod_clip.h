@@ -122,6 +122,7 @@ public:
     kTranslationAnimated = 2,
     kScaleAnimated = 4,
     kScaled = 8, // a scale other than 1 at some frame (animated, or static but not 1)
+    kEveryFrame = 16, // its rotation animates and has no cluster: entry i is frame i (one region)
   };
   static constexpr std::uint8_t kAnimated = kRotationAnimated | kTranslationAnimated | kScaleAnimated;
   // Local matrices in lane layout (the evaluator's): blocks of kLanes matrices, each block
@@ -221,6 +222,7 @@ public:
   // Regions of joint j: regions()[regionBegin(j) .. regionBegin(j + 1) - 1), then its sentinel.
   std::span<const Region> regions() const { return m_regions; }
   std::uint32_t regionBegin(int joint) const { return m_regionBegin[static_cast<std::size_t>(joint)]; }
+  const std::uint32_t* regionBegins() const { return m_regionBegin.data(); }
   // The region of joint j (rotation animated) that holds frame i (absolute index in regions()).
   std::uint32_t regionOf(int joint, std::int32_t i) const;
   // The last frame of region r's cluster.

@@ -93,10 +93,10 @@ template <bool Scaled> inline void matrixBlock(const float* __restrict s, float*
     l[kM20 * kLanes + i] = (xz + wy) * sz;
     l[kM21 * kLanes + i] = (yz - wx) * sz;
     l[kM22 * kLanes + i] = (1.0f - (xx + yy)) * sz;
-    l[kTx * kLanes + i] = s[kPx * kLanes + i];
-    l[kTy * kLanes + i] = s[kPy * kLanes + i];
-    l[kTz * kLanes + i] = s[kPz * kLanes + i];
   }
+  // the translations: three whole arrays, in the same order in both layouts
+  static_assert(kTy == kTx + 1 && kTz == kTx + 2 && kPy == kPx + 1 && kPz == kPx + 2);
+  std::memcpy(l + kTx * kLanes, s + kPx * kLanes, 3 * kLanes * sizeof(float));
 }
 
 // nlerp(identity, offset, weight) before normalisation: (1 - weight) identity + weight offset.
@@ -208,10 +208,8 @@ struct DecodeJob {
   int blendFrames;
   float* pose;
   std::uint32_t* cursor;
-  std::uint32_t* held;
+  internal::JointSpan* span;
 };
-// held[j] when the pose holds no key of joint j
-constexpr std::uint32_t kNoKey = 0xffffffffu;
 
 namespace decode_base {
 #include "runtime/internal/pose_decode.inl"
@@ -267,8 +265,9 @@ struct PoseEvaluation {
   }
 
   // A character's pose when it starts a clip: every joint's static rotation, scale and
-  // translation (the animated channels are decoded over them), no region, no key held.
-  static void startClip(const LodClip& clip, float* pose, std::uint32_t* cursor, std::uint32_t* held) {
+  // translation (the animated channels are decoded over them), no region, no span but for
+  // the joints without clusters (entry i0 at every frame).
+  static void startClip(const LodClip& clip, float* pose, std::uint32_t* cursor, internal::JointSpan* span) {
     for (int j = 0; j < clip.jointCount(); ++j) {
       float* p = pose + poseOffset(j);
       const glm::quat& q = clip.staticRotation(j);
@@ -278,7 +277,8 @@ struct PoseEvaluation {
       for (int a = 0; a < kPoseArrays; ++a)
         p[a * kLanes] = values[a];
       cursor[j] = (clip.flags(j) & LodClip::kRotationAnimated) ? clip.regionBegin(j) : 0;
-      held[j] = kNoKey;
+      span[j] = (clip.flags(j) & LodClip::kEveryFrame) ? internal::JointSpan{0, INT32_MAX, 0}
+                                                         : internal::JointSpan{};
     }
   }
 
@@ -289,14 +289,15 @@ struct PoseEvaluation {
     const double t = job.times[static_cast<std::size_t>(c)];
     const int blendFrames = job.blendFrames;
     const std::size_t at = static_cast<std::size_t>(c) * static_cast<std::size_t>(ctx.m_joints);
-    if (st.clip != &clip) {
-      if (st.clip && blendFrames > 0 && st.blendFrames == blendFrames)
+    if (st.clip != &clip || st.blendFrames != blendFrames) {
+      // (the spans depend on N too)
+      if (st.clip != &clip && st.clip && blendFrames > 0 && st.blendFrames == blendFrames)
         startLevelBlend(job, c, t);
-      else
+      else if (st.clip != &clip)
         st.levelBlend = false;
       st.clip = &clip;
       startClip(clip, ctx.m_pose.data() + static_cast<std::size_t>(c) * ctx.m_poseFloats, &ctx.m_cursor[at],
-                &ctx.m_held[at]);
+                &ctx.m_span[at]);
     }
     st.blendFrames = blendFrames;
     if (clip.scaled())
@@ -405,9 +406,9 @@ struct PoseEvaluation {
     const std::size_t at = static_cast<std::size_t>(c) * static_cast<std::size_t>(joints);
     float* __restrict pose = ctx.m_pose.data() + static_cast<std::size_t>(c) * ctx.m_poseFloats;
     std::uint32_t* __restrict cursor = &ctx.m_cursor[at];
-    std::uint32_t* __restrict held = &ctx.m_held[at];
+    internal::JointSpan* __restrict span = &ctx.m_span[at];
     // 1. rotations, translations and scales into the character's pose
-    const DecodeJob decode{clip, i0, fraction, blendFrames, pose, cursor, held};
+    const DecodeJob decode{clip, i0, fraction, blendFrames, pose, cursor, span};
 #ifdef MLOD_DECODE_V3_BUILT
     const std::int64_t sampled = kHasV3 ? decode_v3::decodePose(decode) : decode_base::decodePose(decode);
 #else
@@ -468,7 +469,7 @@ void PoseEvaluatorContext::resize(int characters, int joints, int threads) {
     for (const int array : {kAw, kSx, kSy, kSz})
       std::fill_n(m_pose.begin() + static_cast<std::ptrdiff_t>(b * kPoseBlock + array * kLanes), kLanes, 1.0f);
   m_cursor.assign(static_cast<std::size_t>(characters) * static_cast<std::size_t>(joints), 0);
-  m_held.assign(static_cast<std::size_t>(characters) * static_cast<std::size_t>(joints), 0);
+  m_span.assign(static_cast<std::size_t>(characters) * static_cast<std::size_t>(joints), internal::JointSpan{});
   m_scratch.clear();
   m_scratch.resize(static_cast<std::size_t>(threads));
   for (Scratch& scratch : m_scratch) {
@@ -492,7 +493,7 @@ void PoseEvaluatorContext::reset(int character) {
 
 std::size_t PoseEvaluatorContext::bytesPerCharacter() const {
   return sizeof(CharacterState) + sizeof(glm::quat) * static_cast<std::size_t>(m_joints) +
-         m_poseFloats * sizeof(float) + 2 * sizeof(std::uint32_t) * static_cast<std::size_t>(m_joints);
+         m_poseFloats * sizeof(float) + (sizeof(std::uint32_t) + sizeof(internal::JointSpan)) * static_cast<std::size_t>(m_joints);
 }
 
 std::size_t PoseEvaluatorContext::byteSize() const {

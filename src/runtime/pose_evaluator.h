@@ -59,6 +59,18 @@ namespace mlod {
 
 struct PoseEvaluation; // the implementation (pose_evaluator.cpp)
 
+namespace internal {
+// Per character and joint whose rotation animates: the frames i0 in [from, until) over
+// which its rotation needs no look-up: its pose holds its cluster's key (delta ==
+// kHeldKey), or it decodes entry i0 + delta and the next (internal/pose_decode.inl).
+struct JointSpan {
+  static constexpr std::int32_t kHeldKey = INT32_MIN;
+  std::int32_t from = 0;
+  std::int32_t until = 0; // empty: look it up
+  std::int32_t delta = 0;
+};
+} // namespace internal
+
 // The caller-owned state and scratch of PoseEvaluatorJob: per character, the clip of its
 // last run and its level-change blend (start, offsets); per thread, sampling buffers.
 // Allocates in resize() only.
@@ -69,7 +81,7 @@ public:
 
   // Sizes the context for up to `characters` characters of `joints` joints evaluated on up
   // to `threads` threads (the WorkerPool's threadCount()). Forgets every character's state.
-  // Per character it holds the pose (40 bytes a joint) and two words a joint.
+  // Per character it holds the pose (40 bytes a joint) and four words a joint.
   void resize(int characters, int joints, int threads = 1);
   // Forgets every character's state (the clip of its last run: no level blend follows).
   // Call it after changing the skeleton's inverse binds in place.
@@ -112,12 +124,11 @@ private:
   std::vector<CharacterState> m_states;
   std::vector<glm::quat> m_levelOffset;     // per character x joint
   // Per character: its pose (rotations, scales, translations of its joints, blocks of 8:
-  // pose_evaluator.cpp), and per joint the region of its clip it was last in and the region
-  // whose key its pose holds (or none).
+  // pose_evaluator.cpp), and per joint the region of its clip it was last in and its span.
   std::vector<float> m_pose;
   std::size_t m_poseFloats = 0;
   std::vector<std::uint32_t> m_cursor;
-  std::vector<std::uint32_t> m_held;
+  std::vector<internal::JointSpan> m_span;
   std::vector<float> m_splat;               // the job's inverse binds laid out for the palette product
   const void* m_inverseBindsSeen = nullptr; // the inverse binds m_splat holds
   std::vector<Scratch> m_scratch;

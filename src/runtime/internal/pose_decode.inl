@@ -72,12 +72,49 @@ MLOD_DECODE_INLINE __m128 rotationOf(__m128 v, int drop) {
   v = _mm_blend_ps(v, _mm_sqrt_ps(rest), 8);
   return _mm_permutevar_ps(v, _mm_load_si128(reinterpret_cast<const __m128i*>(kPlaceV3[drop])));
 }
+// Per bit width b: the bit offsets of two consecutive entries' values from the first's
+// (0, b, 2b in the low half, 3b, 4b, 5b in the high half; lanes 3 and 7 repeat their
+// neighbour and are cleared by the zero step).
+struct alignas(32) PairOffsets {
+  int o[8];
+};
+constexpr PairOffsets pairOffsetsOf(int b) { return {{0, b, 2 * b, 2 * b, 3 * b, 4 * b, 5 * b, 5 * b}}; }
+alignas(32) constexpr PairOffsets kPairOffsets[internal::kMaxBits + 1] = {
+    pairOffsetsOf(0),  pairOffsetsOf(1),  pairOffsetsOf(2),  pairOffsetsOf(3),  pairOffsetsOf(4),
+    pairOffsetsOf(5),  pairOffsetsOf(6),  pairOffsetsOf(7),  pairOffsetsOf(8),  pairOffsetsOf(9),
+    pairOffsetsOf(10), pairOffsetsOf(11), pairOffsetsOf(12), pairOffsetsOf(13), pairOffsetsOf(14),
+    pairOffsetsOf(15), pairOffsetsOf(16), pairOffsetsOf(17), pairOffsetsOf(18), pairOffsetsOf(19)};
+alignas(32) constexpr int kPlacePairV3[4][8] = {
+    {3, 0, 1, 2, 3, 0, 1, 2}, {0, 3, 1, 2, 0, 3, 1, 2}, {0, 1, 3, 2, 0, 1, 3, 2}, {0, 1, 2, 3, 0, 1, 2, 3}};
+// Entries e and e + 1 of a stream (a rotation's as x, y, z, w). When both lie in one
+// packed chunk (15 times in 16), their six values come in one gather of 32-bit words
+// (a value and its offset in its first byte span at most 19 + 7 bits) and are rebuilt
+// together, one entry per 128-bit half.
 template <bool Rotation>
 MLOD_DECODE_INLINE void decodePair(const internal::Stream& stream, const internal::Chunk* chunks,
                                   const std::uint8_t* bits, std::uint32_t e, __m128& out_a, __m128& out_b) {
   const internal::Chunk* chunk = chunks + stream.chunkBegin + e / internal::kChunkEntries;
   const std::uint32_t k = e % internal::kChunkEntries;
+  const int b = chunk->bits;
   const View here = viewOf(stream, *chunk);
+  if (__builtin_expect(k + 1 < internal::kChunkEntries && b != internal::kRawBits, 1)) {
+    const __m256i at =
+        _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(chunk->bitOffset + 3u * static_cast<std::uint32_t>(b) * k)),
+                         _mm256_load_si256(reinterpret_cast<const __m256i*>(kPairOffsets[b].o)));
+    const __m256i words = _mm256_i32gather_epi32(reinterpret_cast<const int*>(bits), _mm256_srli_epi32(at, 3), 1);
+    const __m256i q = _mm256_and_si256(_mm256_srlv_epi32(words, _mm256_and_si256(at, _mm256_set1_epi32(7))),
+                                       _mm256_set1_epi32(static_cast<int>((1u << b) - 1u)));
+    __m256 v = _mm256_fmadd_ps(_mm256_set_m128(here.step, here.step), _mm256_cvtepi32_ps(q),
+                               _mm256_set_m128(here.low, here.low));
+    if (Rotation) {
+      const __m256 rest = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_dp_ps(v, v, 0x7f)), _mm256_setzero_ps());
+      v = _mm256_blend_ps(v, _mm256_sqrt_ps(rest), 0x88);
+      v = _mm256_permutevar_ps(v, _mm256_load_si256(reinterpret_cast<const __m256i*>(kPlacePairV3[chunk->drop])));
+    }
+    out_a = _mm256_castps256_ps128(v);
+    out_b = _mm256_extractf128_ps(v, 1);
+    return;
+  }
   out_a = slotsOf(*chunk, here, bits, k);
   if (Rotation)
     out_a = rotationOf(out_a, chunk->drop);
@@ -190,7 +227,7 @@ std::int64_t decodePose(const DecodeJob& job) {
   const int blendFrames = job.blendFrames;
   float* __restrict pose = job.pose;
   std::uint32_t* __restrict cursor = job.cursor;
-  std::uint32_t* __restrict held = job.held;
+  internal::JointSpan* __restrict span = job.span;
   const internal::CompressedStreams& streams = clip.streams();
   const internal::Chunk* chunks = streams.chunks();
   const std::uint8_t* bits = streams.bits();
@@ -199,6 +236,18 @@ std::int64_t decodePose(const DecodeJob& job) {
   std::int64_t sampled = 0;
   for (const std::int16_t joint : clip.rotationJoints()) {
     const int j = joint;
+    float* p = pose + poseOffset(j) + kAx * kLanes;
+    const internal::Stream& stream = streams.stream(clip.rotationStream(j));
+    internal::JointSpan& s = span[j];
+    if (i0 >= s.from && i0 < s.until) {
+      if (s.delta == internal::JointSpan::kHeldKey)
+        continue; // frozen: the pose holds the key
+      Value a, b;
+      decodePair<true>(stream, chunks, bits, static_cast<std::uint32_t>(i0 + s.delta), a, b);
+      put4(p, lerpShorter(a, b, fraction));
+      sampled += (flags[j] & (LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 0 : 1;
+      continue;
+    }
     std::uint32_t r = cursor[j];
     if (i0 < regions[r].first || i0 >= regions[r + 1].first) {
       // the next region (a character plays forward), else a search
@@ -207,19 +256,24 @@ std::int64_t decodePose(const DecodeJob& job) {
               : clip.regionOf(j, i0);
       cursor[j] = r;
     }
-    float* p = pose + poseOffset(j) + kAx * kLanes;
-    const internal::Stream& stream = streams.stream(clip.rotationStream(j));
     const std::int32_t last = clip.lastOf(r);
     const int window = clip.windowRegion(j, r, i0, blendFrames);
     if (i0 < last && window < 0) {
-      if (held[j] != r) {
-        put4(p, decodeKey(stream, chunks, bits, regions[r].entry));
-        held[j] = r;
-      }
+      // frozen until the cluster's last frame (a later i0 is past any earlier window)
+      put4(p, decodeKey(stream, chunks, bits, regions[r].entry));
+      s = {i0, last, internal::JointSpan::kHeldKey};
       continue;
     }
-    held[j] = kNoKey;
     sampled += (flags[j] & (LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 0 : 1;
+    if (window < 0) {
+      // frames i0 and i0 + 1 are consecutive entries up to the region's end (past the window)
+      s = {i0, regions[r + 1].first, static_cast<std::int32_t>(regions[r].entry) - last};
+      Value a, b;
+      decodePair<true>(stream, chunks, bits, regions[r].entry + static_cast<std::uint32_t>(i0 - last), a, b);
+      put4(p, lerpShorter(a, b, fraction));
+      continue;
+    }
+    s = {};
     Value a, b;
     if (i0 >= last) {
       // frames i0 and i0 + 1 are consecutive entries
@@ -228,10 +282,6 @@ std::int64_t decodePose(const DecodeJob& job) {
       // inside a cluster, in the window of the one before: both frames show the key
       a = decodeKey(stream, chunks, bits, regions[r].entry);
       b = a;
-    }
-    if (window < 0) {
-      put4(p, lerpShorter(a, b, fraction));
-      continue;
     }
     // the window's offsets (LodClip::windowOffsets(), with this decoder; left unnormalised)
     const internal::Stream& exits = streams.stream(clip.exitStream(j));
