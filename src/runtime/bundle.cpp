@@ -680,11 +680,12 @@ std::optional<Bundle> readBundleFile(const std::string& path, std::string* out_e
   return readBundle(std::span(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()), out_error);
 }
 
-std::optional<BundleLevelRuntime> buildBundleLevel(const BundleLevel& level, std::string* out_error) {
+std::optional<BundleLevelRuntime> buildBundleLevel(const BundleLevel& level, std::string* out_error, int blendFrames) {
   BundleLevelRuntime out;
   std::string message;
   for (const BundleClip& clip : level.clips) {
     LodClipSource source = clip.source();
+    source.blendFrames = blendFrames;
     if (level.parents.size() == static_cast<std::size_t>(clip.jointCount))
       source.parents = level.parents;
     std::optional<LodClip> built = LodClip::build(source, &message);

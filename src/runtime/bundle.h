@@ -60,7 +60,12 @@ struct BundleClip {
   std::vector<std::uint32_t> clusterBegin;   // jointCount + 1 entries, or none
 
   LodClipSource source() const;
-  std::optional<LodClip> build(std::string* out_error = nullptr) const { return LodClip::build(source(), out_error); }
+  // The clip for `blendFrames` frames of unfreeze blending (LodClipSource::blendFrames).
+  std::optional<LodClip> build(std::string* out_error = nullptr, int blendFrames = 0) const {
+    LodClipSource built = source();
+    built.blendFrames = blendFrames;
+    return LodClip::build(built, out_error);
+  }
 };
 
 // A level's skinning mesh, bound to the level's skeleton.
@@ -131,9 +136,11 @@ std::optional<Bundle> readBundleFile(const std::string& path, std::string* out_e
 // and joints are in range. Empty string when fine.
 std::string validateBundle(const Bundle& bundle);
 
-// The level's LodClips and SkinningMesh. Errors: what LodClip::build() and
-// SkinningMesh::build() refuse.
-std::optional<BundleLevelRuntime> buildBundleLevel(const BundleLevel& level, std::string* out_error = nullptr);
+// The level's LodClips, for `blendFrames` frames of unfreeze blending (the N the engine
+// plays them with: LodClipSource::blendFrames), and SkinningMesh. Errors: what
+// LodClip::build() and SkinningMesh::build() refuse.
+std::optional<BundleLevelRuntime> buildBundleLevel(const BundleLevel& level, std::string* out_error = nullptr,
+                                                   int blendFrames = 0);
 
 // CRC-32 (IEEE 802.3, as zlib's crc32()).
 std::uint32_t crc32(std::span<const std::uint8_t> bytes);

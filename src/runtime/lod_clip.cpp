@@ -192,7 +192,6 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   clip.m_staticTranslation.resize(joints);
   clip.m_staticScale.resize(joints);
   clip.m_rotationStream.assign(joints, -1);
-  clip.m_exitStream.assign(joints, -1);
   clip.m_translationStream.assign(joints, -1);
   clip.m_scaleStream.assign(joints, -1);
   clip.m_regionBegin.assign(joints + 1, 0);
@@ -240,7 +239,10 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
     clip.m_flags[j] = static_cast<std::uint8_t>(clip.m_flags[j] & ~flag);
     return -1;
   };
-  std::vector<glm::vec4> exits;
+  const int n = clip.m_blendFrames;
+  std::vector<glm::quat> shown(frames);
+  std::vector<std::uint8_t> held(frames);
+  std::vector<LodCluster> spans;
   for (std::size_t j = 0; j < joints; ++j) {
     const std::uint8_t flags = clip.m_flags[j];
     clip.m_regionBegin[j] = static_cast<std::uint32_t>(clip.m_regions.size());
@@ -250,9 +252,43 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
       std::span<const LodCluster> given;
       if (!source.clusterBegin.empty())
         given = source.clusters.subspan(source.clusterBegin[j], source.clusterBegin[j + 1] - source.clusterBegin[j]);
+      // what the joint shows at each frame (the header's "Unfreeze blending"): M', then
+      // each window's offset, older windows outermost; `held`: the key, untouched
+      std::copy_n(q, frames, shown.begin());
+      std::fill(held.begin(), held.end(), std::uint8_t{0});
+      for (const LodCluster& cluster : given)
+        for (std::int32_t i = cluster.first; i <= cluster.last; ++i) {
+          shown[static_cast<std::size_t>(i)] = q[cluster.key];
+          held[static_cast<std::size_t>(i)] = 1;
+        }
+      if (n > 0) {
+        std::vector<glm::quat> offset(frames, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+        for (const LodCluster& cluster : given) {
+          if (cluster.last >= source.frameCount - 1)
+            continue; // it reaches the clip's end: nothing to leave
+          const glm::quat exit = positiveW(q[cluster.key] * glm::inverse(q[cluster.last]));
+          const std::int32_t end = std::min(cluster.last + n, source.frameCount);
+          for (std::int32_t i = cluster.last + 1; i < end; ++i) {
+            const float weight = 1.0f - static_cast<float>(i - cluster.last) / static_cast<float>(n);
+            offset[static_cast<std::size_t>(i)] = offset[static_cast<std::size_t>(i)] * scaleOffset(exit, weight);
+            held[static_cast<std::size_t>(i)] = 0;
+          }
+        }
+        for (std::size_t i = 0; i < frames; ++i)
+          shown[i] = glm::normalize(offset[i] * shown[i]);
+      }
+      // the frozen frames of each cluster (a cluster's frames minus those an earlier window
+      // reaches: a suffix of it), kept where 2 or more
+      spans.clear();
+      for (const LodCluster& cluster : given) {
+        std::int32_t first = cluster.first;
+        while (first <= cluster.last && !held[static_cast<std::size_t>(first)])
+          ++first;
+        if (cluster.last - first >= 1)
+          spans.push_back(LodCluster{first, cluster.last, cluster.key});
+      }
       values.clear();
-      exits.clear();
-      // regions: each cluster (or frame 0 alone) and the frames after it up to the next
+      // regions: each frozen span (or frame 0 alone) and the frames after it up to the next
       std::size_t next = 0;
       std::int32_t frame = 0;
       while (frame < source.frameCount) {
@@ -260,31 +296,24 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
         region.first = frame;
         region.entry = static_cast<std::uint32_t>(values.size());
         std::int32_t last = frame;
-        glm::quat exit(1.0f, 0.0f, 0.0f, 0.0f);
-        if (next < given.size() && given[next].first == frame) {
-          const LodCluster& cluster = given[next++];
-          last = cluster.last;
-          values.push_back(asVec4(q[cluster.key]));
-          if (last < source.frameCount - 1)
-            exit = positiveW(q[cluster.key] * glm::inverse(q[last]));
+        if (next < spans.size() && spans[next].first == frame) {
+          last = spans[next++].last;
+          values.push_back(asVec4(q[spans[next - 1].key]));
         } else {
-          values.push_back(asVec4(q[frame]));
+          values.push_back(asVec4(shown[static_cast<std::size_t>(frame)]));
         }
-        const std::int32_t end = next < given.size() ? given[next].first : source.frameCount;
+        const std::int32_t end = next < spans.size() ? spans[next].first : source.frameCount;
         for (std::int32_t i = last + 1; i < end; ++i)
-          values.push_back(asVec4(q[i]));
+          values.push_back(asVec4(shown[static_cast<std::size_t>(i)]));
         clip.m_regions.push_back(region);
-        exits.push_back(asVec4(exit));
         frame = end;
       }
       clip.m_regions.push_back(Region{source.frameCount, static_cast<std::uint32_t>(values.size())});
       clip.m_rotationStream[j] = keptIfMoving(addStream(true, levers.rotation[j]), kRotationAnimated, j);
       if (clip.m_rotationStream[j] >= 0) {
         clip.m_clusterCount += static_cast<int>(given.size());
-        if (given.empty())
+        if (spans.empty())
           clip.m_flags[j] = static_cast<std::uint8_t>(clip.m_flags[j] | kEveryFrame);
-        values.swap(exits);
-        clip.m_exitStream[j] = addStream(true, levers.rotation[j]);
       } else {
         clip.m_regions.resize(clip.m_regionBegin[j]);
       }
@@ -321,7 +350,7 @@ std::size_t LodClip::byteSize() const {
   return sizeof(LodClip) + m_flags.size() * sizeof(std::uint8_t) + m_staticRotation.size() * sizeof(glm::quat) +
          (m_staticTranslation.size() + m_staticScale.size()) * sizeof(glm::vec3) +
          (m_rotationJoints.size() + m_vectorJoints.size()) * sizeof(std::int16_t) +
-         (m_rotationStream.size() + m_exitStream.size() + m_translationStream.size() + m_scaleStream.size()) *
+         (m_rotationStream.size() + m_translationStream.size() + m_scaleStream.size()) *
              sizeof(std::int32_t) +
          m_regionBegin.size() * sizeof(std::uint32_t) + m_regions.size() * sizeof(Region) + m_streams.byteSize();
 }
@@ -353,40 +382,17 @@ std::uint32_t LodClip::regionOf(int joint, std::int32_t i) const {
   return static_cast<std::uint32_t>(found - m_regions.data()) - 1;
 }
 
-void LodClip::windowOffsets(int joint, int window, std::int32_t i0, float fraction, int blendFrames,
-                            glm::quat& out_first, glm::quat& out_outer) const {
-  // exit offsets are stored one per region of the joint
-  const std::uint32_t first = regionBegin(joint);
-  const int exits = exitStream(joint);
-  const std::uint32_t c = static_cast<std::uint32_t>(window);
-  const auto exitOf = [&](std::uint32_t at) { return positiveW(internal::toQuat(m_streams.value(exits, at - first))); };
-  const glm::quat latest = exitOf(c);
-  out_first = lastOf(c) == i0 ? glm::conjugate(latest) : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
-  const double f = static_cast<double>(i0) + fraction;
-  glm::quat outer(1.0f, 0.0f, 0.0f, 0.0f);
-  for (std::uint32_t at = c + 1; at-- > first;) {
-    const std::int32_t last = lastOf(at);
-    if (last + blendFrames <= i0)
-      break; // older clusters ended earlier still
-    if (last <= m_regions[at].first || last >= m_frameCount - 1)
-      continue; // frame 0 alone, or a cluster that reaches the clip's end
-    const double w = std::clamp((f - last) / blendFrames, 0.0, 1.0);
-    outer = scaleOffset(at == c ? latest : exitOf(at), static_cast<float>(1.0 - w)) * outer;
-  }
-  out_outer = outer;
-}
-
-bool LodClip::frozen(int joint, int i0, int blendFrames) const {
+bool LodClip::frozen(int joint, int i0) const {
   const std::uint8_t f = flags(joint);
   if (f & (kTranslationAnimated | kScaleAnimated))
     return false;
   if (!(f & kRotationAnimated))
     return true;
   const std::uint32_t r = regionOf(joint, i0);
-  return i0 < lastOf(r) && windowRegion(joint, r, i0, blendFrames) < 0;
+  return i0 < lastOf(r);
 }
 
-glm::quat LodClip::rotationAt(int joint, double frame, int blendFrames) const {
+glm::quat LodClip::rotationAt(int joint, double frame) const {
   if (!(flags(joint) & kRotationAnimated))
     return staticRotation(joint);
   std::int32_t i0 = 0;
@@ -394,19 +400,11 @@ glm::quat LodClip::rotationAt(int joint, double frame, int blendFrames) const {
   split(frame, i0, fraction);
   const std::uint32_t r = regionOf(joint, i0);
   const std::int32_t i1 = std::min(i0 + 1, m_frameCount - 1);
-  glm::quat a = rotationEntry(joint, entryOf(r, i0));
+  const glm::quat a = rotationEntry(joint, entryOf(r, i0));
   glm::quat b = rotationEntry(joint, entryOf(r, i1));
-  const int window = windowRegion(joint, r, i0, blendFrames);
-  glm::quat outer(1.0f, 0.0f, 0.0f, 0.0f);
-  if (window >= 0) {
-    glm::quat before(1.0f, 0.0f, 0.0f, 0.0f);
-    windowOffsets(joint, window, i0, fraction, blendFrames, before, outer);
-    a = before * a;
-  }
   if (glm::dot(a, b) < 0.0f)
     b = -b;
-  const glm::quat s = nlerp(a, b, fraction);
-  return window >= 0 ? glm::normalize(outer * s) : s;
+  return nlerp(a, b, fraction);
 }
 
 std::vector<LodClip::Cluster> LodClip::clusters(int joint) const {
@@ -421,8 +419,6 @@ std::vector<LodClip::Cluster> LodClip::clusters(int joint) const {
     cluster.first = m_regions[r].first;
     cluster.last = last;
     cluster.key = rotationEntry(joint, m_regions[r].entry);
-    cluster.exitOffset = positiveW(internal::toQuat(m_streams.value(exitStream(joint), r - regionBegin(joint))));
-    cluster.lastRotation = glm::conjugate(cluster.exitOffset) * cluster.key;
     cluster.joint = joint;
     out.push_back(cluster);
   }

@@ -23,18 +23,19 @@
 //
 // Unfreeze blending (docs/architecture.md section 5): when a cluster [first, last] of a joint ends
 // before the clip does, its rotation jumps within one frame from the key to the next
-// frame's. With blendFrames = N > 0 the jump is spread over N frames: at frame positions f
-// in the window [last, last + N) the joint shows
-//     nlerp(identity, D, 1 - (f - last) / N) * S(f),
-// where S(f) is M'(f) except that on [last, last + 1) it starts from the original rotation
-// q(last) instead of the key, and D = key * q(last)^-1: the cluster's own error at its last
-// frame (stored once per cluster; q(last) is rebuilt as D^-1 * key). It equals the key at
-// f = last and M'(f) from f = last + N on, and differs from M'(f) inside by the angle of D
-// at most, an error M' already makes inside the cluster (the joint stays within the
-// level's joint-position fidelity); each frame it moves by the original motion plus 1/N of
-// that angle. Windows of consecutive clusters that overlap compose (older offsets
-// outermost). The window depends on the clip, N and the frame position alone: the
-// evaluator works it out as it plays (windowOffsets()), for any N.
+// frame's. A clip built with blendFrames = N > 0 spreads the jump over N frames: at every
+// frame i in the window (last, last + N) the joint shows
+//     nlerp(identity, D, 1 - (i - last) / N) * M'(i),    D = key * q(last)^-1,
+// the cluster's own error at its last frame decaying to nothing (windows of consecutive
+// clusters that overlap compose, older offsets outermost), and between frames the nlerp of
+// two frames, as everywhere. So the clip stores the blended frames themselves: the frames
+// of a window are entries like any frame outside a cluster, and a cluster freezes only the
+// frames no earlier window reaches (a cluster left with fewer than 2 such frames freezes
+// none). The blend equals the key at frame last and M' from last + N on, and differs from
+// M' inside by the angle of D at most, an error M' already makes inside the cluster (the
+// joint stays within the level's joint-position fidelity). N is part of the clip: the
+// evaluator plays it with that N (PoseEvaluatorJob::blendFrames) and decodes no window
+// of its own.
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -53,8 +54,7 @@
 namespace mlod {
 
 // The most frames of unfreeze and level-change blending (LodClipSource::blendFrames,
-// LodClip::setBlendFrames(), PoseEvaluatorJob::blendFrames, Crowd and the CLI's
-// --blend-frames).
+// PoseEvaluatorJob::blendFrames, Crowd and the CLI's --blend-frames).
 inline constexpr int kMaxBlendFrames = 10000;
 // The default precision of a clip's quantization (cm; LodClipSource::precisionCm).
 inline constexpr double kDefaultClipPrecisionCm = 0.01;
@@ -84,7 +84,8 @@ struct LodClipSource {
   // with its key inside. clusterBegin has jointCount + 1 entries, or none (no clusters).
   std::span<const LodCluster> clusters;
   std::span<const std::uint32_t> clusterBegin;
-  // Frames of unfreeze blending the clip is played with, [0, kMaxBlendFrames] (0 = none: M'(t)).
+  // Frames of unfreeze blending the clip is built for and played with, [0,
+  // kMaxBlendFrames] (0 = none: M'(t); the header's "Unfreeze blending").
   int blendFrames = 0;
   // The skeleton (parent of each joint, parents first, -1 for a root), or none: it shares
   // the precision out along chains (LodClip's header); without it the bounds are coarser
@@ -97,13 +98,12 @@ struct LodClipSource {
 
 class LodClip {
 public:
-  // One cluster of a joint as the clip holds it (a view: clusters() decodes it).
+  // The frozen frames of one cluster of a joint as the clip holds them (a view: clusters()
+  // decodes it): with blending, those no earlier window reaches.
   struct Cluster {
     std::int32_t first = 0; // frames, inclusive
     std::int32_t last = 0;
-    glm::quat key{1.0f, 0.0f, 0.0f, 0.0f};          // the key posture's rotation, as decoded
-    glm::quat lastRotation{1.0f, 0.0f, 0.0f, 0.0f}; // q(last) = exitOffset^-1 * key, as decoded
-    glm::quat exitOffset{1.0f, 0.0f, 0.0f, 0.0f};   // D = key * q(last)^-1, w >= 0; identity at the clip's end
+    glm::quat key{1.0f, 0.0f, 0.0f, 0.0f}; // the key posture's rotation, as decoded
     std::int32_t joint = 0;
   };
   // A region of a joint's rotation (the storage the evaluator walks): a cluster [first,
@@ -172,13 +172,13 @@ public:
   }
 
   // Joint j at frame position f in [0, frameCount - 1]: the rotation of M'(f) with the
-  // unfreeze blends of `blendFrames` (0 = none), its translation and scale, as decoded.
-  // The reference path (tools, tests, level changes); the evaluator gives the same values
+  // clip's unfreeze blends (blendFrames()), its translation and scale, as decoded. The
+  // reference path (tools, tests, level changes); the evaluator gives the same values
   // faster.
-  glm::quat rotationAt(int joint, double frame, int blendFrames = 0) const;
+  glm::quat rotationAt(int joint, double frame) const;
   glm::vec3 translationAt(int joint, double frame) const;
   glm::vec3 scaleAt(int joint, double frame) const;
-  // The clusters of a joint, decoded (first, last, key, exit offset).
+  // The clusters of a joint as stored (their frozen frames and key), decoded.
   std::vector<Cluster> clusters(int joint) const;
 
   std::uint8_t flags(int joint) const { return m_flags[static_cast<std::size_t>(joint)]; }
@@ -189,10 +189,9 @@ public:
   const glm::vec3& staticScale(int joint) const { return m_staticScale[static_cast<std::size_t>(joint)]; }
   // A scale other than 1 somewhere in the clip (else the evaluator skips scales).
   bool scaled() const { return m_scaled; }
-  // Frames of unfreeze blending the clip is played with (0 = none): a figure the job
-  // checks; the windows are worked out as the clip plays, for any N.
+  // Frames of unfreeze blending the clip was built for (LodClipSource::blendFrames; 0 =
+  // none): the N it must be played with (PoseEvaluatorJob checks it).
   int blendFrames() const { return m_blendFrames; }
-  void setBlendFrames(int frames) { m_blendFrames = frames < 0 ? 0 : (frames > kMaxBlendFrames ? kMaxBlendFrames : frames); }
   // i0 (the frame at or before the frame position, at most frameCount - 2) and the
   // fraction past it.
   void split(double frame, std::int32_t& out_i0, float& out_fraction) const {
@@ -203,19 +202,17 @@ public:
     out_i0 = i0;
     out_fraction = fraction < 0.0f ? 0.0f : (fraction > 1.0f ? 1.0f : fraction);
   }
-  // Is joint j frozen between frames i0 and i0 + 1 (both inside one cluster, no unfreeze
-  // window of `blendFrames`, translation and scale static)?
-  bool frozen(int joint, int i0, int blendFrames = 0) const;
+  // Is joint j frozen between frames i0 and i0 + 1 (both among one cluster's frozen
+  // frames, translation and scale static)?
+  bool frozen(int joint, int i0) const;
 
   // The storage the evaluator reads (docs/architecture.md section 5, "Compressed clips").
   // Joints whose rotation animates, and joints whose translation or scale does, in order.
   std::span<const std::int16_t> rotationJoints() const { return m_rotationJoints; }
   std::span<const std::int16_t> vectorJoints() const { return m_vectorJoints; }
-  // A joint's stream of rotations (entries by Region), exit offsets (one per region: D of
-  // its cluster, identity where it freezes nothing or reaches the clip's end), translations
-  // and scales (one entry per frame); -1 when the channel is static.
+  // A joint's stream of rotations (entries by Region), translations and scales (one entry
+  // per frame); -1 when the channel is static.
   int rotationStream(int joint) const { return m_rotationStream[static_cast<std::size_t>(joint)]; }
-  int exitStream(int joint) const { return m_exitStream[static_cast<std::size_t>(joint)]; }
   int translationStream(int joint) const { return m_translationStream[static_cast<std::size_t>(joint)]; }
   int scaleStream(int joint) const { return m_scaleStream[static_cast<std::size_t>(joint)]; }
   const internal::CompressedStreams& streams() const { return m_streams; }
@@ -238,31 +235,6 @@ public:
   glm::quat rotationEntry(int joint, std::uint32_t entry) const {
     return internal::toQuat(m_streams.value(rotationStream(joint), entry));
   }
-  // The latest cluster of joint j (region index, or -1) whose unfreeze window of
-  // `blendFrames` holds frame i0, given the region r that holds i0.
-  int windowRegion(int joint, std::uint32_t r, std::int32_t i0, int blendFrames) const {
-    if (blendFrames <= 0)
-      return -1;
-    // the latest cluster that ended at or before i0: windows of older ones end earlier
-    std::uint32_t c = r;
-    std::int32_t last = lastOf(r);
-    if (last > i0) {
-      if (r == regionBegin(joint))
-        return -1;
-      c = r - 1;
-      last = lastOf(c);
-    }
-    const bool real = last > m_regions[c].first; // a cluster (>= 3 frames), not frame 0 alone
-    return real && last < m_frameCount - 1 && last + blendFrames > i0 ? static_cast<int>(c) : -1;
-  }
-  // The unfreeze blend of joint j at frame position i0 + fraction, in the window of region
-  // `window` (windowRegion() >= 0): the rotation shown is
-  //     out_outer * nlerp(out_first * R(i0), R(i0 + 1), fraction)
-  // where R are the joint's rotations of M' at the two frames (the header's definition:
-  // out_first = D^-1 when i0 is the cluster's last frame, else the identity; out_outer the
-  // product of the offsets of every window that holds the frame position).
-  void windowOffsets(int joint, int window, std::int32_t i0, float fraction, int blendFrames, glm::quat& out_first,
-                     glm::quat& out_outer) const;
 
 private:
   glm::vec3 vectorAt(int stream, const glm::vec3& fixed, double frame) const;
@@ -284,7 +256,6 @@ private:
   std::vector<std::int16_t> m_rotationJoints;
   std::vector<std::int16_t> m_vectorJoints;
   std::vector<std::int32_t> m_rotationStream;
-  std::vector<std::int32_t> m_exitStream;
   std::vector<std::int32_t> m_translationStream;
   std::vector<std::int32_t> m_scaleStream;
   std::vector<std::uint32_t> m_regionBegin; // jointCount + 1 (a joint's sentinel is at the next one's begin - 1)

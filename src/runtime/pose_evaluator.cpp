@@ -110,10 +110,9 @@ bool isIdentity(const glm::quat& q) {
 }
 
 // A looping clip's wrap offset of `joint`: the jump from its last frame's rotation to its
-// first's, which decays over the first blendFrames frames of every later period.
-glm::quat wrapOffset(const LodClip& clip, int joint, int blendFrames) {
-  return positiveW(clip.rotationAt(joint, clip.frameCount() - 1, blendFrames) *
-                   glm::inverse(clip.rotationAt(joint, 0.0, blendFrames)));
+// first's, which decays over the first N frames of every later period.
+glm::quat wrapOffset(const LodClip& clip, int joint) {
+  return positiveW(clip.rotationAt(joint, clip.frameCount() - 1) * glm::inverse(clip.rotationAt(joint, 0.0)));
 }
 
 // The rotation of `joint` that `clip` shows at `seconds` without level blending: M'
@@ -121,12 +120,12 @@ glm::quat wrapOffset(const LodClip& clip, int joint, int blendFrames) {
 glm::quat shownRotation(const LodClip& clip, int joint, double seconds, int blendFrames) {
   std::int64_t loop = 0;
   const double f = clip.framePosition(seconds, &loop);
-  glm::quat q = clip.rotationAt(joint, f, blendFrames);
+  glm::quat q = clip.rotationAt(joint, f);
   std::int32_t i0 = 0;
   float fraction = 0.0f;
   clip.split(f, i0, fraction);
   if (blendFrames > 0 && clip.looping() && loop >= 1 && i0 < blendFrames) {
-    const glm::quat wrap = wrapOffset(clip, joint, blendFrames);
+    const glm::quat wrap = wrapOffset(clip, joint);
     q = scaleOffset(wrap, static_cast<float>(1.0 - std::min(f / blendFrames, 1.0))) * q;
   }
   return q;
@@ -200,12 +199,11 @@ const bool kHasV3 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fm
 #endif
 
 // One character's decode (internal/pose_decode.inl): its clip and frame, its pose and its
-// per-joint region cursors and held keys.
+// per-joint region cursors and spans.
 struct DecodeJob {
   const LodClip& clip;
   std::int32_t i0;
   float fraction;
-  int blendFrames;
   float* pose;
   std::uint32_t* cursor;
   internal::JointSpan* span;
@@ -369,7 +367,7 @@ struct PoseEvaluation {
       // the wrap's offsets depend on the clip and N alone: once per thread and run
       if (scratch.wrapClip != &clip || scratch.wrapFrames != blendFrames) {
         for (int j = 0; j < joints; ++j)
-          scratch.wrapOffsets[static_cast<std::size_t>(j)] = wrapOffset(clip, j, blendFrames);
+          scratch.wrapOffsets[static_cast<std::size_t>(j)] = wrapOffset(clip, j);
         scratch.wrapClip = &clip;
         scratch.wrapFrames = blendFrames;
       }
@@ -408,7 +406,7 @@ struct PoseEvaluation {
     std::uint32_t* __restrict cursor = &ctx.m_cursor[at];
     internal::JointSpan* __restrict span = &ctx.m_span[at];
     // 1. rotations, translations and scales into the character's pose
-    const DecodeJob decode{clip, i0, fraction, blendFrames, pose, cursor, span};
+    const DecodeJob decode{clip, i0, fraction, pose, cursor, span};
 #ifdef MLOD_DECODE_V3_BUILT
     const std::int64_t sampled = kHasV3 ? decode_v3::decodePose(decode) : decode_base::decodePose(decode);
 #else
@@ -543,8 +541,8 @@ bool PoseEvaluatorJob::validate(std::string* out_error) const {
     if (!clip || clip->jointCount() != static_cast<int>(joints))
       return refuse(who + ": no clip, or a clip of another joint count");
     if (clip->clusterCount() > 0 && clip->blendFrames() != blendFrames)
-      return refuse(who + ": its clip is set for " + std::to_string(clip->blendFrames()) +
-                    " blend frames, the job asks " + std::to_string(blendFrames));
+      return refuse(who + ": its clip was built for " + std::to_string(clip->blendFrames()) +
+                    " blend frames (its unfreeze windows are stored), the job asks " + std::to_string(blendFrames));
     const double t = times[c];
     if (!std::isfinite(t) || t < 0.0)
       return refuse(who + ": its time is not finite and >= 0");

@@ -6,13 +6,13 @@
 // For every character of a crowd (a LodClip = the level it plays, and a time in seconds)
 // PoseEvaluatorJob writes the model-space matrices of its joints and its skinning palette
 // (model x inverse bind). Per character, at frame position f = time x fps, i0 = floor(f):
-// - a *moving* joint (rotation outside a cluster or in an unfreeze window, or an animated
+// - a *moving* joint (rotation outside a cluster's frozen frames, or an animated
 //   translation or scale) has its two entries around f decoded from the clip's compressed
 //   streams (internal/compressed_tracks.h), its rotation nlerped, translation and scale
 //   lerped;
-// - a *frozen* joint (both frames inside one cluster, no window) keeps the key it decoded
-//   when its cluster began: the character's pose holds it, and a cursor per joint (the
-//   clip's region it was last in) finds the cluster again in one compare;
+// - a *frozen* joint (both frames among one cluster's frozen frames) keeps the key it
+//   decoded when its cluster began: the character's pose holds it, and a span per joint
+//   (the frames over which nothing changes) finds it again in two compares;
 // - a joint the clip never moves (BVH end sites) keeps its static values, written once
 //   when the character starts the clip;
 // - the local matrices are made 8 joints at once from the pose, and the hierarchy pass is
@@ -22,8 +22,9 @@
 // With blendFrames = 0 the result is forward kinematics of the simplified motion M'(t) as
 // the clip stores it (LodClip::rotationAt() etc.). With blendFrames = N > 0, joints resume
 // without popping:
-// - after a cluster ends, as LodClip describes (a property of the clip, N and f alone,
-//   worked out as the clip plays: LodClip::windowOffsets());
+// - after a cluster ends, as LodClip describes: the clip is built for N and stores the
+//   blended frames (LodClipSource::blendFrames; the job refuses a clip with clusters
+//   built for another N);
 // - at a looping clip's wrap (from the second period on, for f < N): the jump from the
 //   pose at the last frame to the pose at frame 0 decays over N frames (rotations; the
 //   root's translation wraps as the clip does: root motion is the caller's business);
@@ -39,8 +40,8 @@
 // are spread over the threads of an optional WorkerPool; the result does not depend on
 // the thread count (each character's output depends on its own inputs and state alone).
 //
-// Clip lifetime: a character's state keeps the `const LodClip*` of its last run, keys and
-// region cursors of it, and reads that clip again at a level switch (to blend from what it
+// Clip lifetime: a character's state keeps the `const LodClip*` of its last run, keys,
+// region cursors and spans of it, and reads that clip again at a level switch (to blend from what it
 // showed). Before a clip is freed or moved, reset the characters that played it
 // (PoseEvaluatorContext::reset()).
 
@@ -147,7 +148,7 @@ struct PoseEvaluatorJob {
   std::span<const LodClip* const> clips;
   std::span<const double> times;
   // Frames over which a resuming joint blends back (0 = off: exactly M'(t)). A clip with
-  // clusters must be set for it (LodClip::blendFrames(): the N its level is played with).
+  // clusters must be built for it (LodClip::blendFrames(): its windows are stored).
   int blendFrames = 0;
   // Threads to spread characters over; null = the calling thread only.
   WorkerPool* pool = nullptr;

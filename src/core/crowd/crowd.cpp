@@ -50,6 +50,9 @@ Result<CrowdLevel> finishLevel(Skeleton skeleton, const SkinnedMesh* mesh, const
   if (!lod)
     return lod.error();
   level.clip = std::move(lod).value();
+  level.motion = clip;
+  if (clusters)
+    level.clusters = *clusters;
   level.parents = skeleton.parentIndices();
   level.inverseBinds = paletteInverseBinds(skeleton);
   if (mesh && mesh->skinned()) {
@@ -61,6 +64,16 @@ Result<CrowdLevel> finishLevel(Skeleton skeleton, const SkinnedMesh* mesh, const
   level.skeleton = std::move(skeleton);
   level.fullDetailSampled = fullDetailSampled >= 0 ? fullDetailSampled : level.clip.animatedJointCount();
   return level;
+}
+
+// A level's clip built for `blendFrames` (a clip without clusters blends nothing: kept).
+void buildFor(CrowdLevel& level, int blendFrames) {
+  if (level.clip.clusterCount() == 0 || level.clip.blendFrames() == blendFrames)
+    return;
+  Result<LodClip> built =
+      buildLodClip(level.motion, level.clusters ? &*level.clusters : nullptr, true, level.parents, blendFrames);
+  if (built) // (it was built from the same inputs before; should it fail, the job refuses the clip's N)
+    level.clip = std::move(built).value();
 }
 
 } // namespace
@@ -192,7 +205,7 @@ LodSwitches lodSwitchesByScreenSize(const LodSet& lods) { return switchesFrom(lo
 void Crowd::setLevels(std::vector<CrowdLevel> levels) {
   m_levels = std::move(levels);
   for (CrowdLevel& level : m_levels)
-    level.clip.setBlendFrames(m_blendFrames);
+    buildFor(level, m_blendFrames);
   const std::size_t n = m_levels.size();
   m_levelAgents.assign(n, {});
   m_palettes.assign(n, {});
@@ -226,7 +239,7 @@ void Crowd::setThreads(int threads) {
 void Crowd::setBlendFrames(int frames) {
   m_blendFrames = std::clamp(frames, 0, kMaxBlendFrames);
   for (CrowdLevel& level : m_levels)
-    level.clip.setBlendFrames(m_blendFrames); // the N the level is played with (PoseEvaluatorJob checks it)
+    buildFor(level, m_blendFrames); // the N the level is played with (PoseEvaluatorJob checks it)
   for (auto& slots : m_slotAgent)
     slots.clear();
   for (PoseEvaluatorContext& context : m_contexts)

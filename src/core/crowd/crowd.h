@@ -12,6 +12,7 @@
 
 #include "core/clip.h"
 #include "core/error.h"
+#include "core/jpc/cluster_set.h"
 #include "core/jpc/jpc_settings.h"
 #include "core/lod/lod_set.h"
 #include "core/skeleton.h"
@@ -39,6 +40,8 @@ struct CrowdLevel {
   std::vector<std::int16_t> parents;      // of `skeleton`
   std::vector<glm::mat4> inverseBinds;    // paletteInverseBinds(skeleton)
   LodClip clip;                           // the level's motion (clusters on the reduced joints), looping
+  Clip motion;                            // what `clip` is built from (Crowd::setBlendFrames() builds it again:
+  std::optional<ClusterSet> clusters;     // the clip stores its unfreeze windows)
   SkinnedMesh mesh;                       // the level's mesh; bone capsules for a skeleton without mesh
   bool capsules = false;                  // `mesh` is bone capsules (no character mesh)
   int fullDetailSampled = 0;              // joints a full-detail character samples per frame
@@ -135,7 +138,8 @@ public:
   // Write each agent's model matrices too (levelModels()), as well as its palette.
   void setModels(bool on) { m_writeModels = on; }
   // Frames over which resuming joints blend back (PoseEvaluatorJob::blendFrames; 0 = off,
-  // the default): the levels' clips are set for it. Forgets the agents' state.
+  // the default): the levels' clips with clusters are built again for it (they store their
+  // unfreeze windows; LodClip's header). Forgets the agents' state.
   void setBlendFrames(int frames);
   void setAgents(std::vector<CrowdAgent> agents);
   void setSelection(const Selection& selection) { m_selection = selection; }

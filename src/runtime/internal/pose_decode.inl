@@ -3,19 +3,19 @@
 // MLOD_DECODE_V3 defined, so that one loop is built for both instruction sets and picked at
 // load time).
 //
-// Per joint whose rotation animates: the region of its clip that holds i0 (the character's
-// cursor, one compare while it stays), then
-// - frozen (both frames inside one cluster, no unfreeze window): the key, decoded once when
-//   the cluster began and kept in the character's pose (held[j] = the region);
-// - in an unfreeze window: its two frames lerped as below, with the window's offsets
-//   (LodClip::windowOffsets());
-// - else: its two entries decoded, sign-aligned and lerped (left unnormalised: the matrix
-//   divides by the squared length).
+// Per joint whose rotation animates: while frame i0 stays in the joint's span (the
+// character's state, two compares) nothing is looked up:
+// - frozen (both frames among one cluster's frozen frames): the pose already holds the
+//   key, decoded once when the span began;
+// - moving: entries i0 + delta and the next, decoded, sign-aligned and lerped (left
+//   unnormalised: the matrix divides by the squared length).
+// Past its span, the region that holds i0 (the next one, else a search) gives the next
+// span. Unfreeze windows are in the stored frames (LodClip's header): nothing to blend here.
 // Then every animated translation and scale, lerped. Returns the joints whose local matrix
 // changed this frame (PoseEvaluatorContext::jointsSampled()).
 //
 // Not a header: no include guard, no includes; it expects the names of pose_evaluator.cpp
-// (kLanes, PoseArray, poseOffset(), DecodeJob, kNoKey) and the runtime's headers.
+// (kLanes, PoseArray, poseOffset(), DecodeJob) and the runtime's headers.
 
 #ifdef MLOD_DECODE_V3
 #define MLOD_DECODE_INLINE __attribute__((always_inline)) inline
@@ -134,12 +134,6 @@ MLOD_DECODE_INLINE __m128 decodeKey(const internal::Stream& stream, const intern
   const internal::Chunk& chunk = chunks[stream.chunkBegin + e / internal::kChunkEntries];
   return rotationOf(slotsOf(chunk, viewOf(stream, chunk), bits, e % internal::kChunkEntries), chunk.drop);
 }
-MLOD_DECODE_INLINE __m128 fromQuat(const glm::quat& q) { return _mm_setr_ps(q.x, q.y, q.z, q.w); }
-MLOD_DECODE_INLINE glm::quat toQuat(__m128 v) {
-  float f[4];
-  _mm_storeu_ps(f, v);
-  return glm::quat(f[3], f[0], f[1], f[2]);
-}
 // a + (b - a) * fraction, b taken the shorter way
 MLOD_DECODE_INLINE __m128 lerpShorter(__m128 a, __m128 b, float fraction) {
   const __m128 sign = _mm_and_ps(_mm_dp_ps(a, b, 0xff), _mm_set1_ps(-0.0f));
@@ -148,28 +142,6 @@ MLOD_DECODE_INLINE __m128 lerpShorter(__m128 a, __m128 b, float fraction) {
 }
 MLOD_DECODE_INLINE __m128 lerp(__m128 a, __m128 b, float fraction) {
   return _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), _mm_set1_ps(fraction)));
-}
-// Quaternions as x, y, z, w lanes: a * b.
-MLOD_DECODE_INLINE __m128 mulQuat(__m128 a, __m128 b) {
-  const __m128 ax = _mm_shuffle_ps(a, a, 0x00), ay = _mm_shuffle_ps(a, a, 0x55), az = _mm_shuffle_ps(a, a, 0xaa),
-               aw = _mm_shuffle_ps(a, a, 0xff);
-  // lanes x, y, z, w of ax * (bw, -bz, by, -bx), ay * (bz, bw, -bx, -by), az * (-by, bx, bw, -bz)
-  const __m128 bx = _mm_xor_ps(_mm_shuffle_ps(b, b, _MM_SHUFFLE(0, 1, 2, 3)), _mm_setr_ps(0.0f, -0.0f, 0.0f, -0.0f));
-  const __m128 by = _mm_xor_ps(_mm_shuffle_ps(b, b, _MM_SHUFFLE(1, 0, 3, 2)), _mm_setr_ps(0.0f, 0.0f, -0.0f, -0.0f));
-  const __m128 bz = _mm_xor_ps(_mm_shuffle_ps(b, b, _MM_SHUFFLE(2, 3, 0, 1)), _mm_setr_ps(-0.0f, 0.0f, 0.0f, -0.0f));
-  __m128 r = _mm_mul_ps(aw, b);
-  r = _mm_add_ps(r, _mm_mul_ps(ax, bx));
-  r = _mm_add_ps(r, _mm_mul_ps(ay, by));
-  return _mm_add_ps(r, _mm_mul_ps(az, bz));
-}
-// The same rotation with w >= 0, and its inverse (a unit quaternion's conjugate).
-MLOD_DECODE_INLINE __m128 positiveW(__m128 q) {
-  return _mm_xor_ps(q, _mm_and_ps(_mm_shuffle_ps(q, q, 0xff), _mm_set1_ps(-0.0f)));
-}
-MLOD_DECODE_INLINE __m128 conjugate(__m128 q) { return _mm_xor_ps(q, _mm_setr_ps(-0.0f, -0.0f, -0.0f, 0.0f)); }
-// nlerp(identity, offset, weight) before normalisation (offset.w >= 0)
-MLOD_DECODE_INLINE __m128 lerpOffset(__m128 offset, float weight) {
-  return _mm_add_ps(_mm_mul_ps(offset, _mm_set1_ps(weight)), _mm_setr_ps(0.0f, 0.0f, 0.0f, 1.0f - weight));
 }
 // Four lanes (or three) into the pose's arrays `first`, first + 1, ... of joint lane p.
 MLOD_DECODE_INLINE void put4(float* p, __m128 v) {
@@ -195,8 +167,6 @@ MLOD_DECODE_INLINE Value decodeKey(const internal::Stream& stream, const interna
                                    const std::uint8_t* bits, std::uint32_t e) {
   return internal::decodeRotation(stream, chunks, bits, e);
 }
-MLOD_DECODE_INLINE Value fromQuat(const glm::quat& q) { return Value{q.x, q.y, q.z, q.w}; }
-MLOD_DECODE_INLINE glm::quat toQuat(Value v) { return glm::quat(v[3], v[0], v[1], v[2]); }
 MLOD_DECODE_INLINE Value lerpShorter(Value a, Value b, float fraction) {
   const Value ab = a * b;
   if (ab[0] + ab[1] + ab[2] + ab[3] < 0.0f)
@@ -204,12 +174,6 @@ MLOD_DECODE_INLINE Value lerpShorter(Value a, Value b, float fraction) {
   return a + (b - a) * fraction;
 }
 MLOD_DECODE_INLINE Value lerp(Value a, Value b, float fraction) { return a + (b - a) * fraction; }
-MLOD_DECODE_INLINE Value mulQuat(Value a, Value b) { return fromQuat(toQuat(a) * toQuat(b)); }
-MLOD_DECODE_INLINE Value positiveW(Value q) { return q[3] < 0.0f ? -q : q; }
-MLOD_DECODE_INLINE Value conjugate(Value q) { return Value{-q[0], -q[1], -q[2], q[3]}; }
-MLOD_DECODE_INLINE Value lerpOffset(Value offset, float weight) {
-  return offset * weight + Value{0.0f, 0.0f, 0.0f, 1.0f - weight};
-}
 MLOD_DECODE_INLINE void put4(float* p, Value v) {
   for (int i = 0; i < 4; ++i)
     p[i * kLanes] = v[i];
@@ -224,7 +188,6 @@ std::int64_t decodePose(const DecodeJob& job) {
   const LodClip& clip = job.clip;
   const std::int32_t i0 = job.i0;
   const float fraction = job.fraction;
-  const int blendFrames = job.blendFrames;
   float* __restrict pose = job.pose;
   std::uint32_t* __restrict cursor = job.cursor;
   internal::JointSpan* __restrict span = job.span;
@@ -257,52 +220,18 @@ std::int64_t decodePose(const DecodeJob& job) {
       cursor[j] = r;
     }
     const std::int32_t last = clip.lastOf(r);
-    const int window = clip.windowRegion(j, r, i0, blendFrames);
-    if (i0 < last && window < 0) {
-      // frozen until the cluster's last frame (a later i0 is past any earlier window)
+    if (i0 < last) {
+      // frozen until the cluster's last frame
       put4(p, decodeKey(stream, chunks, bits, regions[r].entry));
       s = {i0, last, internal::JointSpan::kHeldKey};
       continue;
     }
+    // frames i0 and i0 + 1 are consecutive entries up to the region's end
     sampled += (flags[j] & (LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 0 : 1;
-    if (window < 0) {
-      // frames i0 and i0 + 1 are consecutive entries up to the region's end (past the window)
-      s = {i0, regions[r + 1].first, static_cast<std::int32_t>(regions[r].entry) - last};
-      Value a, b;
-      decodePair<true>(stream, chunks, bits, regions[r].entry + static_cast<std::uint32_t>(i0 - last), a, b);
-      put4(p, lerpShorter(a, b, fraction));
-      continue;
-    }
-    s = {};
+    s = {i0, regions[r + 1].first, static_cast<std::int32_t>(regions[r].entry) - last};
     Value a, b;
-    if (i0 >= last) {
-      // frames i0 and i0 + 1 are consecutive entries
-      decodePair<true>(stream, chunks, bits, regions[r].entry + static_cast<std::uint32_t>(i0 - last), a, b);
-    } else {
-      // inside a cluster, in the window of the one before: both frames show the key
-      a = decodeKey(stream, chunks, bits, regions[r].entry);
-      b = a;
-    }
-    // the window's offsets (LodClip::windowOffsets(), with this decoder; left unnormalised)
-    const internal::Stream& exits = streams.stream(clip.exitStream(j));
-    const std::uint32_t first = clip.regionBegin(j);
-    const std::uint32_t c = static_cast<std::uint32_t>(window);
-    const std::int32_t latestLast = clip.lastOf(c);
-    const Value latest = positiveW(decodeKey(exits, chunks, bits, c - first));
-    if (latestLast == i0)
-      a = mulQuat(conjugate(latest), a);
-    const float f = static_cast<float>(i0) + fraction;
-    Value outer = lerpOffset(latest, 1.0f - std::min((f - static_cast<float>(latestLast)) / blendFrames, 1.0f));
-    for (std::uint32_t at = c; at-- > first;) {
-      const std::int32_t older = clip.lastOf(at);
-      if (older + blendFrames <= i0)
-        break; // older clusters ended earlier still
-      if (older <= regions[at].first)
-        continue; // frame 0 alone
-      const Value exit = positiveW(decodeKey(exits, chunks, bits, at - first));
-      outer = mulQuat(lerpOffset(exit, 1.0f - std::min((f - static_cast<float>(older)) / blendFrames, 1.0f)), outer);
-    }
-    put4(p, mulQuat(outer, lerpShorter(a, b, fraction)));
+    decodePair<true>(stream, chunks, bits, regions[r].entry + static_cast<std::uint32_t>(i0 - last), a, b);
+    put4(p, lerpShorter(a, b, fraction));
   }
   for (const std::int16_t joint : clip.vectorJoints()) {
     const int j = joint;

@@ -119,17 +119,32 @@ TEST(LodClip, RotationAtIsSimplifiedMotion) {
 
 // Guards the unfreeze blend of a cluster's end (LodClip header), against its definition
 // worked out by hand: cluster [8, 12] holds the key at 20 degrees while the joint really
-// turns 24 degrees at frame 12, so D turns -4 degrees; for f in [12, 16) the joint shows
-// nlerp(identity, D, 1 - (f - 12) / 4) * S(f), where S is M' except that [12, 13) starts
-// from the original 24 degrees instead of the key.
+// turns 24 degrees at frame 12, so D turns -4 degrees; a clip built for N = 4 stores, at
+// frames i in (12, 16), nlerp(identity, D, 1 - (i - 12) / 4) * M'(i), and nlerps between
+// frames as everywhere (here every angle is linear in the frame position, so the blend is
+// too). The windows of [3, 7] and [8, 12] reach into the next cluster, which then freezes
+// only the frames after them: [11, 12] and [16, 19].
 TEST(LodClip, ClusterEndBlendsOverNFrames) {
   const Chain chain;
-  const std::optional<LodClip> clip = LodClip::build(chain.source());
-  ASSERT_TRUE(clip);
   const int n = 4;
-  const LodClip::Cluster cluster = clip->clusters(1)[1];
-  EXPECT_NEAR(angleBetween(cluster.exitOffset, glm::quat(1, 0, 0, 0)), 4.0f, 1e-3f);
-  EXPECT_LT(angleBetween(cluster.lastRotation, turn(24.0f)), 1e-3f);
+  LodClipSource source = chain.source();
+  source.blendFrames = n;
+  const std::optional<LodClip> plain = LodClip::build(chain.source());
+  const std::optional<LodClip> clip = LodClip::build(source);
+  ASSERT_TRUE(plain && clip);
+  EXPECT_EQ(clip->blendFrames(), n);
+  EXPECT_EQ(clip->clusterCount(), 3);
+  const std::vector<LodClip::Cluster> clusters = clip->clusters(1);
+  ASSERT_EQ(clusters.size(), 3u);
+  const int frozen[3][2] = {{3, 7}, {11, 12}, {16, 19}};
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(clusters[static_cast<std::size_t>(c)].first, frozen[c][0]) << "cluster " << c;
+    EXPECT_EQ(clusters[static_cast<std::size_t>(c)].last, frozen[c][1]) << "cluster " << c;
+  }
+  for (int i0 = 0; i0 <= Chain::kFrames - 2; ++i0) {
+    const bool inside = (i0 >= 3 && i0 <= 6) || i0 == 11 || (i0 >= 16 && i0 <= 18);
+    EXPECT_EQ(clip->frozen(1, i0), inside) << "i0 " << i0;
+  }
   const auto nlerp = [](const glm::quat& a, const glm::quat& b, float t) { return glm::normalize(a * (1.0f - t) + b * t); };
   const auto angleOf = [](const glm::quat& q) { return 2.0f * glm::degrees(std::atan2(q.z, q.w)); };
   for (double f = 11.0; f < Chain::kFrames - 1; f += 0.125) {
@@ -138,16 +153,20 @@ TEST(LodClip, ClusterEndBlendsOverNFrames) {
     glm::quat s = nlerp(chain.simplified(i), chain.simplified(i + 1), a);
     if (i == 12)
       s = nlerp(turn(24.0f), chain.simplified(13), a);
-    glm::quat expected = clip->rotationAt(1, f); // M'
+    glm::quat expected = plain->rotationAt(1, f); // M'
     if (f >= 12.0 && f < 16.0) {
       const float u = 1.0f - static_cast<float>(f - 12.0) / n;
       expected = nlerp(glm::quat(1, 0, 0, 0), turn(-4.0f), u) * s;
     }
-    EXPECT_NEAR(angleOf(clip->rotationAt(1, f, n)), angleOf(expected), 1e-3f) << "frame position " << f;
+    EXPECT_NEAR(angleOf(clip->rotationAt(1, f)), angleOf(expected), 1e-3f) << "frame position " << f;
   }
-  EXPECT_LT(angleBetween(clip->rotationAt(1, 12.0, n), turn(20.0f)), 1e-3f) << "at its last frame: the key";
+  EXPECT_LT(angleBetween(clip->rotationAt(1, 12.0), turn(20.0f)), 1e-3f) << "at its last frame: the key";
+  EXPECT_LT(angleBetween(clip->rotationAt(1, 13.0), turn(23.0f)), 1e-3f) << "3/4 of D left";
+  EXPECT_LT(angleBetween(clip->rotationAt(1, 15.0), turn(33.0f)), 1e-3f) << "the next cluster's key, 1/4 of D left";
+  // the window of [3, 7] (D = 10 - 14 degrees) reaches into [8, 12] (key 20 degrees)
+  EXPECT_LT(angleBetween(clip->rotationAt(1, 8.0), turn(17.0f)), 1e-3f);
   // the last cluster reaches the clip's end: nothing to leave
-  EXPECT_LT(angleBetween(clip->clusters(1)[2].exitOffset, glm::quat(1, 0, 0, 0)), 1e-4f);
+  EXPECT_LT(angleBetween(clip->rotationAt(1, 19.0), turn(34.0f)), 1e-3f);
 }
 
 // Guards frame positions: clamped when the clip does not loop; wrapped, with the period
@@ -190,7 +209,7 @@ TEST(LodClip, OneFrameClip) {
   const std::optional<LodClip> clip = LodClip::build(source);
   ASSERT_TRUE(clip);
   EXPECT_EQ(clip->flags(0), 0);
-  EXPECT_LT(angleBetween(clip->rotationAt(0, 0.0, 4), turn(30.0f)), 1e-4f);
+  EXPECT_LT(angleBetween(clip->rotationAt(0, 0.0), turn(30.0f)), 1e-4f);
   EXPECT_EQ(clip->duration(), 0.0);
 }
 

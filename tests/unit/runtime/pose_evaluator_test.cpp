@@ -34,12 +34,11 @@ struct Rig {
   int joints() const { return static_cast<int>(parents.size()); }
 };
 
-// The runtime clip, set for `blendFrames` of unfreeze blending.
+// The runtime clip, built for `blendFrames` of unfreeze blending.
 LodClip lodClip(const Clip& clip, const ClusterSet* clusters, bool looping = false, int blendFrames = 0) {
-  Result<LodClip> built = buildLodClip(clip, clusters, looping);
+  Result<LodClip> built = buildLodClip(clip, clusters, looping, {}, blendFrames);
   if (!built)
     throw std::runtime_error(built.message());
-  built->setBlendFrames(blendFrames);
   return std::move(built).value();
 }
 
@@ -357,10 +356,9 @@ TEST(PoseEvaluator, BlendingStaysWithinFidelityAndOutsideWindowsEqualsSimplified
     if (level.threshold == 0.0)
       continue;
     const Clip simplified = simplifiedClip(clip, level.clusters);
-    LodClip lod = lodClip(clip, &level.clusters);
     const float fidelity = static_cast<float>(level.maxJointPositionErrorCm);
     for (int blendFrames : {4, 10}) {
-      lod.setBlendFrames(blendFrames);
+      const LodClip lod = lodClip(clip, &level.clusters, false, blendFrames);
       for (double step : {1.0, 2.0}) {
         const std::vector<double> times = timesAlong(clip, 0.0, clip.frameCount - 1, step);
         std::vector<double> frames(times.size());
@@ -529,13 +527,13 @@ struct ReferenceCharacter {
   static glm::quat shown(const LodClip& clip, int j, double t, int blendFrames) {
     std::int64_t loop = 0;
     const double f = clip.framePosition(t, &loop);
-    glm::quat q = clip.rotationAt(j, f, blendFrames);
+    glm::quat q = clip.rotationAt(j, f);
     std::int32_t i0 = 0;
     float fraction = 0.0f;
     clip.split(f, i0, fraction);
     if (blendFrames > 0 && clip.looping() && loop >= 1 && i0 < blendFrames) {
-      const glm::quat wrap = positiveW(clip.rotationAt(j, clip.frameCount() - 1, blendFrames) *
-                                       glm::inverse(clip.rotationAt(j, 0.0, blendFrames)));
+      const glm::quat wrap =
+          positiveW(clip.rotationAt(j, clip.frameCount() - 1) * glm::inverse(clip.rotationAt(j, 0.0)));
       q = scaleOffset(wrap, static_cast<float>(1.0 - std::min(f / blendFrames, 1.0))) * q;
     }
     return q;
@@ -614,8 +612,10 @@ TEST_P(RandomFrames, EqualTheReference) {
   constexpr int kCharacters = 40, kSteps = 60;
   WorkerPool pool(2);
   for (const int blendFrames : {0, 5}) {
-    for (LodClip* lod : {&full, &fine, &coarse})
-      lod->setBlendFrames(blendFrames);
+    // built for this N (they store their unfreeze windows), at the same addresses
+    full = lodClip(clip, nullptr, true, blendFrames);
+    fine = lodClip(clip, &levels[2].clusters, true, blendFrames);
+    coarse = lodClip(clip, &levels.back().clusters, true, blendFrames);
     int inside = 0, outside = 0;
     std::mt19937 random(13u + static_cast<unsigned>(blendFrames));
     std::uniform_real_distribution<double> unit(0.0, 1.0);
