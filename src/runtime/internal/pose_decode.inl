@@ -77,8 +77,12 @@ MLOD_DECODE_INLINE __m128 rotationOf(__m128 v, int drop) {
 // neighbour and are cleared by the zero step).
 struct alignas(32) PairOffsets {
   int o[8];
+  int mask[8]; // 2^b - 1
 };
-constexpr PairOffsets pairOffsetsOf(int b) { return {{0, b, 2 * b, 2 * b, 3 * b, 4 * b, 5 * b, 5 * b}}; }
+constexpr PairOffsets pairOffsetsOf(int b) {
+  const int m = static_cast<int>((1u << b) - 1u);
+  return {{0, b, 2 * b, 2 * b, 3 * b, 4 * b, 5 * b, 5 * b}, {m, m, m, m, m, m, m, m}};
+}
 alignas(32) constexpr PairOffsets kPairOffsets[internal::kMaxBits + 1] = {
     pairOffsetsOf(0),  pairOffsetsOf(1),  pairOffsetsOf(2),  pairOffsetsOf(3),  pairOffsetsOf(4),
     pairOffsetsOf(5),  pairOffsetsOf(6),  pairOffsetsOf(7),  pairOffsetsOf(8),  pairOffsetsOf(9),
@@ -103,7 +107,7 @@ MLOD_DECODE_INLINE void decodePair(const internal::Stream& stream, const interna
                          _mm256_load_si256(reinterpret_cast<const __m256i*>(kPairOffsets[b].o)));
     const __m256i words = _mm256_i32gather_epi32(reinterpret_cast<const int*>(bits), _mm256_srli_epi32(at, 3), 1);
     const __m256i q = _mm256_and_si256(_mm256_srlv_epi32(words, _mm256_and_si256(at, _mm256_set1_epi32(7))),
-                                       _mm256_set1_epi32(static_cast<int>((1u << b) - 1u)));
+                                       _mm256_load_si256(reinterpret_cast<const __m256i*>(kPairOffsets[b].mask)));
     __m256 v = _mm256_fmadd_ps(_mm256_set_m128(here.step, here.step), _mm256_cvtepi32_ps(q),
                                _mm256_set_m128(here.low, here.low));
     if (Rotation) {
@@ -213,10 +217,14 @@ std::int64_t decodePose(const DecodeJob& job) {
     }
     std::uint32_t r = cursor[j];
     if (i0 < regions[r].first || i0 >= regions[r + 1].first) {
-      // the next region (a character plays forward), else a search
-      r = i0 >= regions[r + 1].first && r + 2 < clip.regionBegin(j + 1) && i0 < regions[r + 2].first
-              ? r + 1
-              : clip.regionOf(j, i0);
+      // one of the next few regions (a character plays forward, a frame or two a run),
+      // else a search
+      const std::uint32_t end = clip.regionBegin(j + 1) - 1; // the sentinel
+      std::uint32_t ahead = r + 1;
+      if (i0 >= regions[r].first)
+        while (ahead < end && ahead < r + 5 && i0 >= regions[ahead + 1].first)
+          ++ahead;
+      r = i0 >= regions[r].first && ahead < end && i0 < regions[ahead + 1].first ? ahead : clip.regionOf(j, i0);
       cursor[j] = r;
     }
     const std::int32_t last = clip.lastOf(r);
