@@ -217,6 +217,7 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   const double share = source.precisionCm / levers.pathChannels;
   double worstCm = 0.0;
   std::vector<glm::vec4> values;
+  std::vector<Region> regions; // every joint's, then packed into m_regionWords
   const auto addStream = [&](bool rotation, double arm) {
     double error = 0.0;
     const int stream = clip.m_streams.add(values, rotation, share / arm, &error);
@@ -245,7 +246,7 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   std::vector<LodCluster> spans;
   for (std::size_t j = 0; j < joints; ++j) {
     const std::uint8_t flags = clip.m_flags[j];
-    clip.m_regionBegin[j] = static_cast<std::uint32_t>(clip.m_regions.size());
+    clip.m_regionBegin[j] = static_cast<std::uint32_t>(regions.size());
     if (flags & kRotationAnimated) {
       // a joint that never turns is the same at every level: its clusters change nothing
       const glm::quat* q = source.rotations.data() + j * frames;
@@ -305,17 +306,17 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
         const std::int32_t end = next < spans.size() ? spans[next].first : source.frameCount;
         for (std::int32_t i = last + 1; i < end; ++i)
           values.push_back(asVec4(shown[static_cast<std::size_t>(i)]));
-        clip.m_regions.push_back(region);
+        regions.push_back(region);
         frame = end;
       }
-      clip.m_regions.push_back(Region{source.frameCount, static_cast<std::uint32_t>(values.size())});
+      regions.push_back(Region{source.frameCount, static_cast<std::uint32_t>(values.size())});
       clip.m_rotationStream[j] = keptIfMoving(addStream(true, levers.rotation[j]), kRotationAnimated, j);
       if (clip.m_rotationStream[j] >= 0) {
         clip.m_clusterCount += static_cast<int>(given.size());
         if (spans.empty())
           clip.m_flags[j] = static_cast<std::uint8_t>(clip.m_flags[j] | kEveryFrame);
       } else {
-        clip.m_regions.resize(clip.m_regionBegin[j]);
+        regions.resize(clip.m_regionBegin[j]);
       }
     }
     const auto addVectors = [&](std::span<const glm::vec3> track, double arm) {
@@ -340,7 +341,18 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
     if (kept & (kTranslationAnimated | kScaleAnimated))
       clip.m_vectorJoints.push_back(static_cast<std::int16_t>(j));
   }
-  clip.m_regionBegin[joints] = static_cast<std::uint32_t>(clip.m_regions.size());
+  clip.m_regionBegin[joints] = static_cast<std::uint32_t>(regions.size());
+  // 16 bits each where they fit (a first frame or an entry is at most frameCount)
+  clip.m_narrowRegions = source.frameCount <= 0xffff;
+  clip.m_regionWords.reserve(clip.m_narrowRegions ? regions.size() : 2 * regions.size());
+  for (const Region& region : regions) {
+    if (clip.m_narrowRegions) {
+      clip.m_regionWords.push_back(static_cast<std::uint32_t>(region.first) | (region.entry << 16));
+    } else {
+      clip.m_regionWords.push_back(static_cast<std::uint32_t>(region.first));
+      clip.m_regionWords.push_back(region.entry);
+    }
+  }
   clip.m_streams.finish();
   clip.m_encodedErrorCm = worstCm;
   return clip;
@@ -352,7 +364,7 @@ std::size_t LodClip::byteSize() const {
          (m_rotationJoints.size() + m_vectorJoints.size()) * sizeof(std::int16_t) +
          (m_rotationStream.size() + m_translationStream.size() + m_scaleStream.size()) *
              sizeof(std::int32_t) +
-         m_regionBegin.size() * sizeof(std::uint32_t) + m_regions.size() * sizeof(Region) + m_streams.byteSize();
+         m_regionBegin.size() * sizeof(std::uint32_t) + m_regionWords.size() * sizeof(std::uint32_t) + m_streams.byteSize();
 }
 
 int LodClip::animatedJointCount() const {
@@ -376,10 +388,13 @@ double LodClip::wrapped(double g, std::int64_t* out_loop) const {
 }
 
 std::uint32_t LodClip::regionOf(int joint, std::int32_t i) const {
-  const Region* begin = m_regions.data() + regionBegin(joint);
-  const Region* end = m_regions.data() + regionBegin(joint + 1) - 1; // the sentinel
-  const Region* found = std::upper_bound(begin, end, i, [](std::int32_t value, const Region& r) { return value < r.first; });
-  return static_cast<std::uint32_t>(found - m_regions.data()) - 1;
+  // the last region (before the sentinel) whose first frame is at or before i
+  std::uint32_t lo = regionBegin(joint), hi = regionBegin(joint + 1) - 1;
+  while (hi - lo > 1) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    (regionFirst(mid) <= i ? lo : hi) = mid;
+  }
+  return lo;
 }
 
 bool LodClip::frozen(int joint, int i0) const {
@@ -413,12 +428,12 @@ std::vector<LodClip::Cluster> LodClip::clusters(int joint) const {
     return out;
   for (std::uint32_t r = regionBegin(joint); r + 1 < regionBegin(joint + 1); ++r) {
     const std::int32_t last = lastOf(r);
-    if (last == m_regions[r].first)
+    if (last == regionFirst(r))
       continue; // frame 0 alone
     Cluster cluster;
-    cluster.first = m_regions[r].first;
+    cluster.first = regionFirst(r);
     cluster.last = last;
-    cluster.key = rotationEntry(joint, m_regions[r].entry);
+    cluster.key = rotationEntry(joint, regionEntry(r));
     cluster.joint = joint;
     out.push_back(cluster);
   }

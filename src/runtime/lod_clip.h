@@ -112,7 +112,7 @@ public:
   // one-frame "cluster" that freezes nothing). Its entries in the joint's rotation stream:
   // the key at `entry`, frame i > last at entry + i - last. Each joint's regions end with a
   // sentinel {frameCount, the stream's entry count}, so that last = next.first - next.entry
-  // + entry.
+  // + entry. Stored in 16 bits each where the clip has at most 65,535 frames, else 32.
   struct Region {
     std::int32_t first = 0;
     std::uint32_t entry = 0;
@@ -216,21 +216,34 @@ public:
   int translationStream(int joint) const { return m_translationStream[static_cast<std::size_t>(joint)]; }
   int scaleStream(int joint) const { return m_scaleStream[static_cast<std::size_t>(joint)]; }
   const internal::CompressedStreams& streams() const { return m_streams; }
-  // Regions of joint j: regions()[regionBegin(j) .. regionBegin(j + 1) - 1), then its sentinel.
-  std::span<const Region> regions() const { return m_regions; }
+  // Regions of joint j: region(regionBegin(j)) .. region(regionBegin(j + 1) - 2), then
+  // its sentinel. Stored as words (regionWords()): narrow, one word a region (first in the
+  // low 16 bits, entry in the high), or else two (first, entry).
+  std::uint32_t regionCount() const {
+    return static_cast<std::uint32_t>(m_narrowRegions ? m_regionWords.size() : m_regionWords.size() / 2);
+  }
+  std::int32_t regionFirst(std::uint32_t r) const {
+    return m_narrowRegions ? static_cast<std::int32_t>(m_regionWords[r] & 0xffffu)
+                           : static_cast<std::int32_t>(m_regionWords[2 * static_cast<std::size_t>(r)]);
+  }
+  std::uint32_t regionEntry(std::uint32_t r) const {
+    return m_narrowRegions ? m_regionWords[r] >> 16 : m_regionWords[2 * static_cast<std::size_t>(r) + 1];
+  }
+  Region region(std::uint32_t r) const { return Region{regionFirst(r), regionEntry(r)}; }
+  bool narrowRegions() const { return m_narrowRegions; }
+  const std::uint32_t* regionWords() const { return m_regionWords.data(); }
   std::uint32_t regionBegin(int joint) const { return m_regionBegin[static_cast<std::size_t>(joint)]; }
   const std::uint32_t* regionBegins() const { return m_regionBegin.data(); }
-  // The region of joint j (rotation animated) that holds frame i (absolute index in regions()).
+  // The region of joint j (rotation animated) that holds frame i (absolute index).
   std::uint32_t regionOf(int joint, std::int32_t i) const;
   // The last frame of region r's cluster.
   std::int32_t lastOf(std::uint32_t r) const {
-    return m_regions[r + 1].first - static_cast<std::int32_t>(m_regions[r + 1].entry) +
-           static_cast<std::int32_t>(m_regions[r].entry);
+    return regionFirst(r + 1) - static_cast<std::int32_t>(regionEntry(r + 1)) + static_cast<std::int32_t>(regionEntry(r));
   }
   // The rotation stream's entry of frame i in region r (i up to the next region's first).
   std::uint32_t entryOf(std::uint32_t r, std::int32_t i) const {
     const std::int32_t last = lastOf(r);
-    return m_regions[r].entry + static_cast<std::uint32_t>(i > last ? i - last : 0);
+    return regionEntry(r) + static_cast<std::uint32_t>(i > last ? i - last : 0);
   }
   glm::quat rotationEntry(int joint, std::uint32_t entry) const {
     return internal::toQuat(m_streams.value(rotationStream(joint), entry));
@@ -259,7 +272,8 @@ private:
   std::vector<std::int32_t> m_translationStream;
   std::vector<std::int32_t> m_scaleStream;
   std::vector<std::uint32_t> m_regionBegin; // jointCount + 1 (a joint's sentinel is at the next one's begin - 1)
-  std::vector<Region> m_regions;
+  std::vector<std::uint32_t> m_regionWords;
+  bool m_narrowRegions = true;
   internal::CompressedStreams m_streams;
 };
 

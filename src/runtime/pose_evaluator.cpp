@@ -209,6 +209,18 @@ struct DecodeJob {
   internal::JointSpan* span;
 };
 
+// A clip's regions as LodClip stores them (LodClip::regionWords()): 16 bits each, or 32.
+struct NarrowRegions {
+  const std::uint32_t* words;
+  std::int32_t first(std::uint32_t r) const { return static_cast<std::int32_t>(words[r] & 0xffffu); }
+  std::uint32_t entry(std::uint32_t r) const { return words[r] >> 16; }
+};
+struct WideRegions {
+  const std::uint32_t* words;
+  std::int32_t first(std::uint32_t r) const { return static_cast<std::int32_t>(words[2 * static_cast<std::size_t>(r)]); }
+  std::uint32_t entry(std::uint32_t r) const { return words[2 * static_cast<std::size_t>(r) + 1]; }
+};
+
 namespace decode_base {
 #include "runtime/internal/pose_decode.inl"
 } // namespace decode_base
@@ -408,9 +420,9 @@ struct PoseEvaluation {
     // 1. rotations, translations and scales into the character's pose
     const DecodeJob decode{clip, i0, fraction, pose, cursor, span};
 #ifdef MLOD_DECODE_V3_BUILT
-    const std::int64_t sampled = kHasV3 ? decode_v3::decodePose(decode) : decode_base::decodePose(decode);
+    const std::int64_t sampled = kHasV3 ? decode_v3::decodePoseOf(decode) : decode_base::decodePoseOf(decode);
 #else
-    const std::int64_t sampled = decode_base::decodePose(decode);
+    const std::int64_t sampled = decode_base::decodePoseOf(decode);
 #endif
 
     // 2. the local matrices, 8 joints at once; first, for the few characters whose joints

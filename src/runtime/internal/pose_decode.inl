@@ -15,7 +15,8 @@
 // changed this frame (PoseEvaluatorContext::jointsSampled()).
 //
 // Not a header: no include guard, no includes; it expects the names of pose_evaluator.cpp
-// (kLanes, PoseArray, poseOffset(), DecodeJob) and the runtime's headers.
+// (kLanes, PoseArray, poseOffset(), DecodeJob, NarrowRegions, WideRegions) and the runtime's
+// headers.
 
 #ifdef MLOD_DECODE_V3
 #define MLOD_DECODE_INLINE __attribute__((always_inline)) inline
@@ -188,7 +189,7 @@ MLOD_DECODE_INLINE void put3(float* p, Value v) {
 }
 #endif
 
-std::int64_t decodePose(const DecodeJob& job) {
+template <class Regions> std::int64_t decodePose(const DecodeJob& job) {
   const LodClip& clip = job.clip;
   const std::int32_t i0 = job.i0;
   const float fraction = job.fraction;
@@ -198,7 +199,7 @@ std::int64_t decodePose(const DecodeJob& job) {
   const internal::CompressedStreams& streams = clip.streams();
   const internal::Chunk* chunks = streams.chunks();
   const std::uint8_t* bits = streams.bits();
-  const LodClip::Region* regions = clip.regions().data();
+  const Regions regions{clip.regionWords()};
   const std::uint8_t* flags = clip.jointFlags();
   std::int64_t sampled = 0;
   for (const std::int16_t joint : clip.rotationJoints()) {
@@ -216,29 +217,30 @@ std::int64_t decodePose(const DecodeJob& job) {
       continue;
     }
     std::uint32_t r = cursor[j];
-    if (i0 < regions[r].first || i0 >= regions[r + 1].first) {
+    if (i0 < regions.first(r) || i0 >= regions.first(r + 1)) {
       // one of the next few regions (a character plays forward, a frame or two a run),
       // else a search
       const std::uint32_t end = clip.regionBegin(j + 1) - 1; // the sentinel
       std::uint32_t ahead = r + 1;
-      if (i0 >= regions[r].first)
-        while (ahead < end && ahead < r + 5 && i0 >= regions[ahead + 1].first)
+      if (i0 >= regions.first(r))
+        while (ahead < end && ahead < r + 5 && i0 >= regions.first(ahead + 1))
           ++ahead;
-      r = i0 >= regions[r].first && ahead < end && i0 < regions[ahead + 1].first ? ahead : clip.regionOf(j, i0);
+      r = i0 >= regions.first(r) && ahead < end && i0 < regions.first(ahead + 1) ? ahead : clip.regionOf(j, i0);
       cursor[j] = r;
     }
-    const std::int32_t last = clip.lastOf(r);
+    const std::int32_t last = regions.first(r + 1) - static_cast<std::int32_t>(regions.entry(r + 1)) +
+                              static_cast<std::int32_t>(regions.entry(r)); // LodClip::lastOf()
     if (i0 < last) {
       // frozen until the cluster's last frame
-      put4(p, decodeKey(stream, chunks, bits, regions[r].entry));
+      put4(p, decodeKey(stream, chunks, bits, regions.entry(r)));
       s = {i0, last, internal::JointSpan::kHeldKey};
       continue;
     }
     // frames i0 and i0 + 1 are consecutive entries up to the region's end
     sampled += (flags[j] & (LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 0 : 1;
-    s = {i0, regions[r + 1].first, static_cast<std::int32_t>(regions[r].entry) - last};
+    s = {i0, regions.first(r + 1), static_cast<std::int32_t>(regions.entry(r)) - last};
     Value a, b;
-    decodePair<true>(stream, chunks, bits, regions[r].entry + static_cast<std::uint32_t>(i0 - last), a, b);
+    decodePair<true>(stream, chunks, bits, regions.entry(r) + static_cast<std::uint32_t>(i0 - last), a, b);
     put4(p, lerpShorter(a, b, fraction));
   }
   for (const std::int16_t joint : clip.vectorJoints()) {
@@ -256,6 +258,10 @@ std::int64_t decodePose(const DecodeJob& job) {
     }
   }
   return sampled;
+}
+
+std::int64_t decodePoseOf(const DecodeJob& job) {
+  return job.clip.narrowRegions() ? decodePose<NarrowRegions>(job) : decodePose<WideRegions>(job);
 }
 
 #undef MLOD_DECODE_INLINE

@@ -3,9 +3,12 @@
 // costs in memory.
 
 #include "runtime/lod_clip.h"
+#include "runtime/pose_evaluator.h"
 #include "unit/runtime/runtime_fixtures.h"
 
 #include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <vector>
 
@@ -81,7 +84,7 @@ TEST(LodClip, RegionsCoverTheClip) {
   ASSERT_EQ(clip->regionBegin(2) - r0, 5u);
   const int expected[5][3] = {{0, 0, 0}, {3, 7, 3}, {8, 12, 4}, {15, 19, 7}, {20, 20, 8}};
   for (std::uint32_t r = 0; r < 5; ++r) {
-    const LodClip::Region& region = clip->regions()[r0 + r];
+    const LodClip::Region region = clip->region(r0 + r);
     EXPECT_EQ(region.first, expected[r][0]) << "region " << r;
     EXPECT_EQ(region.entry, static_cast<std::uint32_t>(expected[r][2])) << "region " << r;
     if (r < 4) {
@@ -90,8 +93,8 @@ TEST(LodClip, RegionsCoverTheClip) {
   }
   for (int i0 = 0; i0 <= Chain::kFrames - 2; ++i0) {
     const std::uint32_t r = clip->regionOf(1, i0);
-    EXPECT_GE(i0, clip->regions()[r].first);
-    EXPECT_LT(i0, clip->regions()[r + 1].first);
+    EXPECT_GE(i0, clip->regionFirst(r));
+    EXPECT_LT(i0, clip->regionFirst(r + 1));
     const bool inside = (i0 >= 3 && i0 <= 6) || (i0 >= 8 && i0 <= 11) || (i0 >= 15 && i0 <= 18);
     EXPECT_EQ(clip->frozen(1, i0), inside) << "i0 " << i0;
     EXPECT_FALSE(clip->frozen(0, i0)) << "joint 0 translates";
@@ -167,6 +170,68 @@ TEST(LodClip, ClusterEndBlendsOverNFrames) {
   EXPECT_LT(angleBetween(clip->rotationAt(1, 8.0), turn(17.0f)), 1e-3f);
   // the last cluster reaches the clip's end: nothing to leave
   EXPECT_LT(angleBetween(clip->rotationAt(1, 19.0), turn(34.0f)), 1e-3f);
+}
+
+// Guards regions past 16 bits: a clip of more than 65,535 frames stores its regions in 32
+// bits, and both the reference path and the evaluator find the key of a cluster beyond
+// frame 65,535 and the original frames between clusters (a joint turning 0.01 degree a
+// frame, a 5-frame cluster every 20 frames, keyed at its middle frame).
+TEST(LodClip, LongClipsKeepWideRegions) {
+  constexpr int kFrames = 70000;
+  std::vector<glm::quat> rotations(2 * kFrames, glm::quat(1, 0, 0, 0));
+  std::vector<glm::vec3> translations(2 * kFrames, glm::vec3(0, 10, 0));
+  std::vector<glm::vec3> scales(2 * kFrames, glm::vec3(1.0f));
+  for (int t = 0; t < kFrames; ++t)
+    rotations[static_cast<std::size_t>(kFrames + t)] = turn(0.01f * static_cast<float>(t));
+  std::vector<LodCluster> clusters;
+  for (int first = 10; first + 4 < kFrames; first += 20)
+    clusters.push_back(LodCluster{first, first + 4, first + 2});
+  const std::vector<std::uint32_t> clusterBegin{0, 0, static_cast<std::uint32_t>(clusters.size())};
+  const std::vector<std::int16_t> parents{-1, 0};
+  LodClipSource source;
+  source.fps = 120.0;
+  source.frameCount = kFrames;
+  source.jointCount = 2;
+  source.rotations = rotations;
+  source.translations = translations;
+  source.scales = scales;
+  source.clusters = clusters;
+  source.clusterBegin = clusterBegin;
+  source.parents = parents;
+  source.precisionCm = 1e-5; // quantized far below the tolerances below (as Chain)
+  std::string error;
+  const std::optional<LodClip> clip = LodClip::build(source, &error);
+  ASSERT_TRUE(clip) << error;
+  EXPECT_FALSE(clip->narrowRegions());
+  // frame 69,010 .. 69,014: a cluster keyed at 69,012; 69,015: moving again
+  const std::uint32_t r = clip->regionOf(1, 69011);
+  EXPECT_EQ(clip->regionFirst(r), 69010);
+  EXPECT_EQ(clip->lastOf(r), 69014);
+  EXPECT_TRUE(clip->frozen(1, 69011));
+  EXPECT_FALSE(clip->frozen(1, 69015));
+  EXPECT_LT(angleBetween(clip->rotationAt(1, 69013.5), turn(690.12f)), 1e-3f);
+  EXPECT_LT(angleBetween(clip->rotationAt(1, 69016.0), turn(690.16f)), 1e-3f);
+  // the evaluator, one character stepping across the cluster: joint 1's palette turns
+  // as rotationAt() says
+  PoseEvaluatorContext context(1, 2);
+  const std::vector<glm::mat4> inverseBinds(2, glm::mat4(1.0f));
+  std::vector<glm::mat4> palette(2);
+  const LodClip* clips[1] = {&*clip};
+  for (double frame = 69005.0; frame < 69020.0; frame += 0.75) {
+    const double times[1] = {frame / source.fps};
+    PoseEvaluatorJob job;
+    job.parents = parents;
+    job.inverseBinds = inverseBinds;
+    job.clips = clips;
+    job.times = times;
+    job.context = &context;
+    job.out_palette = palette;
+    ASSERT_TRUE(job.run());
+    const glm::mat3 expected = glm::mat3_cast(glm::normalize(clip->rotationAt(1, clip->framePosition(times[0]))));
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(palette[1][c][k], expected[c][k], 1e-5f) << "frame " << frame;
+  }
 }
 
 // Guards frame positions: clamped when the clip does not loop; wrapped, with the period
