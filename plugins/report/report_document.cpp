@@ -137,8 +137,7 @@ json reportJson(const LodPackage& package) {
         const LodClip& runtime = level.runtimeClips[c];
         json& clip = perClip.back();
         clip["runtime_bytes"] = runtime.byteSize();
-        clip["runtime_bytes_per_second"] =
-            runtime.duration() > 0.0 ? static_cast<double>(runtime.byteSize()) / runtime.duration() : 0.0;
+        clip["runtime_bytes_per_second"] = runtime.bytesPerSecond();
         clip["precision_cm"] = runtime.precisionCm();
         clip["encoded_error_cm"] = runtime.encodedErrorCm();
       }

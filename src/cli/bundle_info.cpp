@@ -81,7 +81,7 @@ int describeBundle(const std::string& file, bool json) {
                        {"looping", level.clips[c].looping},
                        {"clusters", level.clips[c].clusters.size()},
                        {"bytes", runtime[l].clips[c].byteSize()},
-                       {"bytes_per_second", bytesPerSecond(runtime[l].clips[c].byteSize(), runtime[l].clips[c].duration())},
+                       {"bytes_per_second", runtime[l].clips[c].bytesPerSecond()},
                        {"precision_cm", runtime[l].clips[c].precisionCm()},
                        {"encoded_error_cm", runtime[l].clips[c].encodedErrorCm()}});
     nlohmann::json mesh = nullptr;
@@ -127,7 +127,7 @@ int describeBundle(const std::string& file, bool json) {
       std::printf("       clip %-20s %6d frames %8.3f fps  %5zu clusters  %8zu bytes at run time (%.0f bytes/s, "
                   "error bound %.4g cm, precision %.4g)\n",
                   level.clips[c].name.c_str(), level.clips[c].frameCount, level.clips[c].fps,
-                  level.clips[c].clusters.size(), clip.byteSize(), bytesPerSecond(clip.byteSize(), clip.duration()), clip.encodedErrorCm(),
+                  level.clips[c].clusters.size(), clip.byteSize(), clip.bytesPerSecond(), clip.encodedErrorCm(),
                   clip.precisionCm());
     }
   }

@@ -26,12 +26,6 @@ inline double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// A clip's bytes over its duration in seconds (bytes_per_second of `bench-crowd` and `info`;
-// 0 for a one-frame clip).
-inline double bytesPerSecond(std::size_t bytes, double seconds) {
-  return seconds > 0.0 ? static_cast<double>(bytes) / seconds : 0.0;
-}
-
 // Prints "error: FILE: reason" on stderr.
 void printError(const std::string& file, const std::string& reason);
 // `warning: FILE: warning` on stderr, one line each.

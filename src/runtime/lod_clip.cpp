@@ -243,6 +243,7 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   const int n = clip.m_blendFrames;
   std::vector<glm::quat> shown(frames);
   std::vector<std::uint8_t> held(frames);
+  std::vector<glm::quat> offset(n > 0 ? frames : 0);
   std::vector<LodCluster> spans;
   for (std::size_t j = 0; j < joints; ++j) {
     const std::uint8_t flags = clip.m_flags[j];
@@ -263,7 +264,7 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
           held[static_cast<std::size_t>(i)] = 1;
         }
       if (n > 0) {
-        std::vector<glm::quat> offset(frames, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+        std::fill(offset.begin(), offset.end(), glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
         for (const LodCluster& cluster : given) {
           if (cluster.last >= source.frameCount - 1)
             continue; // it reaches the clip's end: nothing to leave
@@ -366,6 +367,8 @@ std::size_t LodClip::byteSize() const {
              sizeof(std::int32_t) +
          m_regionBegin.size() * sizeof(std::uint32_t) + m_regionWords.size() * sizeof(std::uint32_t) + m_streams.byteSize();
 }
+
+double LodClip::bytesPerSecond() const { return mlod::bytesPerSecond(byteSize(), duration()); }
 
 int LodClip::animatedJointCount() const {
   int count = 0;

@@ -117,6 +117,18 @@ public:
     std::int32_t first = 0;
     std::uint32_t entry = 0;
   };
+  // A joint's regions as stored (regionWords()): one word a region, first frame in the low
+  // 16 bits and first entry in the high (narrow), or two words, first and entry (wide).
+  struct NarrowRegions {
+    const std::uint32_t* words;
+    std::int32_t first(std::uint32_t r) const { return static_cast<std::int32_t>(words[r] & 0xffffu); }
+    std::uint32_t entry(std::uint32_t r) const { return words[r] >> 16; }
+  };
+  struct WideRegions {
+    const std::uint32_t* words;
+    std::int32_t first(std::uint32_t r) const { return static_cast<std::int32_t>(words[2 * static_cast<std::size_t>(r)]); }
+    std::uint32_t entry(std::uint32_t r) const { return words[2 * static_cast<std::size_t>(r) + 1]; }
+  };
   enum JointFlags : std::uint8_t {
     kRotationAnimated = 1,
     kTranslationAnimated = 2,
@@ -156,6 +168,8 @@ public:
   // The precision the clip was encoded to (cm: joint and 3 cm shell positions, LodClipSource),
   // and the largest error the encoder measured, bounded the same way (cm; <= precision).
   double precisionCm() const { return m_precisionCm; }
+  // byteSize() per second of animation (0 for a one-frame clip).
+  double bytesPerSecond() const;
   double encodedErrorCm() const { return m_encodedErrorCm; }
 
   // Frame position (frames, in [0, frameCount - 1]) of `seconds`, and for a looping clip
@@ -217,23 +231,20 @@ public:
   int scaleStream(int joint) const { return m_scaleStream[static_cast<std::size_t>(joint)]; }
   const internal::CompressedStreams& streams() const { return m_streams; }
   // Regions of joint j: region(regionBegin(j)) .. region(regionBegin(j + 1) - 2), then
-  // its sentinel. Stored as words (regionWords()): narrow, one word a region (first in the
-  // low 16 bits, entry in the high), or else two (first, entry).
+  // its sentinel, stored as NarrowRegions or WideRegions say (narrowRegions()).
   std::uint32_t regionCount() const {
     return static_cast<std::uint32_t>(m_narrowRegions ? m_regionWords.size() : m_regionWords.size() / 2);
   }
   std::int32_t regionFirst(std::uint32_t r) const {
-    return m_narrowRegions ? static_cast<std::int32_t>(m_regionWords[r] & 0xffffu)
-                           : static_cast<std::int32_t>(m_regionWords[2 * static_cast<std::size_t>(r)]);
+    return m_narrowRegions ? NarrowRegions{m_regionWords.data()}.first(r) : WideRegions{m_regionWords.data()}.first(r);
   }
   std::uint32_t regionEntry(std::uint32_t r) const {
-    return m_narrowRegions ? m_regionWords[r] >> 16 : m_regionWords[2 * static_cast<std::size_t>(r) + 1];
+    return m_narrowRegions ? NarrowRegions{m_regionWords.data()}.entry(r) : WideRegions{m_regionWords.data()}.entry(r);
   }
   Region region(std::uint32_t r) const { return Region{regionFirst(r), regionEntry(r)}; }
   bool narrowRegions() const { return m_narrowRegions; }
   const std::uint32_t* regionWords() const { return m_regionWords.data(); }
   std::uint32_t regionBegin(int joint) const { return m_regionBegin[static_cast<std::size_t>(joint)]; }
-  const std::uint32_t* regionBegins() const { return m_regionBegin.data(); }
   // The region of joint j (rotation animated) that holds frame i (absolute index).
   std::uint32_t regionOf(int joint, std::int32_t i) const;
   // The last frame of region r's cluster.
@@ -278,6 +289,11 @@ private:
 };
 
 // The same rotation with w >= 0.
+// Bytes over a duration in seconds (0 for a one-frame clip): bytes per second of animation.
+inline double bytesPerSecond(std::size_t bytes, double seconds) {
+  return seconds > 0.0 ? static_cast<double>(bytes) / seconds : 0.0;
+}
+
 inline glm::quat positiveW(const glm::quat& q) { return q.w < 0.0f ? -q : q; }
 
 // nlerp(identity, offset, weight): the offset scaled down to `weight` in [0, 1] (offset.w >= 0).

@@ -209,18 +209,6 @@ struct DecodeJob {
   internal::JointSpan* span;
 };
 
-// A clip's regions as LodClip stores them (LodClip::regionWords()): 16 bits each, or 32.
-struct NarrowRegions {
-  const std::uint32_t* words;
-  std::int32_t first(std::uint32_t r) const { return static_cast<std::int32_t>(words[r] & 0xffffu); }
-  std::uint32_t entry(std::uint32_t r) const { return words[r] >> 16; }
-};
-struct WideRegions {
-  const std::uint32_t* words;
-  std::int32_t first(std::uint32_t r) const { return static_cast<std::int32_t>(words[2 * static_cast<std::size_t>(r)]); }
-  std::uint32_t entry(std::uint32_t r) const { return words[2 * static_cast<std::size_t>(r) + 1]; }
-};
-
 namespace decode_base {
 #include "runtime/internal/pose_decode.inl"
 } // namespace decode_base
@@ -299,11 +287,10 @@ struct PoseEvaluation {
     const double t = job.times[static_cast<std::size_t>(c)];
     const int blendFrames = job.blendFrames;
     const std::size_t at = static_cast<std::size_t>(c) * static_cast<std::size_t>(ctx.m_joints);
-    if (st.clip != &clip || st.blendFrames != blendFrames) {
-      // (the spans depend on N too)
-      if (st.clip != &clip && st.clip && blendFrames > 0 && st.blendFrames == blendFrames)
+    if (st.clip != &clip) {
+      if (st.clip && blendFrames > 0 && st.blendFrames == blendFrames)
         startLevelBlend(job, c, t);
-      else if (st.clip != &clip)
+      else
         st.levelBlend = false;
       st.clip = &clip;
       startClip(clip, ctx.m_pose.data() + static_cast<std::size_t>(c) * ctx.m_poseFloats, &ctx.m_cursor[at],
@@ -376,12 +363,11 @@ struct PoseEvaluation {
     const double inverseBlendFrames = 1.0 / blendFrames;
     const int joints = clip.jointCount();
     if (clip.looping() && where.loop >= 1 && where.i0 < blendFrames) {
-      // the wrap's offsets depend on the clip and N alone: once per thread and run
-      if (scratch.wrapClip != &clip || scratch.wrapFrames != blendFrames) {
+      // the wrap's offsets depend on the clip alone: once per thread and run
+      if (scratch.wrapClip != &clip) {
         for (int j = 0; j < joints; ++j)
           scratch.wrapOffsets[static_cast<std::size_t>(j)] = wrapOffset(clip, j);
         scratch.wrapClip = &clip;
-        scratch.wrapFrames = blendFrames;
       }
       const float weight = 1.0f - static_cast<float>(std::min(where.f * inverseBlendFrames, 1.0));
       for (int j = 0; j < joints; ++j) {

@@ -114,9 +114,8 @@ private:
     std::vector<float> samples;         // a blending character's pose, copied to take its offsets
     std::vector<float> locals;          // a character's local matrices, lane layout (LodClip::laneOffset())
     std::vector<glm::mat4> models;      // model matrices when the job has no out_models
-    std::vector<glm::quat> wrapOffsets; // a looping clip's wrap offsets for wrapFrames
+    std::vector<glm::quat> wrapOffsets; // a looping clip's wrap offsets (they depend on the clip alone)
     const LodClip* wrapClip = nullptr;  // the clip of wrapOffsets (none at the start of a run)
-    int wrapFrames = 0;
     bool singleRoot = true; // joint 0 is the only root (the job's skeleton)
     std::int64_t sampled = 0;
   };

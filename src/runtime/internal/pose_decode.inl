@@ -15,8 +15,7 @@
 // changed this frame (PoseEvaluatorContext::jointsSampled()).
 //
 // Not a header: no include guard, no includes; it expects the names of pose_evaluator.cpp
-// (kLanes, PoseArray, poseOffset(), DecodeJob, NarrowRegions, WideRegions) and the runtime's
-// headers.
+// (kLanes, PoseArray, poseOffset(), DecodeJob) and the runtime's headers.
 
 #ifdef MLOD_DECODE_V3
 #define MLOD_DECODE_INLINE __attribute__((always_inline)) inline
@@ -207,41 +206,36 @@ template <class Regions> std::int64_t decodePose(const DecodeJob& job) {
     float* p = pose + poseOffset(j) + kAx * kLanes;
     const internal::Stream& stream = streams.stream(clip.rotationStream(j));
     internal::JointSpan& s = span[j];
-    if (i0 >= s.from && i0 < s.until) {
-      if (s.delta == internal::JointSpan::kHeldKey)
-        continue; // frozen: the pose holds the key
-      Value a, b;
-      decodePair<true>(stream, chunks, bits, static_cast<std::uint32_t>(i0 + s.delta), a, b);
-      put4(p, lerpShorter(a, b, fraction));
-      sampled += (flags[j] & (LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 0 : 1;
-      continue;
+    if (i0 < s.from || i0 >= s.until) {
+      // past its span: the region that holds i0, one of the next few (a character plays
+      // forward, a frame or two a run), else a search
+      std::uint32_t r = cursor[j];
+      if (i0 < regions.first(r) || i0 >= regions.first(r + 1)) {
+        const std::uint32_t end = clip.regionBegin(j + 1) - 1; // the sentinel
+        std::uint32_t ahead = r + 1;
+        if (i0 >= regions.first(r))
+          while (ahead < end && ahead < r + 5 && i0 >= regions.first(ahead + 1))
+            ++ahead;
+        r = i0 >= regions.first(r) && ahead < end && i0 < regions.first(ahead + 1) ? ahead : clip.regionOf(j, i0);
+        cursor[j] = r;
+      }
+      const std::int32_t last = regions.first(r + 1) - static_cast<std::int32_t>(regions.entry(r + 1)) +
+                                static_cast<std::int32_t>(regions.entry(r)); // LodClip::lastOf()
+      if (i0 < last) {
+        // frozen until the cluster's last frame
+        put4(p, decodeKey(stream, chunks, bits, regions.entry(r)));
+        s = {i0, last, internal::JointSpan::kHeldKey};
+        continue;
+      }
+      // frames i0 and i0 + 1 are consecutive entries up to the region's end
+      s = {i0, regions.first(r + 1), static_cast<std::int32_t>(regions.entry(r)) - last};
+    } else if (s.delta == internal::JointSpan::kHeldKey) {
+      continue; // frozen: the pose holds the key
     }
-    std::uint32_t r = cursor[j];
-    if (i0 < regions.first(r) || i0 >= regions.first(r + 1)) {
-      // one of the next few regions (a character plays forward, a frame or two a run),
-      // else a search
-      const std::uint32_t end = clip.regionBegin(j + 1) - 1; // the sentinel
-      std::uint32_t ahead = r + 1;
-      if (i0 >= regions.first(r))
-        while (ahead < end && ahead < r + 5 && i0 >= regions.first(ahead + 1))
-          ++ahead;
-      r = i0 >= regions.first(r) && ahead < end && i0 < regions.first(ahead + 1) ? ahead : clip.regionOf(j, i0);
-      cursor[j] = r;
-    }
-    const std::int32_t last = regions.first(r + 1) - static_cast<std::int32_t>(regions.entry(r + 1)) +
-                              static_cast<std::int32_t>(regions.entry(r)); // LodClip::lastOf()
-    if (i0 < last) {
-      // frozen until the cluster's last frame
-      put4(p, decodeKey(stream, chunks, bits, regions.entry(r)));
-      s = {i0, last, internal::JointSpan::kHeldKey};
-      continue;
-    }
-    // frames i0 and i0 + 1 are consecutive entries up to the region's end
-    sampled += (flags[j] & (LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 0 : 1;
-    s = {i0, regions.first(r + 1), static_cast<std::int32_t>(regions.entry(r)) - last};
     Value a, b;
-    decodePair<true>(stream, chunks, bits, regions.entry(r) + static_cast<std::uint32_t>(i0 - last), a, b);
+    decodePair<true>(stream, chunks, bits, static_cast<std::uint32_t>(i0 + s.delta), a, b);
     put4(p, lerpShorter(a, b, fraction));
+    sampled += (flags[j] & (LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 0 : 1;
   }
   for (const std::int16_t joint : clip.vectorJoints()) {
     const int j = joint;
@@ -261,7 +255,7 @@ template <class Regions> std::int64_t decodePose(const DecodeJob& job) {
 }
 
 std::int64_t decodePoseOf(const DecodeJob& job) {
-  return job.clip.narrowRegions() ? decodePose<NarrowRegions>(job) : decodePose<WideRegions>(job);
+  return job.clip.narrowRegions() ? decodePose<LodClip::NarrowRegions>(job) : decodePose<LodClip::WideRegions>(job);
 }
 
 #undef MLOD_DECODE_INLINE
