@@ -49,10 +49,15 @@ QJsonObject manifest(const LodPackage& package, const Bundle& bundle, const QStr
     for (std::size_t c = 0; c < level.clips.size(); ++c) {
       const BundleClip& clip = level.clips[c];
       QJsonObject clipEntry{{"name", QString::fromStdString(clip.name)},
-                            {"frames", clip.frameCount},
-                            {"fps", clip.fps},
-                            {"looping", clip.looping},
-                            {"clusters", int(clip.clusters.size())}};
+                            {"frames", clip.clip.frameCount()},
+                            {"fps", clip.clip.fps()},
+                            {"looping", clip.clip.looping()},
+                            {"clusters", clip.clip.clusterCount()},
+                            {"blend_frames", clip.clip.blendFrames()},
+                            {"bytes", qint64(clip.clip.byteSize())},
+                            {"bytes_per_second", clip.clip.bytesPerSecond()},
+                            {"precision_cm", clip.clip.precisionCm()},
+                            {"encoded_error_cm", clip.clip.encodedErrorCm()}};
       if (c < source.metrics.size()) {
         clipEntry["simplified_joint_percent"] = source.metrics[c].simplifiedPercent;
         clipEntry["max_joint_position_error_cm"] = source.metrics[c].maxJointPositionErrorCm;
@@ -85,6 +90,12 @@ public:
                 "Write FILE.mlodb.json beside the bundle: its levels, clips and sizes for people and tools"});
     out.append({"meshes", mlod::ExporterOption::Bool, true, {}, {}, {},
                 "Store each level's skinning mesh (off: motion only, for a character whose mesh the engine has)"});
+    out.append({"blend_frames", mlod::ExporterOption::Int, mlod::kDefaultBundleBlendFrames, 0, mlod::kMaxBlendFrames, {},
+                "Frames over which a joint leaving a frozen cluster blends back, stored in the clips: the engine "
+                "plays them with this many (0 = off)"});
+    out.append({"precision_cm", mlod::ExporterOption::Double, mlod::kDefaultClipPrecisionCm, 0.0001, 10.0, {},
+                "Quantization precision in cm: no joint, and no point 3 cm from one, moves further from the "
+                "uncompressed clip"});
     return out;
   }
 
@@ -96,7 +107,10 @@ public:
     using namespace mlod;
     if (!progress.step(0.0, QStringLiteral("gathering %1 levels").arg(package.levels.size())))
       return cancelledResult();
-    Result<Bundle> bundle = packageBundle(package);
+    BundleOptions bundleOptions;
+    bundleOptions.blendFrames = options.value("blend_frames", kDefaultBundleBlendFrames).toInt();
+    bundleOptions.precisionCm = options.value("precision_cm", kDefaultClipPrecisionCm).toDouble();
+    Result<Bundle> bundle = packageBundle(package, bundleOptions);
     if (!bundle)
       return ExportResult::failure(QString::fromStdString(bundle.message()));
     if (!options.value("meshes", true).toBool())

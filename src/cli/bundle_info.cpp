@@ -74,16 +74,20 @@ int describeBundle(const std::string& file, bool json) {
   for (std::size_t l = 0; l < bundle->levels.size(); ++l) {
     const BundleLevel& level = bundle->levels[l];
     nlohmann::json clips = nlohmann::json::array();
-    for (std::size_t c = 0; c < level.clips.size(); ++c)
-      clips.push_back({{"name", level.clips[c].name},
-                       {"frames", level.clips[c].frameCount},
-                       {"fps", level.clips[c].fps},
-                       {"looping", level.clips[c].looping},
-                       {"clusters", level.clips[c].clusters.size()},
-                       {"bytes", runtime[l].clips[c].byteSize()},
-                       {"bytes_per_second", runtime[l].clips[c].bytesPerSecond()},
-                       {"precision_cm", runtime[l].clips[c].precisionCm()},
-                       {"encoded_error_cm", runtime[l].clips[c].encodedErrorCm()}});
+    for (const BundleClip& bundleClip : level.clips) {
+      const LodClip& clip = bundleClip.clip;
+      clips.push_back({{"name", bundleClip.name},
+                       {"frames", clip.frameCount()},
+                       {"fps", clip.fps()},
+                       {"looping", clip.looping()},
+                       {"clusters", clip.clusterCount()},
+                       {"blend_frames", clip.blendFrames()},
+                       {"bytes", clip.byteSize()},
+                       {"bytes_in_file", bundleClipBytes(bundleClip)},
+                       {"bytes_per_second", clip.bytesPerSecond()},
+                       {"precision_cm", clip.precisionCm()},
+                       {"encoded_error_cm", clip.encodedErrorCm()}});
+    }
     nlohmann::json mesh = nullptr;
     if (level.mesh)
       mesh = {{"vertices", level.mesh->positions.size()}, {"triangles", level.mesh->indices.size() / 3}};
@@ -122,12 +126,12 @@ int describeBundle(const std::string& file, bool json) {
     if (level.mesh)
       std::printf("  mesh %zu vertices, %zu triangles", level.mesh->positions.size(), level.mesh->indices.size() / 3);
     std::printf("\n");
-    for (std::size_t c = 0; c < level.clips.size(); ++c) {
-      const LodClip& clip = runtime[l].clips[c];
-      std::printf("       clip %-20s %6d frames %8.3f fps  %5zu clusters  %8zu bytes at run time (%.0f bytes/s, "
-                  "error bound %.4g cm, precision %.4g)\n",
-                  level.clips[c].name.c_str(), level.clips[c].frameCount, level.clips[c].fps,
-                  level.clips[c].clusters.size(), clip.byteSize(), clip.bytesPerSecond(), clip.encodedErrorCm(),
+    for (const BundleClip& bundleClip : level.clips) {
+      const LodClip& clip = bundleClip.clip;
+      std::printf("       clip %-20s %6d frames %8.3f fps  %5d clusters  %8zu bytes at run time, %zu in the file "
+                  "(%.0f bytes/s, blend %d frames, error bound %.4g cm, precision %.4g)\n",
+                  bundleClip.name.c_str(), clip.frameCount(), clip.fps(), clip.clusterCount(), clip.byteSize(),
+                  bundleClipBytes(bundleClip), clip.bytesPerSecond(), clip.blendFrames(), clip.encodedErrorCm(),
                   clip.precisionCm());
     }
   }

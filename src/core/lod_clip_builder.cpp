@@ -5,7 +5,7 @@
 namespace mlod {
 
 Result<LodClip> buildLodClip(const Clip& clip, const ClusterSet* clusters, std::optional<bool> looping,
-                             std::span<const std::int16_t> parents, int blendFrames) {
+                             std::span<const std::int16_t> parents, int blendFrames, double precisionCm) {
   if (clip.frameCount < 1 || clip.jointCount < 1)
     return Error("clip '" + clip.name + "' has no frames or no joints");
   const std::size_t n = static_cast<std::size_t>(clip.jointCount) * static_cast<std::size_t>(clip.frameCount);
@@ -41,6 +41,7 @@ Result<LodClip> buildLodClip(const Clip& clip, const ClusterSet* clusters, std::
   if (parents.size() == static_cast<std::size_t>(clip.jointCount))
     source.parents = parents;
   source.blendFrames = blendFrames;
+  source.precisionCm = precisionCm;
   std::string message;
   std::optional<LodClip> built = LodClip::build(source, &message);
   if (!built)

@@ -24,11 +24,12 @@ namespace mlod {
 // joints, for full detail: the same clip without clusters). `looping` overrides the clip's
 // own flag. `parents` (the skeleton's parentIndices(), or none) shares the clip's precision
 // out along chains (LodClip's header); without them the bounds are coarser (more bytes).
-// `blendFrames`: the unfreeze blending the clip is built for (LodClipSource::blendFrames).
+// `blendFrames`: the unfreeze blending the clip is built for (LodClipSource::blendFrames);
+// `precisionCm` the quantization's precision (LodClipSource::precisionCm).
 // Errors: a clip or cluster set that does not validate, or that do not match.
 Result<LodClip> buildLodClip(const Clip& clip, const ClusterSet* clusters = nullptr,
                              std::optional<bool> looping = std::nullopt, std::span<const std::int16_t> parents = {},
-                             int blendFrames = 0);
+                             int blendFrames = 0, double precisionCm = kDefaultClipPrecisionCm);
 
 // One LodClip per level, in order.
 Result<std::vector<LodClip>> buildLodClips(const Clip& clip, std::span<const ClusterSet> levels,

@@ -36,10 +36,6 @@ constexpr std::size_t kHeaderBytes = 24;       // magic, version, section count,
 constexpr std::size_t kSectionEntryBytes = 24; // type, crc, offset, size
 constexpr std::uint32_t kMaxLevels = 65535;
 constexpr std::uint32_t kMaxString = 1u << 20;
-// Channel modes of a joint's track.
-constexpr std::uint8_t kStatic = 0;      // one value for every frame
-constexpr std::uint8_t kAnimated = 1;    // one value per frame
-constexpr std::uint8_t kOutsideKeys = 2; // rotations: frames outside clusters, and each cluster's key once
 
 // ---- writing ----
 
@@ -84,76 +80,160 @@ public:
   }
 };
 
-bool sameBits(const glm::quat& a, const glm::quat& b) { return std::memcmp(&a, &b, sizeof(glm::quat)) == 0; }
-bool sameBits(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&a, &b, sizeof(glm::vec3)) == 0; }
+} // namespace
 
-template <typename T>
-bool constantTrack(std::span<const T> track) {
-  for (const T& value : track)
-    if (!sameBits(value, track.front()))
+// A clip's storage in a level section (docs/bundle-format.md, "Clip"): LodClip's members as
+// they lie in memory but for what follows from them (the joint lists, the scaled flag, the
+// region width, the streams' spare chunk and spare bytes), which the reader derives, then
+// checks the whole against LodClip::storageProblem().
+struct internal::LodClipStorage {
+  template <class W> static void write(W& w, const std::string& name, const LodClip& clip) {
+    w.str(name);
+    w.f64(clip.m_fps);
+    w.i32(clip.m_frameCount);
+    w.u8(clip.m_looping ? 1 : 0);
+    w.i32(clip.m_blendFrames);
+    w.f64(clip.m_precisionCm);
+    w.f64(clip.m_encodedErrorCm);
+    w.i32(clip.m_clusterCount);
+    for (std::size_t j = 0; j < clip.m_flags.size(); ++j) {
+      w.u8(clip.m_flags[j]);
+      w.quat(clip.m_staticRotation[j]);
+      w.vec3(clip.m_staticTranslation[j]);
+      w.vec3(clip.m_staticScale[j]);
+      w.i32(clip.m_rotationStream[j]);
+      w.i32(clip.m_translationStream[j]);
+      w.i32(clip.m_scaleStream[j]);
+    }
+    for (std::uint32_t begin : clip.m_regionBegin)
+      w.u32(begin);
+    w.u32(static_cast<std::uint32_t>(clip.m_regionWords.size()));
+    for (std::uint32_t word : clip.m_regionWords)
+      w.u32(word);
+    const CompressedStreams& streams = clip.m_streams;
+    w.u32(static_cast<std::uint32_t>(streams.m_streams.size()));
+    for (const Stream& stream : streams.m_streams) {
+      for (int k = 0; k < 3; ++k)
+        w.f32(stream.min[k]);
+      for (int k = 0; k < 3; ++k)
+        w.f32(stream.unit[k]);
+      w.u32(stream.chunkBegin);
+      w.u32(stream.entries);
+      w.u8(stream.rotation ? 1 : 0);
+    }
+    w.u32(static_cast<std::uint32_t>(streams.m_chunks.size() - 1)); // not the spare
+    for (std::size_t c = 0; c + 1 < streams.m_chunks.size(); ++c) {
+      const Chunk& chunk = streams.m_chunks[c];
+      w.u32(chunk.bitOffset);
+      w.u8(chunk.bits);
+      w.u8(chunk.drop);
+      for (int k = 0; k < 3; ++k)
+        w.u8(chunk.start[k]);
+      for (int k = 0; k < 3; ++k)
+        w.u8(chunk.extent[k]);
+    }
+    const std::size_t bytes = streams.m_bits.size() - 8; // not the spare bytes
+    w.u32(static_cast<std::uint32_t>(bytes));
+    w.bytes.insert(w.bytes.end(), streams.m_bits.begin(), streams.m_bits.begin() + static_cast<std::ptrdiff_t>(bytes));
+  }
+
+  // Reads one clip of a level of `joints` joints; false (and the reader's error) when the
+  // bytes do not hold a clip the evaluator can read.
+  template <class R> static bool read(R& r, int joints, BundleClip& out) {
+    out.name = r.str("clip name");
+    LodClip& clip = out.clip;
+    clip.m_fps = r.f64();
+    clip.m_frameCount = r.i32();
+    const std::uint8_t looping = r.u8();
+    clip.m_blendFrames = r.i32();
+    clip.m_precisionCm = r.f64();
+    clip.m_encodedErrorCm = r.f64();
+    clip.m_clusterCount = r.i32();
+    if (!r.ok())
       return false;
-  return true;
-}
-
-void writeVec3Track(Writer& w, std::span<const glm::vec3> track) {
-  if (constantTrack(track)) {
-    w.u8(kStatic);
-    w.vec3(track.front());
-    return;
-  }
-  w.u8(kAnimated);
-  for (const glm::vec3& v : track)
-    w.vec3(v);
-}
-
-void writeClip(Writer& w, const BundleClip& clip) {
-  w.str(clip.name);
-  w.f64(clip.fps);
-  w.i32(clip.frameCount);
-  w.u8(clip.looping ? 1 : 0);
-  const std::size_t frames = static_cast<std::size_t>(clip.frameCount);
-  for (std::int32_t j = 0; j < clip.jointCount; ++j) {
-    const std::size_t at = static_cast<std::size_t>(j) * frames;
-    std::span<const LodCluster> clusters;
-    if (!clip.clusterBegin.empty())
-      clusters = std::span<const LodCluster>(clip.clusters)
-                     .subspan(clip.clusterBegin[std::size_t(j)], clip.clusterBegin[std::size_t(j) + 1] - clip.clusterBegin[std::size_t(j)]);
-    w.u32(static_cast<std::uint32_t>(clusters.size()));
-    for (const LodCluster& c : clusters) {
-      w.i32(c.first);
-      w.i32(c.last);
-      w.i32(c.key);
+    const std::string what = "clip '" + out.name + "': ";
+    if (looping > 1)
+      return r.fail(what + "a looping flag of " + std::to_string(looping)), false;
+    clip.m_looping = looping == 1;
+    clip.m_jointCount = joints;
+    const std::size_t n = static_cast<std::size_t>(joints);
+    if (!r.fits(n, 53, "clip joints"))
+      return false;
+    clip.m_flags.resize(n);
+    clip.m_staticRotation.resize(n);
+    clip.m_staticTranslation.resize(n);
+    clip.m_staticScale.resize(n);
+    clip.m_rotationStream.resize(n);
+    clip.m_translationStream.resize(n);
+    clip.m_scaleStream.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      clip.m_flags[j] = r.u8();
+      clip.m_staticRotation[j] = r.quat();
+      clip.m_staticTranslation[j] = r.vec3();
+      clip.m_staticScale[j] = r.vec3();
+      clip.m_rotationStream[j] = r.i32();
+      clip.m_translationStream[j] = r.i32();
+      clip.m_scaleStream[j] = r.i32();
     }
-    const std::span<const glm::quat> rotations = std::span<const glm::quat>(clip.rotations).subspan(at, frames);
-    // inside a cluster every rotation is the key's (M'(t)): store it once, when that holds bit for bit
-    bool elide = !clusters.empty();
-    for (const LodCluster& c : clusters)
-      for (std::int32_t f = c.first; elide && f <= c.last; ++f)
-        elide = sameBits(rotations[std::size_t(f)], rotations[std::size_t(c.key)]);
-    if (constantTrack(rotations)) {
-      w.u8(kStatic);
-      w.quat(rotations.front());
-    } else if (elide) {
-      w.u8(kOutsideKeys);
-      std::size_t next = 0;
-      for (std::int32_t f = 0; f < clip.frameCount; ++f) {
-        if (next < clusters.size() && f == clusters[next].first) {
-          w.quat(rotations[std::size_t(clusters[next].key)]);
-          f = clusters[next].last;
-          ++next;
-          continue;
-        }
-        w.quat(rotations[std::size_t(f)]);
-      }
-    } else {
-      w.u8(kAnimated);
-      for (const glm::quat& q : rotations)
-        w.quat(q);
+    if (!r.fits(n + 1, 4, "region index"))
+      return false;
+    clip.m_regionBegin.resize(n + 1);
+    for (std::uint32_t& begin : clip.m_regionBegin)
+      begin = r.u32();
+    const std::uint32_t words = r.u32();
+    if (!r.fits(words, 4, "regions"))
+      return false;
+    clip.m_regionWords.resize(words);
+    for (std::uint32_t& word : clip.m_regionWords)
+      word = r.u32();
+    clip.m_narrowRegions = clip.m_frameCount <= 0xffff;
+    CompressedStreams& streams = clip.m_streams;
+    const std::uint32_t streamCount = r.u32();
+    if (!r.fits(streamCount, 33, "streams"))
+      return false;
+    streams.m_streams.resize(streamCount);
+    for (Stream& stream : streams.m_streams) {
+      for (int k = 0; k < 3; ++k)
+        stream.min[k] = r.f32();
+      for (int k = 0; k < 3; ++k)
+        stream.unit[k] = r.f32();
+      stream.chunkBegin = r.u32();
+      stream.entries = r.u32();
+      const std::uint8_t rotation = r.u8();
+      if (rotation > 1)
+        return r.fail(what + "a stream kind of " + std::to_string(rotation)), false;
+      stream.rotation = rotation == 1;
     }
-    writeVec3Track(w, std::span<const glm::vec3>(clip.translations).subspan(at, frames));
-    writeVec3Track(w, std::span<const glm::vec3>(clip.scales).subspan(at, frames));
+    const std::uint32_t chunkCount = r.u32();
+    if (!r.fits(chunkCount, 12, "chunks"))
+      return false;
+    streams.m_chunks.resize(std::size_t(chunkCount) + 1); // and the spare
+    for (std::uint32_t c = 0; c < chunkCount; ++c) {
+      Chunk& chunk = streams.m_chunks[c];
+      chunk.bitOffset = r.u32();
+      chunk.bits = r.u8();
+      chunk.drop = r.u8();
+      for (int k = 0; k < 3; ++k)
+        chunk.start[k] = r.u8();
+      for (int k = 0; k < 3; ++k)
+        chunk.extent[k] = r.u8();
+    }
+    const std::uint32_t bytes = r.u32();
+    if (!r.fits(bytes, 1, "stream bytes"))
+      return false;
+    streams.m_bits.resize(std::size_t(bytes) + 8, 0); // and the spare bytes
+    r.copy(streams.m_bits.data(), bytes);
+    streams.m_bitCount = 8 * std::uint64_t(bytes);
+    if (!r.ok())
+      return false;
+    clip.deriveJointLists();
+    if (std::string problem = clip.storageProblem(); !problem.empty())
+      return r.fail(what + problem), false;
+    return true;
   }
-}
+};
+
+namespace {
 
 void writeLevel(Writer& w, const BundleLevel& level) {
   w.i32(level.index);
@@ -169,7 +249,7 @@ void writeLevel(Writer& w, const BundleLevel& level) {
   }
   w.u32(static_cast<std::uint32_t>(level.clips.size()));
   for (const BundleClip& clip : level.clips)
-    writeClip(w, clip);
+    internal::LodClipStorage::write(w, clip.name, clip.clip);
   w.u8(level.mesh ? 1 : 0);
   if (!level.mesh)
     return;
@@ -230,6 +310,15 @@ public:
     m_at += std::size_t(n);
     return v;
   }
+  void copy(std::uint8_t* out, std::size_t n) {
+    if (!ok() || remaining() < n) {
+      fail("truncated");
+      m_at = m_bytes.size();
+      return;
+    }
+    std::memcpy(out, m_bytes.data() + m_at, n);
+    m_at += n;
+  }
   std::uint8_t u8() { return static_cast<std::uint8_t>(raw(1)); }
   std::uint16_t u16() { return static_cast<std::uint16_t>(raw(2)); }
   std::uint32_t u32() { return static_cast<std::uint32_t>(raw(4)); }
@@ -268,99 +357,7 @@ private:
   std::string m_error;
 };
 
-void readVec3Track(Reader& r, std::vector<glm::vec3>& out, std::size_t frames, const char* what) {
-  const std::uint8_t mode = r.u8();
-  if (mode == kStatic) {
-    out.insert(out.end(), frames, r.vec3());
-  } else if (mode == kAnimated) {
-    if (!r.fits(frames, 12, what))
-      return;
-    for (std::size_t f = 0; f < frames; ++f)
-      out.push_back(r.vec3());
-  } else {
-    r.fail(std::string(what) + ": unknown track mode " + std::to_string(mode));
-  }
-}
-
-void readClip(Reader& r, BundleClip& clip, int joints, std::uint64_t& budget) {
-  clip.name = r.str("clip name");
-  clip.fps = r.f64();
-  clip.frameCount = r.i32();
-  const std::uint8_t looping = r.u8();
-  if (!r.ok())
-    return;
-  if (!(std::isfinite(clip.fps) && clip.fps > 0.0 && clip.fps <= 10000.0))
-    return r.fail("clip '" + clip.name + "': a frame rate of " + std::to_string(clip.fps));
-  if (looping > 1)
-    return r.fail("clip '" + clip.name + "': a looping flag of " + std::to_string(looping));
-  clip.looping = looping == 1;
-  clip.jointCount = joints;
-  // every joint takes at least 4 (clusters) + 3 x 13 (static channels) bytes
-  if (clip.frameCount < 1 || !r.fits(std::uint64_t(joints), 43, "clip joints"))
-    return r.fail("clip '" + clip.name + "': " + std::to_string(clip.frameCount) + " frames");
-  const std::size_t frames = static_cast<std::size_t>(clip.frameCount);
-  // a static joint costs 43 bytes whatever the frame count: bound what the tracks may expand to
-  const std::uint64_t jointFrames = std::uint64_t(frames) * std::uint64_t(joints);
-  if (jointFrames > kMaxBundleJointFrames - budget)
-    return r.fail("clip '" + clip.name + "': " + std::to_string(frames) + " frames x " + std::to_string(joints) +
-                  " joints would take the bundle past " + std::to_string(kMaxBundleJointFrames) + " joint-frames");
-  budget += jointFrames;
-  clip.rotations.reserve(frames * std::size_t(joints));
-  clip.translations.reserve(frames * std::size_t(joints));
-  clip.scales.reserve(frames * std::size_t(joints));
-  clip.clusterBegin.push_back(0);
-  for (int j = 0; j < joints && r.ok(); ++j) {
-    const std::uint32_t count = r.u32();
-    if (!r.fits(count, 12, "clusters"))
-      return;
-    const std::size_t begin = clip.clusters.size();
-    std::int32_t previousLast = -1;
-    for (std::uint32_t c = 0; c < count; ++c) {
-      LodCluster cluster;
-      cluster.first = r.i32();
-      cluster.last = r.i32();
-      cluster.key = r.i32();
-      if (cluster.first <= previousLast || std::int64_t(cluster.last) - cluster.first < 2 || cluster.last >= clip.frameCount ||
-          cluster.key < cluster.first || cluster.key > cluster.last)
-        return r.fail("clip '" + clip.name + "' joint " + std::to_string(j) + ": cluster [" +
-                      std::to_string(cluster.first) + ", " + std::to_string(cluster.last) + "] key " +
-                      std::to_string(cluster.key) + " is not sorted, disjoint, >= 3 frames, key inside");
-      previousLast = cluster.last;
-      clip.clusters.push_back(cluster);
-    }
-    clip.clusterBegin.push_back(static_cast<std::uint32_t>(clip.clusters.size()));
-    const std::uint8_t mode = r.u8();
-    if (mode == kStatic) {
-      clip.rotations.insert(clip.rotations.end(), frames, r.quat());
-    } else if (mode == kAnimated) {
-      if (!r.fits(frames, 16, "rotations"))
-        return;
-      for (std::size_t f = 0; f < frames; ++f)
-        clip.rotations.push_back(r.quat());
-    } else if (mode == kOutsideKeys) {
-      std::size_t next = begin;
-      for (std::int32_t f = 0; f < clip.frameCount && r.ok(); ++f) {
-        if (next < clip.clusters.size() && f == clip.clusters[next].first) {
-          const LodCluster& cluster = clip.clusters[next++];
-          clip.rotations.insert(clip.rotations.end(), std::size_t(cluster.last - cluster.first + 1), r.quat());
-          f = cluster.last;
-          continue;
-        }
-        clip.rotations.push_back(r.quat());
-      }
-    } else {
-      return r.fail("clip '" + clip.name + "': unknown rotation mode " + std::to_string(mode));
-    }
-    readVec3Track(r, clip.translations, frames, "translations");
-    readVec3Track(r, clip.scales, frames, "scales");
-  }
-  if (!r.ok())
-    return;
-  if (clip.clusters.empty())
-    clip.clusterBegin.clear(); // no clusters: full detail, as the writer had it or not
-}
-
-bool readLevel(Reader& r, BundleLevel& level, std::uint64_t& budget) {
+bool readLevel(Reader& r, BundleLevel& level) {
   level.index = r.i32();
   level.name = r.str("level name");
   for (double* v : {&level.motionThreshold, &level.meshRatio, &level.switchDistanceCm, &level.pixelError,
@@ -378,12 +375,11 @@ bool readLevel(Reader& r, BundleLevel& level, std::uint64_t& budget) {
     level.inverseBinds.push_back(r.mat4());
   }
   const std::uint32_t clips = r.u32();
-  if (!r.fits(clips, 20, "clips"))
+  if (!r.fits(clips, 41 + 53, "clips")) // a clip's fields, and at least one joint's
     return false;
-  level.clips.resize(clips);
-  for (BundleClip& clip : level.clips) {
-    readClip(r, clip, static_cast<int>(joints), budget);
-    if (!r.ok())
+  for (std::uint32_t c = 0; c < clips; ++c) {
+    BundleClip& clip = level.clips.emplace_back();
+    if (!internal::LodClipStorage::read(r, static_cast<int>(joints), clip))
       return false;
   }
   const std::uint8_t hasMesh = r.u8();
@@ -445,18 +441,10 @@ std::string parentsProblem(std::span<const std::int16_t> parents) {
 
 } // namespace
 
-LodClipSource BundleClip::source() const {
-  LodClipSource s;
-  s.fps = fps;
-  s.frameCount = frameCount;
-  s.jointCount = jointCount;
-  s.looping = looping;
-  s.rotations = rotations;
-  s.translations = translations;
-  s.scales = scales;
-  s.clusters = clusters;
-  s.clusterBegin = clusterBegin;
-  return s;
+std::size_t bundleClipBytes(const BundleClip& clip) {
+  Writer w;
+  internal::LodClipStorage::write(w, clip.name, clip.clip);
+  return w.bytes.size();
 }
 
 std::uint32_t crc32(std::span<const std::uint8_t> bytes) {
@@ -492,10 +480,14 @@ std::string validateBundle(const Bundle& bundle) {
   std::uint64_t jointFrames = 0;
   for (const BundleLevel& level : bundle.levels)
     for (const BundleClip& clip : level.clips)
-      jointFrames += std::uint64_t(std::max(clip.frameCount, 0)) * std::uint64_t(std::max(clip.jointCount, 0));
+      jointFrames += std::uint64_t(clip.clip.frameCount()) * std::uint64_t(clip.clip.jointCount());
   if (jointFrames > kMaxBundleJointFrames)
     return "the clips hold " + std::to_string(jointFrames) + " joint-frames, more than a bundle may (" +
            std::to_string(kMaxBundleJointFrames) + ")";
+  const BundleClip* firstClip = nullptr;
+  for (const BundleLevel& level : bundle.levels)
+    if (!firstClip && !level.clips.empty())
+      firstClip = &level.clips.front();
   for (const BundleLevel& level : bundle.levels) {
     const std::string what = "level '" + level.name + "': ";
     const std::size_t n = level.parents.size();
@@ -511,12 +503,14 @@ std::string validateBundle(const Bundle& bundle) {
         return what + "joint " + std::to_string(j) + " has an inverse bind that is not finite and affine";
     }
     for (const BundleClip& clip : level.clips) {
-      const std::size_t tracks = std::size_t(std::max(clip.frameCount, 0)) * n;
-      if (clip.jointCount != std::int32_t(n) || clip.rotations.size() != tracks || clip.translations.size() != tracks ||
-          clip.scales.size() != tracks)
+      if (clip.clip.jointCount() != std::int32_t(n))
         return what + "clip '" + clip.name + "' does not match the level's " + std::to_string(n) + " joints";
-      if (!clip.clusterBegin.empty() && (clip.clusterBegin.size() != n + 1 || clip.clusterBegin.back() != clip.clusters.size()))
-        return what + "clip '" + clip.name + "' has a cluster index of the wrong size";
+      if (std::string problem = clip.clip.storageProblem(); !problem.empty()) // e.g. a LodClip never built
+        return what + "clip '" + clip.name + "': " + problem;
+      if (clip.clip.blendFrames() != firstClip->clip.blendFrames())
+        return what + "clip '" + clip.name + "' is built for " + std::to_string(clip.clip.blendFrames()) +
+               " blend frames, clip '" + firstClip->name + "' for " + std::to_string(firstClip->clip.blendFrames()) +
+               ": a bundle's clips play with one";
     }
     if (level.mesh) {
       const BundleMesh& mesh = *level.mesh;
@@ -605,6 +599,10 @@ std::optional<Bundle> readBundle(std::span<const std::uint8_t> bytes, std::strin
   const std::uint32_t version = header.u32();
   const std::uint32_t count = header.u32();
   const std::uint64_t total = header.u64();
+  if (version == 1)
+    return fail("bundle format version 1: it stores clip sources, which this reader no longer builds; export the "
+                "character again for version " + std::to_string(kBundleVersion) +
+                " (the compressed clips the runtime plays)");
   if (version != kBundleVersion)
     return fail("bundle format version " + std::to_string(version) + ": this reader reads version " +
                 std::to_string(kBundleVersion) + (version > kBundleVersion ? " (written by a newer exporter)" : ""));
@@ -621,7 +619,6 @@ std::optional<Bundle> readBundle(std::span<const std::uint8_t> bytes, std::strin
   Bundle bundle;
   std::size_t expected = tableEnd + 4;
   std::uint32_t levelCount = 0;
-  std::uint64_t jointFrames = 0; // expanded so far (kMaxBundleJointFrames)
   for (std::uint32_t i = 0; i < count; ++i) {
     const std::uint32_t type = table.u32();
     const std::uint32_t crc = table.u32();
@@ -662,7 +659,7 @@ std::optional<Bundle> readBundle(std::span<const std::uint8_t> bytes, std::strin
     } else {
       Reader r(data, "level section " + std::to_string(i));
       BundleLevel level;
-      if (!readLevel(r, level, jointFrames))
+      if (!readLevel(r, level))
         return fail(r.error());
       bundle.levels.push_back(std::move(level));
     }
@@ -680,22 +677,12 @@ std::optional<Bundle> readBundleFile(const std::string& path, std::string* out_e
   return readBundle(std::span(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()), out_error);
 }
 
-std::optional<BundleLevelRuntime> buildBundleLevel(const BundleLevel& level, std::string* out_error, int blendFrames) {
+std::optional<BundleLevelRuntime> buildBundleLevel(const BundleLevel& level, std::string* out_error) {
   BundleLevelRuntime out;
   std::string message;
-  for (const BundleClip& clip : level.clips) {
-    LodClipSource source = clip.source();
-    source.blendFrames = blendFrames;
-    if (level.parents.size() == static_cast<std::size_t>(clip.jointCount))
-      source.parents = level.parents;
-    std::optional<LodClip> built = LodClip::build(source, &message);
-    if (!built) {
-      if (out_error)
-        *out_error = "level '" + level.name + "' clip '" + clip.name + "': " + message;
-      return std::nullopt;
-    }
-    out.clips.push_back(std::move(*built));
-  }
+  out.clips.reserve(level.clips.size());
+  for (const BundleClip& clip : level.clips)
+    out.clips.push_back(clip.clip);
   if (level.mesh) {
     out.mesh = level.mesh->build(level.jointCount(), &message);
     if (!out.mesh) {

@@ -4,15 +4,19 @@
 // that this file reads and writes with GLM and the standard library alone.
 //
 // Per level: the level's skeleton (after bone reduction: each joint's joint in the original
-// skeleton, parent, inverse bind), its clips as LodClip sources (clusters per joint, local
-// rotation / translation / scale tracks; inside a cluster the rotation is the key's, so
-// those frames are stored once), and its skinning mesh (positions, normals, triangles, four
-// joint indices and weights per vertex). readBundle() gives them back exactly: a LodClip
-// built from a read clip equals the one built from the written clip, bit for bit.
+// skeleton, parent, inverse bind), its clips as the runtime plays them (LodClip's
+// compressed storage: regions, quantized streams, static values; built for one number of
+// blend frames and one precision, which each clip states), and its skinning mesh
+// (positions, normals, triangles, four joint indices and weights per vertex). readBundle()
+// gives them back exactly: a read clip equals the written one, bit for bit, and costs its
+// bytes in the file (format version 2; version 1 stored clip sources and is refused with a
+// message that says to export again).
 //
 // Reading never trusts the file: every section's size and CRC-32 are checked, every count
-// against the bytes that remain, every index against what it indexes; a truncated,
-// corrupt, or newer-version bundle is refused with a message that says which and where.
+// against the bytes that remain, every index against what it indexes, and every clip's
+// storage against the rules the evaluator reads it by (LodClip::storageProblem()); a
+// truncated, corrupt, older- or newer-version bundle is refused with a message that says
+// which and where.
 //
 // Units: lengths in cm, time in seconds, thresholds in cm·degrees.
 
@@ -31,11 +35,14 @@
 namespace mlod {
 
 inline constexpr char kBundleMagic[8] = {'M', 'L', 'O', 'D', 'B', 'N', 'D', 'L'};
-inline constexpr std::uint32_t kBundleVersion = 1;
+inline constexpr std::uint32_t kBundleVersion = 2;
+// The unfreeze blending an exporter builds a bundle's clips for unless told otherwise
+// (frames; the bundle plugin's blend_frames option, bench-crowd's --blend-frames default).
+inline constexpr int kDefaultBundleBlendFrames = 4;
 // The most joint-frames (frames x joints, summed over every clip of every level) a bundle
-// may expand to when read: a static track takes 13 bytes in the file whatever the frame
-// count, so a small file could otherwise ask for gigabytes. 2^25 = 33.5 M: e.g. 8 levels of
-// a 60-joint, 10-minute clip at 120 fps (about 1.3 GB of tracks).
+// may hold: what an exporter builds in memory before it compresses (the clips' tracks, about
+// 40 bytes a joint-frame). 2^25 = 33.5 M: e.g. 8 levels of a 60-joint, 10-minute clip at
+// 120 fps (about 1.3 GB of tracks).
 inline constexpr std::uint64_t kMaxBundleJointFrames = std::uint64_t(1) << 25;
 // Why a bundle of `levels` levels of clips of `frames` frames in all (`joints` joints at
 // the original level, 0 without a skeleton) cannot be written, or empty: checked before a
@@ -46,26 +53,12 @@ std::string bundlePlanProblem(std::uint64_t frames, int joints, int levels, bool
 // The largest bundle file readBundleFile() reads (regular files only; runtime/input_file.h).
 inline constexpr std::uint64_t kMaxBundleFileBytes = std::uint64_t(2) << 30;
 
-// A clip as LodClip::build() takes it, owning its arrays.
+// A clip of a level as the runtime plays it: the compressed LodClip itself (built for the
+// bundle's blend frames and precision, LodClip::blendFrames() and precisionCm()), so that
+// what the bundle holds is exactly what the evaluator reads.
 struct BundleClip {
   std::string name;
-  double fps = 30.0;
-  std::int32_t frameCount = 0;
-  std::int32_t jointCount = 0;
-  bool looping = false;
-  std::vector<glm::quat> rotations; // [joint * frameCount + frame]
-  std::vector<glm::vec3> translations;
-  std::vector<glm::vec3> scales;
-  std::vector<LodCluster> clusters;          // joint after joint
-  std::vector<std::uint32_t> clusterBegin;   // jointCount + 1 entries, or none
-
-  LodClipSource source() const;
-  // The clip for `blendFrames` frames of unfreeze blending (LodClipSource::blendFrames).
-  std::optional<LodClip> build(std::string* out_error = nullptr, int blendFrames = 0) const {
-    LodClipSource built = source();
-    built.blendFrames = blendFrames;
-    return LodClip::build(built, out_error);
-  }
+  LodClip clip;
 };
 
 // A level's skinning mesh, bound to the level's skeleton.
@@ -96,7 +89,7 @@ struct BundleLevel {
   std::vector<std::int32_t> fullJoints;
   std::vector<std::int16_t> parents;
   std::vector<glm::mat4> inverseBinds;
-  std::vector<BundleClip> clips; // each of the level's joint count
+  std::vector<BundleClip> clips; // each of the level's joint count, all of one blend frames
   std::optional<BundleMesh> mesh;
 
   int jointCount() const { return static_cast<int>(parents.size()); }
@@ -132,15 +125,17 @@ std::optional<Bundle> readBundleFile(const std::string& path, std::string* out_e
 // The rules a bundle keeps (both writeBundle() and readBundle() check them): a name; at
 // least one level and at most 65,535; original joints 1..32,767 with parents before
 // children; per level, joints with a valid full joint each, parents before children,
-// finite affine inverse binds, clips whose joint count is the level's, a mesh whose indices
+// finite affine inverse binds, clips whose joint count is the level's and whose storage keeps
+// LodClip::storageProblem()'s rules, all of one blend frames, a mesh whose indices
 // and joints are in range. Empty string when fine.
 std::string validateBundle(const Bundle& bundle);
 
-// The level's LodClips, for `blendFrames` frames of unfreeze blending (the N the engine
-// plays them with: LodClipSource::blendFrames), and SkinningMesh. Errors: what
-// LodClip::build() and SkinningMesh::build() refuse.
-std::optional<BundleLevelRuntime> buildBundleLevel(const BundleLevel& level, std::string* out_error = nullptr,
-                                                   int blendFrames = 0);
+// The level's LodClips (copies of its clips: play them with their blendFrames()) and
+// SkinningMesh. Errors: what SkinningMesh::build() refuses.
+std::optional<BundleLevelRuntime> buildBundleLevel(const BundleLevel& level, std::string* out_error = nullptr);
+
+// The bytes `clip` takes in a bundle's level section (docs/bundle-format.md, "Clip").
+std::size_t bundleClipBytes(const BundleClip& clip);
 
 // CRC-32 (IEEE 802.3, as zlib's crc32()).
 std::uint32_t crc32(std::span<const std::uint8_t> bytes);

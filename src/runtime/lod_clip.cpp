@@ -336,12 +336,8 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
     std::uint8_t& kept = clip.m_flags[j];
     if (!(kept & kScaleAnimated) && clip.m_staticScale[j] == glm::vec3(1.0f))
       kept = static_cast<std::uint8_t>(kept & ~kScaled);
-    clip.m_scaled = clip.m_scaled || (kept & kScaled);
-    if (kept & kRotationAnimated)
-      clip.m_rotationJoints.push_back(static_cast<std::int16_t>(j));
-    if (kept & (kTranslationAnimated | kScaleAnimated))
-      clip.m_vectorJoints.push_back(static_cast<std::int16_t>(j));
   }
+  clip.deriveJointLists();
   clip.m_regionBegin[joints] = static_cast<std::uint32_t>(regions.size());
   // 16 bits each where they fit (a first frame or an entry is at most frameCount)
   clip.m_narrowRegions = source.frameCount <= 0xffff;
@@ -357,6 +353,116 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
   clip.m_streams.finish();
   clip.m_encodedErrorCm = worstCm;
   return clip;
+}
+
+void LodClip::deriveJointLists() {
+  m_rotationJoints.clear();
+  m_vectorJoints.clear();
+  m_scaled = false;
+  for (std::size_t j = 0; j < m_flags.size(); ++j) {
+    const std::uint8_t f = m_flags[j];
+    m_scaled = m_scaled || (f & kScaled);
+    if (f & kRotationAnimated)
+      m_rotationJoints.push_back(static_cast<std::int16_t>(j));
+    if (f & (kTranslationAnimated | kScaleAnimated))
+      m_vectorJoints.push_back(static_cast<std::int16_t>(j));
+  }
+}
+
+std::string LodClip::storageProblem() const {
+  if (!std::isfinite(m_fps) || m_fps <= 0.0 || m_fps > 1e6)
+    return "frame rate " + std::to_string(m_fps) + " is not in (0, 1e6] fps";
+  if (m_frameCount < 1)
+    return "the clip has no frames";
+  if (m_jointCount < 1 || m_jointCount > 32767)
+    return "joint count " + std::to_string(m_jointCount) + " is not in [1, 32767]";
+  if (m_blendFrames < 0 || m_blendFrames > kMaxBlendFrames)
+    return "blend frames " + std::to_string(m_blendFrames) + " is not in [0, " + std::to_string(kMaxBlendFrames) + "]";
+  if (!std::isfinite(m_precisionCm) || m_precisionCm <= 0.0 || m_precisionCm > 1e3)
+    return "precision " + std::to_string(m_precisionCm) + " cm is not in (0, 1000]";
+  if (!std::isfinite(m_encodedErrorCm) || m_encodedErrorCm < 0.0)
+    return "an encoded error of " + std::to_string(m_encodedErrorCm) + " cm";
+  if (m_clusterCount < 0)
+    return "a cluster count of " + std::to_string(m_clusterCount);
+  const std::size_t joints = static_cast<std::size_t>(m_jointCount);
+  if (m_flags.size() != joints || m_staticRotation.size() != joints || m_staticTranslation.size() != joints ||
+      m_staticScale.size() != joints || m_rotationStream.size() != joints || m_translationStream.size() != joints ||
+      m_scaleStream.size() != joints || m_regionBegin.size() != joints + 1)
+    return "per-joint arrays of the wrong size";
+  if (std::string problem = m_streams.storageProblem(); !problem.empty())
+    return problem;
+  if (m_narrowRegions != (m_frameCount <= 0xffff))
+    return "regions stored in the wrong width for " + std::to_string(m_frameCount) + " frames";
+  const std::size_t regions = m_narrowRegions ? m_regionWords.size() : m_regionWords.size() / 2;
+  if (!m_narrowRegions && m_regionWords.size() % 2 != 0)
+    return "an odd number of wide region words";
+  if (m_regionBegin[0] != 0 || m_regionBegin[joints] != regions)
+    return "the region index does not span the regions";
+  // each stream feeds one channel
+  std::vector<std::uint8_t> used(static_cast<std::size_t>(m_streams.streamCount()), 0);
+  const auto streamProblem = [&](int s, bool animated, bool rotation, std::uint32_t entries) -> std::string {
+    if (!animated)
+      return s == -1 ? std::string() : "a static channel with a stream";
+    if (s < 0 || s >= m_streams.streamCount() || used[static_cast<std::size_t>(s)])
+      return "an animated channel without a stream of its own";
+    used[static_cast<std::size_t>(s)] = 1;
+    const internal::Stream& stream = m_streams.stream(s);
+    if (stream.rotation != rotation)
+      return "a stream of the wrong kind";
+    if (stream.entries != entries)
+      return "a stream of " + std::to_string(stream.entries) + " entries where " + std::to_string(entries) +
+             " are addressed";
+    return {};
+  };
+  for (std::size_t j = 0; j < joints; ++j) {
+    const std::string joint = "joint " + std::to_string(j) + ": ";
+    const std::uint8_t f = m_flags[j];
+    if (f & ~(kAnimated | kScaled | kEveryFrame))
+      return joint + "unknown flags " + std::to_string(f);
+    if ((f & kAnimated) && m_frameCount < 2)
+      return joint + "animated in a one-frame clip";
+    if (!finite(m_staticRotation[j]) || !finite(m_staticTranslation[j]) || !finite(m_staticScale[j]))
+      return joint + "a static value that is not finite";
+    const bool scaled = (f & kScaleAnimated) || m_staticScale[j] != glm::vec3(1.0f);
+    if (scaled != ((f & kScaled) != 0))
+      return joint + "a scaled flag that does not match its scale";
+    if (m_regionBegin[j + 1] < m_regionBegin[j])
+      return joint + "the region index is not sorted";
+    const std::uint32_t begin = m_regionBegin[j], end = m_regionBegin[j + 1];
+    const bool rotation = (f & kRotationAnimated) != 0;
+    if (!rotation) {
+      if (end != begin || (f & kEveryFrame))
+        return joint + "regions or every-frame storage for a static rotation";
+    } else {
+      // regions from frame 0 and entry 0, first frames rising, each region's entries
+      // between 1 and its frames, to the sentinel {frameCount, entries}
+      if (end - begin < 2 || ((f & kEveryFrame) && end - begin != 2))
+        return joint + std::to_string(end - begin) + " region words for an animated rotation";
+      if (regionFirst(begin) != 0 || regionEntry(begin) != 0)
+        return joint + "its first region is not at frame 0, entry 0";
+      for (std::uint32_t r = begin; r + 1 < end; ++r) {
+        const std::int64_t frames = std::int64_t(regionFirst(r + 1)) - regionFirst(r);
+        const std::int64_t entries = std::int64_t(regionEntry(r + 1)) - regionEntry(r);
+        if (frames < 1 || entries < 1 || entries > frames)
+          return joint + "region " + std::to_string(r - begin) + " holds " + std::to_string(frames) + " frames and " +
+                 std::to_string(entries) + " entries";
+      }
+      if (regionFirst(end - 1) != m_frameCount)
+        return joint + "its regions do not end at the clip's end";
+      if ((f & kEveryFrame) && regionEntry(end - 1) != static_cast<std::uint32_t>(m_frameCount))
+        return joint + "every-frame storage with fewer entries than frames";
+    }
+    const std::uint32_t frames = static_cast<std::uint32_t>(m_frameCount);
+    for (const std::string& problem :
+         {streamProblem(m_rotationStream[j], rotation, true, rotation ? regionEntry(end - 1) : 0),
+          streamProblem(m_translationStream[j], (f & kTranslationAnimated) != 0, false, frames),
+          streamProblem(m_scaleStream[j], (f & kScaleAnimated) != 0, false, frames)})
+      if (!problem.empty())
+        return joint + problem;
+  }
+  if (std::find(used.begin(), used.end(), std::uint8_t{0}) != used.end())
+    return "a stream that no channel reads";
+  return {};
 }
 
 std::size_t LodClip::byteSize() const {

@@ -53,6 +53,10 @@
 
 namespace mlod {
 
+namespace internal {
+struct LodClipStorage; // a clip's storage in a runtime bundle (bundle.cpp)
+}
+
 // The most frames of unfreeze and level-change blending (LodClipSource::blendFrames,
 // PoseEvaluatorJob::blendFrames, Crowd and the CLI's --blend-frames).
 inline constexpr int kMaxBlendFrames = 10000;
@@ -152,6 +156,12 @@ public:
   // Checks `source` and builds the clip; on bad input returns nothing and, where
   // out_error is given, says why.
   static std::optional<LodClip> build(const LodClipSource& source, std::string* out_error = nullptr);
+  // Why the clip's storage breaks a rule that the evaluator and the reference path rely on
+  // to read within bounds (empty when it keeps them all): regions sorted, each joint's from
+  // frame 0 to its sentinel, entries in range; streams, chunks and bits that hold what the
+  // regions and frames address; flags that match the streams; finite values. build() keeps
+  // them; a clip read from a file (a runtime bundle) is checked with this before it is used.
+  std::string storageProblem() const;
 
   int jointCount() const { return m_jointCount; }
   int frameCount() const { return m_frameCount; }
@@ -261,6 +271,9 @@ public:
   }
 
 private:
+  friend struct internal::LodClipStorage;
+  // The joint lists and flags that follow from the per-joint flags (build() and a reader).
+  void deriveJointLists();
   glm::vec3 vectorAt(int stream, const glm::vec3& fixed, double frame) const;
   double wrapped(double g, std::int64_t* out_loop) const;
 

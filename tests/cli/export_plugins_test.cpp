@@ -119,7 +119,7 @@ TEST(CliExport, BundleLevelsAndInfo) {
   ASSERT_EQ(info.status, 0) << info.err;
   const nlohmann::json doc = nlohmann::json::parse(info.out);
   EXPECT_EQ(doc["format"], "motionlod-bundle");
-  EXPECT_EQ(doc["version"], 1);
+  EXPECT_EQ(doc["version"], 2);
   ASSERT_EQ(doc["levels"].size(), 2u);
   EXPECT_EQ(doc["levels"][0]["index"], 0);
   EXPECT_EQ(doc["levels"][1]["index"], 2);
@@ -135,13 +135,16 @@ TEST(CliExport, BundleLevelsAndInfo) {
     EXPECT_EQ(clip["precision_cm"].get<double>(), 0.01);
     EXPECT_GT(clip["encoded_error_cm"].get<double>(), 0.0);
     EXPECT_LE(clip["encoded_error_cm"].get<double>(), clip["precision_cm"].get<double>());
+    EXPECT_EQ(clip["blend_frames"], 4); // the bundle plugin's default
+    // the file holds what the evaluator reads (docs/bundle-format.md): within 10%
+    EXPECT_NEAR(clip["bytes_in_file"].get<double>() / clip["bytes"].get<double>(), 1.0, 0.1);
   }
   EXPECT_LT(doc["levels"][1]["clips"][0]["bytes"].get<std::int64_t>(),
             doc["levels"][0]["clips"][0]["bytes"].get<std::int64_t>());
   const test::CliRun text = runMotionlod({"info", out});
   EXPECT_EQ(text.status, 0);
-  EXPECT_NE(text.out.find("Motion LOD runtime bundle, version 1"), std::string::npos) << text.out;
-  EXPECT_NE(text.out.find("bytes/s, error bound "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("Motion LOD runtime bundle, version 2"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("bytes/s, blend 4 frames, error bound "), std::string::npos) << text.out;
 }
 
 // The file's own unit (BVH: 1 cm per unit) makes the CMU skeleton small enough that its

@@ -61,14 +61,21 @@ void exportAndReadBack(const LodPackage& package) {
   ASSERT_TRUE(manifestFile.open(QIODevice::ReadOnly));
   const QJsonObject manifest = QJsonDocument::fromJson(manifestFile.readAll()).object();
   EXPECT_EQ(manifest["format"].toString(), "motionlod-bundle");
-  EXPECT_EQ(manifest["version"].toInt(), 1);
+  EXPECT_EQ(manifest["version"].toInt(), 2);
   EXPECT_EQ(manifest["bytes"].toInteger(), QFileInfo(path).size());
   const QJsonArray levels = manifest["levels"].toArray();
   ASSERT_EQ(levels.size(), qsizetype(package.levels.size()));
   for (qsizetype l = 0; l < levels.size(); ++l) {
     const LodPackageLevel& level = package.levels[std::size_t(l)];
     EXPECT_EQ(levels[l]["joints"].toInt(), level.skeleton().jointCount());
-    EXPECT_EQ(levels[l]["clips"].toArray().size(), qsizetype(level.runtimeClips.size()));
+    const QJsonArray clips = levels[l]["clips"].toArray();
+    ASSERT_EQ(clips.size(), qsizetype(level.runtimeClips.size()));
+    for (qsizetype c = 0; c < clips.size(); ++c) {
+      const LodClip& clip = read->levels[std::size_t(l)].clips[std::size_t(c)].clip;
+      EXPECT_EQ(clips[c]["bytes"].toInteger(), qint64(clip.byteSize()));
+      EXPECT_EQ(clips[c]["blend_frames"].toInt(), kDefaultBundleBlendFrames);
+      EXPECT_EQ(clips[c]["clusters"].toInt(), clip.clusterCount());
+    }
     EXPECT_EQ(levels[l]["mesh"].toObject()["triangles"].toInt(), level.mesh() ? int(level.mesh()->triangleCount()) : 0);
   }
 }
@@ -93,6 +100,40 @@ TEST(BundleExporter, OptionsDropMeshesAndManifest) {
   ASSERT_TRUE(read) << readError;
   for (const BundleLevel& level : read->levels)
     EXPECT_FALSE(level.mesh);
+}
+
+// blend_frames and precision_cm reach the clips: the engine plays them with that N, and a
+// coarser precision takes fewer bytes.
+TEST(BundleExporter, BlendFramesAndPrecisionReachTheClips) {
+  Exporter* exporter = bundleExporter();
+  ASSERT_NE(exporter, nullptr);
+  const LodPackage& package = test::realPackage("X/BCN_Epileptic.X", 100.0);
+  QTemporaryDir dir;
+  std::vector<std::size_t> bytes;
+  for (const QStringList& given : {QStringList{}, QStringList{"blend_frames=0", "precision_cm=0.1"}}) {
+    QVariantMap options;
+    QString error;
+    ASSERT_TRUE(parseExporterOptions(exporter->options(), given, &options, &error)) << error.toStdString();
+    const QString path = dir.filePath(QStringLiteral("b%1.mlodb").arg(bytes.size()));
+    ExportResult result = exporter->exportPackage(package, path, options, {});
+    ASSERT_TRUE(result.ok) << result.message.toStdString();
+    std::string readError;
+    std::optional<Bundle> read = readBundleFile(path.toStdString(), &readError);
+    ASSERT_TRUE(read) << readError;
+    std::size_t total = 0;
+    for (const BundleLevel& level : read->levels)
+      for (const BundleClip& clip : level.clips) {
+        EXPECT_EQ(clip.clip.blendFrames(), given.isEmpty() ? kDefaultBundleBlendFrames : 0);
+        EXPECT_DOUBLE_EQ(clip.clip.precisionCm(), given.isEmpty() ? kDefaultClipPrecisionCm : 0.1);
+        EXPECT_LE(clip.clip.encodedErrorCm(), clip.clip.precisionCm());
+        total += clip.clip.byteSize();
+      }
+    bytes.push_back(total);
+  }
+  EXPECT_LT(bytes[1], bytes[0]);
+  QVariantMap bad;
+  QString error;
+  EXPECT_FALSE(parseExporterOptions(exporter->options(), {"blend_frames=-1"}, &bad, &error));
 }
 
 TEST(BundleExporter, UnwritableOutputLeavesNothingAndSaysWhy) {

@@ -6,6 +6,7 @@
 #include "core/utf8.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <set>
 
@@ -255,7 +256,12 @@ Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> leve
       extraClips, cancel);
 }
 
-Result<Bundle> packageBundle(const LodPackage& package) {
+Result<Bundle> packageBundle(const LodPackage& package, const BundleOptions& options) {
+  if (options.blendFrames < 0 || options.blendFrames > kMaxBlendFrames)
+    return Error("bundle: blend frames " + std::to_string(options.blendFrames) + " is not in [0, " +
+                 std::to_string(kMaxBlendFrames) + "]");
+  if (!std::isfinite(options.precisionCm) || options.precisionCm <= 0.0 || options.precisionCm > 1e3)
+    return Error("bundle: precision " + std::to_string(options.precisionCm) + " cm is not in (0, 1000]");
   Bundle out;
   out.name = package.name.empty() ? std::string("character") : package.name;
   out.source = package.sourcePath;
@@ -282,26 +288,20 @@ Result<Bundle> packageBundle(const LodPackage& package) {
     b.inverseBinds = level.inverseBinds;
     for (int full : level.build.motion.bones.fullIndex)
       b.fullJoints.push_back(full);
+    const bool asBuilt = options.blendFrames == 0 && options.precisionCm == kDefaultClipPrecisionCm;
     for (std::size_t c = 0; c < level.runtimeClips.size(); ++c) {
       const Clip& clip = level.build.motion.clips[c];
-      const ClusterSet& clusters = level.runtimeClusters[c];
       BundleClip bc;
       bc.name = clip.name;
-      bc.fps = clip.fps;
-      bc.frameCount = clip.frameCount;
-      bc.jointCount = clip.jointCount;
-      bc.looping = clip.looping;
-      bc.rotations = clip.rotations;
-      bc.translations = clip.translations;
-      bc.scales = clip.scales;
-      // flattened as buildLodClip() flattens them (lod_clip_builder.cpp)
-      if (clusters.jointCount() > 0) {
-        for (const std::vector<Cluster>& joint : clusters.joints) {
-          bc.clusterBegin.push_back(static_cast<std::uint32_t>(bc.clusters.size()));
-          for (const Cluster& cluster : joint)
-            bc.clusters.push_back(LodCluster{cluster.first, cluster.last, cluster.key});
-        }
-        bc.clusterBegin.push_back(static_cast<std::uint32_t>(bc.clusters.size()));
+      if (asBuilt) {
+        bc.clip = level.runtimeClips[c];
+      } else {
+        const ClusterSet& clusters = level.runtimeClusters[c];
+        Result<LodClip> built = buildLodClip(clip, clusters.jointCount() > 0 ? &clusters : nullptr, std::nullopt,
+                                             b.parents, options.blendFrames, options.precisionCm);
+        if (!built)
+          return Error("bundle: level '" + b.name + "': " + built.message());
+        bc.clip = std::move(built).value();
       }
       b.clips.push_back(std::move(bc));
     }

@@ -123,10 +123,18 @@ Result<LodPackage> buildLodPackage(const Asset& asset, std::span<const int> leve
 // format with one skin for every level (glTF) needs. Null without a mesh.
 std::optional<SkinnedMesh> levelMeshOnFullSkeleton(const LodPackageLevel& level);
 
+// How a bundle's clips are built: the unfreeze blending the engine plays them with and the
+// quantization's precision (LodClipSource::blendFrames and precisionCm).
+struct BundleOptions {
+  int blendFrames = kDefaultBundleBlendFrames;
+  double precisionCm = kDefaultClipPrecisionCm;
+};
+
 // The runtime bundle of a package (runtime/bundle.h, docs/bundle-format.md): per level its
-// skeleton, its clips exactly as runtimeClips were built (a LodClip built from the bundle's
-// clip equals runtimeClips[c] bit for bit), and its mesh. Errors: a level that the bundle
-// format cannot hold (more than 65,535 levels, a clip of the wrong size).
-Result<Bundle> packageBundle(const LodPackage& package);
+// skeleton, its clips as runtimeClips were built but for `options` (with 0 blend frames and
+// the default precision, each equals runtimeClips[c] bit for bit), and its mesh. Errors: a
+// level that the bundle format cannot hold (more than 65,535 levels, a clip of the wrong
+// size), options out of range.
+Result<Bundle> packageBundle(const LodPackage& package, const BundleOptions& options = {});
 
 } // namespace mlod

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
+#include <string>
 
 namespace mlod::internal {
 
 namespace {
+
+const Chunk kZeroChunk{};
 
 double errorOf(const glm::vec4& decoded, const glm::vec4& source, bool rotation) {
   if (!rotation)
@@ -211,6 +215,52 @@ void CompressedStreams::dropLast() {
     m_bits.back() = static_cast<std::uint8_t>(m_bits.back() & ((1u << (m_bitCount % 8)) - 1u));
   m_bits.resize(m_bits.size() + 8, 0);
   m_streams.pop_back();
+}
+
+std::string CompressedStreams::storageProblem() const {
+  // bits addressed as 32-bit offsets (the evaluator's gather), 8 spare bytes at the end
+  if (m_bits.size() < 8 || m_bits.size() - 8 > (std::size_t{1} << 29))
+    return "a bit buffer of " + std::to_string(m_bits.size()) + " bytes";
+  const std::uint64_t bitEnd = 8 * static_cast<std::uint64_t>(m_bits.size() - 8);
+  std::uint64_t chunkAt = 0;
+  for (std::size_t s = 0; s < m_streams.size(); ++s) {
+    const Stream& stream = m_streams[s];
+    const std::string what = "stream " + std::to_string(s) + ": ";
+    for (int k = 0; k < 4; ++k)
+      if (!std::isfinite(stream.min[k]) || !std::isfinite(stream.unit[k]) || stream.unit[k] < 0.0f ||
+          (k == 3 && (stream.min[k] != 0.0f || stream.unit[k] != 0.0f)))
+        return what + "a range that is not finite, or not 0 in its fourth lane";
+    if (stream.entries < 1)
+      return what + "no entries";
+    const std::uint64_t chunks = (std::uint64_t(stream.entries) + kChunkEntries - 1) / kChunkEntries;
+    if (stream.chunkBegin != chunkAt || chunks > m_chunks.size() - std::min<std::uint64_t>(m_chunks.size(), chunkAt))
+      return what + "its chunks do not follow the stream before's";
+    for (std::uint64_t c = 0; c < chunks; ++c) {
+      const Chunk& chunk = m_chunks[static_cast<std::size_t>(chunkAt + c)];
+      const std::uint64_t entries = std::min<std::uint64_t>(kChunkEntries, stream.entries - c * kChunkEntries);
+      const std::string where = what + "chunk " + std::to_string(c) + ": ";
+      if (chunk.bits > kMaxBits && chunk.bits != kRawBits)
+        return where + "a bit width of " + std::to_string(chunk.bits);
+      if (chunk.drop > 3 || (!stream.rotation && chunk.drop != 3))
+        return where + "dropped component " + std::to_string(chunk.drop);
+      const bool raw = chunk.bits == kRawBits;
+      if (raw && chunk.bitOffset % 8 != 0)
+        return where + "raw values off a byte boundary";
+      const std::uint64_t payload = raw ? 96 * entries : 3 * std::uint64_t(chunk.bits) * entries;
+      if (std::uint64_t(chunk.bitOffset) + payload > bitEnd)
+        return where + "its bits lie past the buffer";
+    }
+    chunkAt += chunks;
+  }
+  // and the spare chunk that the decoders read past a stream's last (finish())
+  if (m_chunks.size() != chunkAt + 1)
+    return std::to_string(m_chunks.size()) + " chunks where the streams hold " + std::to_string(chunkAt) + " and a spare";
+  if (std::memcmp(&m_chunks.back(), &kZeroChunk, sizeof(Chunk)) != 0)
+    return "a spare chunk that is not the empty one";
+  for (std::size_t i = m_bits.size() - 8; i < m_bits.size(); ++i)
+    if (m_bits[i] != 0)
+      return "spare bytes that are not zeros";
+  return {};
 }
 
 void CompressedStreams::finish() {

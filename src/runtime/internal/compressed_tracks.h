@@ -28,9 +28,12 @@
 #include <cstdint>
 #include <cstring>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace mlod::internal {
+
+struct LodClipStorage;
 
 inline constexpr int kChunkEntries = 16;
 // Three values of at most 19 bits and the offset of the first in its byte (< 8) fit in one
@@ -211,12 +214,19 @@ public:
   int streamCount() const { return static_cast<int>(m_streams.size()); }
   const Chunk* chunks() const { return m_chunks.data(); }
   const std::uint8_t* bits() const { return m_bits.data(); }
+  // Why the streams could not be read within bounds (empty when fine): each stream's chunks
+  // follow the one before's, ceil(entries / kChunkEntries) of them, then one spare chunk of
+  // zeros; bit widths 0..kMaxBits or kRawBits; a rotation's dropped component 0..3, a
+  // vector's 3; every chunk's bits inside the buffer, which ends with 8 spare bytes; ranges
+  // finite, their fourth lane 0.
+  std::string storageProblem() const;
   // Bytes held (everything a decoder reads).
   std::size_t byteSize() const {
     return m_streams.size() * sizeof(Stream) + m_chunks.size() * sizeof(Chunk) + m_bits.size();
   }
 
 private:
+  friend struct LodClipStorage;
   std::vector<Stream> m_streams;
   std::vector<Chunk> m_chunks;
   std::vector<std::uint8_t> m_bits;
