@@ -609,7 +609,9 @@ std::optional<Bundle> readBundle(std::span<const std::uint8_t> bytes, std::strin
   if (total != bytes.size())
     return fail("truncated or padded: the header says " + std::to_string(total) + " bytes, the data has " +
                 std::to_string(bytes.size()));
-  if (count < 2 || count > kMaxLevels + 1 || (bytes.size() - kHeaderBytes - 4) / kSectionEntryBytes < count)
+  // (a header alone, or with less than the table's CRC-32 after it, has no room for a table)
+  if (count < 2 || count > kMaxLevels + 1 || bytes.size() < kHeaderBytes + 4 ||
+      (bytes.size() - kHeaderBytes - 4) / kSectionEntryBytes < count)
     return fail("corrupt section table (" + std::to_string(count) + " sections)");
   const std::size_t tableEnd = kHeaderBytes + std::size_t(count) * kSectionEntryBytes;
   Reader tableCrc(bytes.subspan(tableEnd, 4), "section table");

@@ -4,7 +4,7 @@
 // clip of every level through the pose evaluator at frames across the clip, so that storage
 // the reader let through is read the way an engine reads it (under ASan and UBSan).
 #include "runtime/bundle.h"
-#include "runtime/pose_evaluator.h"
+#include "unit/runtime/play_bundle.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -44,28 +44,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::optional<mlod::Bundle> bundle = mlod::readBundle(bytes, &error);
   if (!bundle)
     return 0;
-  for (const mlod::BundleLevel& level : bundle->levels) {
+  for (const mlod::BundleLevel& level : bundle->levels)
     (void)mlod::buildBundleLevel(level, &error);
-    const int joints = level.jointCount();
-    mlod::PoseEvaluatorContext context(2, joints);
-    std::vector<glm::mat4> models(std::size_t(2 * joints)), palette(std::size_t(2 * joints));
-    for (const mlod::BundleClip& clip : level.clips) {
-      const std::vector<const mlod::LodClip*> clips(2, &clip.clip);
-      const double duration = clip.clip.duration();
-      for (int step = 0; step < 8; ++step) {
-        const std::vector<double> times = {duration * step / 7.0, duration * (1.0 + step / 3.0)};
-        mlod::PoseEvaluatorJob job;
-        job.parents = level.parents;
-        job.inverseBinds = level.inverseBinds;
-        job.clips = clips;
-        job.times = times;
-        job.blendFrames = clip.clip.blendFrames();
-        job.context = &context;
-        job.out_models = models;
-        job.out_palette = palette;
-        (void)job.run();
-      }
-    }
-  }
+  (void)mlod::test::playBundle(*bundle, 8);
   return 0;
 }
