@@ -75,6 +75,10 @@ bool checkSource(const LodClipSource& source, std::string* out_error) {
       if (source.parents[j] < -1 || source.parents[j] >= static_cast<std::int32_t>(j))
         return fail(out_error, "joint " + std::to_string(j) + "'s parent does not come before it");
   }
+  if (!std::isfinite(source.evaluationsPerSecond) || source.evaluationsPerSecond <= 0.0 ||
+      source.evaluationsPerSecond > 1e6)
+    return fail(out_error, "evaluations per second " + std::to_string(source.evaluationsPerSecond) +
+                               " is not in (0, 1e6]");
   if (source.blendFrames < 0 || source.blendFrames > kMaxBlendFrames)
     return fail(out_error, "blend frames " + std::to_string(source.blendFrames) + " is not in [0, " +
                                std::to_string(kMaxBlendFrames) + "]");
@@ -241,6 +245,8 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
     return -1;
   };
   const int n = clip.m_blendFrames;
+  // evaluations a frozen frame interval is held for (the header's "Held or sampled")
+  const double heldPerFrame = source.evaluationsPerSecond / source.fps;
   std::vector<glm::quat> shown(frames);
   std::vector<std::uint8_t> held(frames);
   std::vector<glm::quat> offset(n > 0 ? frames : 0);
@@ -280,13 +286,15 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
           shown[i] = glm::normalize(offset[i] * shown[i]);
       }
       // the frozen frames of each cluster (a cluster's frames minus those an earlier window
-      // reaches: a suffix of it), kept where 2 or more
+      // reaches: a suffix of it), kept where held for kMinHeldEvaluations or more (the
+      // header's "Held or sampled"); the frames of a cluster not kept are stored as they
+      // show (its key), like any frame outside a cluster
       spans.clear();
       for (const LodCluster& cluster : given) {
         std::int32_t first = cluster.first;
         while (first <= cluster.last && !held[static_cast<std::size_t>(first)])
           ++first;
-        if (cluster.last - first >= 1)
+        if (cluster.last - first >= 1 && (cluster.last - first) * heldPerFrame >= kMinHeldEvaluations)
           spans.push_back(LodCluster{first, cluster.last, cluster.key});
       }
       values.clear();
@@ -320,12 +328,18 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
         regions.resize(clip.m_regionBegin[j]);
       }
     }
-    const auto addVectors = [&](std::span<const glm::vec3> track, double arm) {
-      values.clear();
-      for (const glm::vec3& v : track)
-        values.emplace_back(v, 0.0f);
-      return addStream(false, arm);
-    };
+  }
+  clip.m_regionBegin[joints] = static_cast<std::uint32_t>(regions.size());
+  // then the translations and scales: the rotation streams come first, the i-th animated
+  // rotation's stream is stream i (the evaluator walks them in order; storageProblem())
+  const auto addVectors = [&](std::span<const glm::vec3> track, double arm) {
+    values.clear();
+    for (const glm::vec3& v : track)
+      values.emplace_back(v, 0.0f);
+    return addStream(false, arm);
+  };
+  for (std::size_t j = 0; j < joints; ++j) {
+    const std::uint8_t flags = clip.m_flags[j];
     if (flags & kTranslationAnimated)
       clip.m_translationStream[j] = keptIfMoving(
           addVectors(source.translations.subspan(j * frames, frames), levers.translation[j]), kTranslationAnimated, j);
@@ -338,7 +352,6 @@ std::optional<LodClip> LodClip::build(const LodClipSource& source, std::string* 
       kept = static_cast<std::uint8_t>(kept & ~kScaled);
   }
   clip.deriveJointLists();
-  clip.m_regionBegin[joints] = static_cast<std::uint32_t>(regions.size());
   // 16 bits each where they fit (a first frame or an entry is at most frameCount)
   clip.m_narrowRegions = source.frameCount <= 0xffff;
   clip.m_regionWords.reserve(clip.m_narrowRegions ? regions.size() : 2 * regions.size());
@@ -462,6 +475,10 @@ std::string LodClip::storageProblem() const {
   }
   if (std::find(used.begin(), used.end(), std::uint8_t{0}) != used.end())
     return "a stream that no channel reads";
+  std::int32_t rotations = 0;
+  for (std::size_t j = 0; j < joints; ++j)
+    if ((m_flags[j] & kRotationAnimated) && m_rotationStream[j] != rotations++)
+      return "joint " + std::to_string(j) + ": its rotation's stream is not the next (rotation streams come first, in joint order)";
   return {};
 }
 

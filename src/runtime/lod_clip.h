@@ -36,6 +36,17 @@
 // joint stays within the level's joint-position fidelity). N is part of the clip: the
 // evaluator plays it with that N (PoseEvaluatorJob::blendFrames) and decodes no window
 // of its own.
+//
+// Held or sampled (the cheaper of cluster look-up and sampling, per cluster): holding a
+// frozen joint costs the evaluator about nothing per evaluation, but each cluster costs
+// look-ups where it begins and ends (its region, its key). A cluster's frozen frames are
+// kept frozen only where the runtime holds them for at least kMinHeldEvaluations
+// evaluations (frames x LodClipSource::evaluationsPerSecond / fps; default a 60 Hz
+// display); otherwise they are stored and sampled like any other frame. The joint shows
+// the same rotation either way (the key's, within the precision). Callgrind per
+// character-frame, CMU 01_01 at E = 5 / 50 / 300 and Boxing_Toes (100 fps) at E = 50,
+// held always -> with 5 evaluations: 6,425 -> 6,244, 5,790 -> 5,715, 4,941 -> 4,922,
+// 5,039 -> 4,911 (full detail 6,378 and 4,910).
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -60,6 +71,10 @@ struct LodClipStorage; // a clip's storage in a runtime bundle (bundle.cpp)
 // The most frames of unfreeze and level-change blending (LodClipSource::blendFrames,
 // PoseEvaluatorJob::blendFrames, Crowd and the CLI's --blend-frames).
 inline constexpr int kMaxBlendFrames = 10000;
+// The fewest evaluations a cluster's frozen frames must be held for to be stored frozen
+// (the header's "Held or sampled"): chosen from callgrind runs at 0, 1, 1.5, 2, 3, 5, 8,
+// 12 on CMU 01_01, 01_03 and Boxing_Toes.
+inline constexpr double kMinHeldEvaluations = 5.0;
 // The default precision of a clip's quantization (cm; LodClipSource::precisionCm).
 inline constexpr double kDefaultClipPrecisionCm = 0.01;
 
@@ -91,6 +106,9 @@ struct LodClipSource {
   // Frames of unfreeze blending the clip is built for and played with, [0,
   // kMaxBlendFrames] (0 = none: M'(t); the header's "Unfreeze blending").
   int blendFrames = 0;
+  // How often the runtime evaluates the clip (Hz): a cluster is held only where that saves
+  // more than its look-ups cost (the header's "Held or sampled"), in (0, 1e6].
+  double evaluationsPerSecond = 60.0;
   // The skeleton (parent of each joint, parents first, -1 for a root), or none: it shares
   // the precision out along chains (LodClip's header); without it the bounds are coarser
   // and the clip larger.
@@ -235,7 +253,8 @@ public:
   std::span<const std::int16_t> rotationJoints() const { return m_rotationJoints; }
   std::span<const std::int16_t> vectorJoints() const { return m_vectorJoints; }
   // A joint's stream of rotations (entries by Region), translations and scales (one entry
-  // per frame); -1 when the channel is static.
+  // per frame); -1 when the channel is static. The rotation streams come first, in joint
+  // order: the i-th joint of rotationJoints() reads stream i.
   int rotationStream(int joint) const { return m_rotationStream[static_cast<std::size_t>(joint)]; }
   int translationStream(int joint) const { return m_translationStream[static_cast<std::size_t>(joint)]; }
   int scaleStream(int joint) const { return m_scaleStream[static_cast<std::size_t>(joint)]; }

@@ -166,6 +166,25 @@ template <bool SingleRoot> void hierarchyBase(const Hierarchy& h) {
 #define MLOD_HIERARCHY_V3 1
 // x86-64-v3 (AVX2, FMA): the palette product two columns at a time, model columns
 // broadcast to both halves, the inverse bind's elements pre-splatted (m_splat).
+__attribute__((target("arch=x86-64-v3"), always_inline)) inline void jointV3(const float* __restrict parent,
+                                                                         const float* __restrict local,
+                                                                         const float* __restrict s, float* model,
+                                                                         float* __restrict palette) {
+  mulLane(parent, local, model);
+  const __m256 m0 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model));
+  const __m256 m1 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model + 4));
+  const __m256 m2 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model + 8));
+  const __m256 m3 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model + 12));
+  __m256 c01 = _mm256_mul_ps(m0, _mm256_loadu_ps(s));
+  c01 = _mm256_fmadd_ps(m1, _mm256_loadu_ps(s + 8), c01);
+  c01 = _mm256_fmadd_ps(m2, _mm256_loadu_ps(s + 16), c01);
+  __m256 c23 = _mm256_blend_ps(_mm256_setzero_ps(), m3, 0xf0); // column 3 adds the model's translation
+  c23 = _mm256_fmadd_ps(m0, _mm256_loadu_ps(s + 24), c23);
+  c23 = _mm256_fmadd_ps(m1, _mm256_loadu_ps(s + 32), c23);
+  c23 = _mm256_fmadd_ps(m2, _mm256_loadu_ps(s + 40), c23);
+  _mm256_storeu_ps(palette, c01);
+  _mm256_storeu_ps(palette + 8, c23);
+}
 template <bool SingleRoot> __attribute__((target("arch=x86-64-v3"))) void hierarchyV3(const Hierarchy& h) {
   const float* __restrict locals = h.locals;
   const std::int16_t* __restrict parents = h.parents;
@@ -173,26 +192,16 @@ template <bool SingleRoot> __attribute__((target("arch=x86-64-v3"))) void hierar
   float* models = h.models;
   float* __restrict palette = h.palette;
   const int joints = h.joints;
-  for (int j = 0; j < joints; ++j) {
-    float* model = models + 16 * j;
-    const float* local = locals + LodClip::laneOffset(static_cast<std::uint32_t>(j));
-    const int p = parents[j];
-    const float* parent = j > 0 && (SingleRoot || p >= 0) ? models + 16 * p : glm::value_ptr(kIdentity);
-    mulLane(parent, local, model);
-    const __m256 m0 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model));
-    const __m256 m1 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model + 4));
-    const __m256 m2 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model + 8));
-    const __m256 m3 = _mm256_broadcast_ps(reinterpret_cast<const __m128*>(model + 12));
-    const float* s = splat + 48 * j;
-    __m256 c01 = _mm256_mul_ps(m0, _mm256_loadu_ps(s));
-    c01 = _mm256_fmadd_ps(m1, _mm256_loadu_ps(s + 8), c01);
-    c01 = _mm256_fmadd_ps(m2, _mm256_loadu_ps(s + 16), c01);
-    __m256 c23 = _mm256_blend_ps(_mm256_setzero_ps(), m3, 0xf0); // column 3 adds the model's translation
-    c23 = _mm256_fmadd_ps(m0, _mm256_loadu_ps(s + 24), c23);
-    c23 = _mm256_fmadd_ps(m1, _mm256_loadu_ps(s + 32), c23);
-    c23 = _mm256_fmadd_ps(m2, _mm256_loadu_ps(s + 40), c23);
-    _mm256_storeu_ps(palette + 16 * j, c01);
-    _mm256_storeu_ps(palette + 16 * j + 8, c23);
+  jointV3(glm::value_ptr(kIdentity), locals, splat, models, palette); // joint 0, a root
+  // block by block of kLanes joints: a joint's local matrix is the next lane of its block
+  for (int begin = 0; begin < joints; begin += kLanes) {
+    const float* block = locals + begin * LodClip::kLocalArrays;
+    const int end = std::min(joints, begin + kLanes);
+    for (int j = std::max(begin, 1); j < end; ++j) {
+      const int p = parents[j];
+      const float* parent = SingleRoot || p >= 0 ? models + 16 * p : glm::value_ptr(kIdentity);
+      jointV3(parent, block + (j - begin), splat + 48 * j, models + 16 * j, palette + 16 * j);
+    }
   }
 }
 const bool kHasV3 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");

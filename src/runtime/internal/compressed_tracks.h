@@ -211,6 +211,7 @@ public:
     return decode(m_streams[static_cast<std::size_t>(stream)], m_chunks.data(), m_bits.data(), entry);
   }
   const Stream& stream(int s) const { return m_streams[static_cast<std::size_t>(s)]; }
+  const Stream* streamData() const { return m_streams.data(); }
   int streamCount() const { return static_cast<int>(m_streams.size()); }
   const Chunk* chunks() const { return m_chunks.data(); }
   const std::uint8_t* bits() const { return m_bits.data(); }

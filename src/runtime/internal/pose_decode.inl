@@ -200,11 +200,14 @@ template <class Regions> std::int64_t decodePose(const DecodeJob& job) {
   const std::uint8_t* bits = streams.bits();
   const Regions regions{clip.regionWords()};
   const std::uint8_t* flags = clip.jointFlags();
+  const std::int16_t* rotationJoints = clip.rotationJoints().data();
+  const std::size_t rotationCount = clip.rotationJoints().size();
+  const internal::Stream* rotationStreams = streams.streamData(); // stream i: rotation joint i's
   std::int64_t sampled = 0;
-  for (const std::int16_t joint : clip.rotationJoints()) {
-    const int j = joint;
+  for (std::size_t i = 0; i < rotationCount; ++i) {
+    const int j = rotationJoints[i];
     float* p = pose + poseOffset(j) + kAx * kLanes;
-    const internal::Stream& stream = streams.stream(clip.rotationStream(j));
+    const internal::Stream& stream = rotationStreams[i];
     internal::JointSpan& s = span[j];
     if (i0 < s.from || i0 >= s.until) {
       // past its span: the region that holds i0, one of the next few (a character plays
@@ -235,12 +238,13 @@ template <class Regions> std::int64_t decodePose(const DecodeJob& job) {
     Value a, b;
     decodePair<true>(stream, chunks, bits, static_cast<std::uint32_t>(i0 + s.delta), a, b);
     put4(p, lerpShorter(a, b, fraction));
-    sampled += (flags[j] & (LodClip::kTranslationAnimated | LodClip::kScaleAnimated)) ? 0 : 1;
+    ++sampled;
   }
   for (const std::int16_t joint : clip.vectorJoints()) {
     const int j = joint;
     float* p = pose + poseOffset(j);
-    ++sampled;
+    // its local matrix changes: counted here unless its rotation was decoded above
+    sampled += (flags[j] & LodClip::kRotationAnimated) && span[j].delta != internal::JointSpan::kHeldKey ? 0 : 1;
     Value a, b;
     if (const int translation = clip.translationStream(j); translation >= 0) {
       decodePair<false>(streams.stream(translation), chunks, bits, static_cast<std::uint32_t>(i0), a, b);

@@ -127,11 +127,33 @@ TEST(LodClip, RotationAtIsSimplifiedMotion) {
 // frames as everywhere (here every angle is linear in the frame position, so the blend is
 // too). The windows of [3, 7] and [8, 12] reach into the next cluster, which then freezes
 // only the frames after them: [11, 12] and [16, 19].
+// Held or sampled (LodClip's header): a cluster whose frozen frames the runtime would hold
+// for fewer than kMinHeldEvaluations evaluations is stored frame by frame, showing the same
+// key; at a higher evaluation rate the same cluster is held. The chain's cluster [8, 12] is
+// 4 frame intervals: at 30 fps and 60 Hz that is 8 evaluations (held), at 30 Hz 4 (sampled).
+TEST(LodClip, ShortClustersAreSampledNotHeld) {
+  const Chain chain;
+  for (const double hz : {60.0, 30.0}) {
+    LodClipSource source = chain.source();
+    ASSERT_EQ(source.fps, 30.0);
+    source.evaluationsPerSecond = hz;
+    const std::optional<LodClip> clip = LodClip::build(source);
+    ASSERT_TRUE(clip);
+    const bool held = 4 * hz / source.fps >= kMinHeldEvaluations;
+    EXPECT_EQ(held, hz == 60.0);
+    EXPECT_EQ(clip->frozen(1, 9), held) << hz;
+    EXPECT_EQ(clip->clusterCount(), 3); // the clusters JPC found, held or not
+    for (double f = 8.0; f <= 12.0; f += 0.5) // the key throughout, either way
+      EXPECT_LT(angleBetween(clip->rotationAt(1, f), chain.simplified(10)), 0.01f) << hz << " " << f;
+  }
+}
+
 TEST(LodClip, ClusterEndBlendsOverNFrames) {
   const Chain chain;
   const int n = 4;
   LodClipSource source = chain.source();
   source.blendFrames = n;
+  source.evaluationsPerSecond = 1e6; // every frozen span held: the windows' mechanics under test
   const std::optional<LodClip> plain = LodClip::build(chain.source());
   const std::optional<LodClip> clip = LodClip::build(source);
   ASSERT_TRUE(plain && clip);
@@ -198,6 +220,7 @@ TEST(LodClip, LongClipsKeepWideRegions) {
   source.clusters = clusters;
   source.clusterBegin = clusterBegin;
   source.parents = parents;
+  source.evaluationsPerSecond = 1e6; // every cluster held: the wide regions under test
   source.precisionCm = 1e-5; // quantized far below the tolerances below (as Chain)
   std::string error;
   const std::optional<LodClip> clip = LodClip::build(source, &error);
