@@ -57,16 +57,13 @@ int describeBundle(const std::string& file, bool json) {
     return kExitBadInput;
   }
   checkManifest(file, data);
-  // what an engine builds from it: every clip and mesh must build
-  std::vector<BundleLevelRuntime> runtime;
-  for (const BundleLevel& level : bundle->levels) {
-    std::optional<BundleLevelRuntime> built = buildBundleLevel(level, &error);
-    if (!built) {
-      printError(file, error);
+  // what an engine builds from it: the clips are read as played (readBundle() checked
+  // them); every mesh must build
+  for (const BundleLevel& level : bundle->levels)
+    if (level.mesh && !level.mesh->build(level.jointCount(), &error)) {
+      printError(file, "level '" + level.name + "' mesh: " + error);
       return kExitBadInput;
     }
-    runtime.push_back(std::move(*built));
-  }
   const double seconds = secondsSince(start);
   std::error_code sizeError;
   const std::uintmax_t bytes = std::filesystem::file_size(file, sizeError);

@@ -288,22 +288,14 @@ Result<Bundle> packageBundle(const LodPackage& package, const BundleOptions& opt
     b.inverseBinds = level.inverseBinds;
     for (int full : level.build.motion.bones.fullIndex)
       b.fullJoints.push_back(full);
-    const bool asBuilt = options.blendFrames == 0 && options.precisionCm == kDefaultClipPrecisionCm;
     for (std::size_t c = 0; c < level.runtimeClips.size(); ++c) {
       const Clip& clip = level.build.motion.clips[c];
-      BundleClip bc;
-      bc.name = clip.name;
-      if (asBuilt) {
-        bc.clip = level.runtimeClips[c];
-      } else {
-        const ClusterSet& clusters = level.runtimeClusters[c];
-        Result<LodClip> built = buildLodClip(clip, clusters.jointCount() > 0 ? &clusters : nullptr, std::nullopt,
-                                             b.parents, options.blendFrames, options.precisionCm);
-        if (!built)
-          return Error("bundle: level '" + b.name + "': " + built.message());
-        bc.clip = std::move(built).value();
-      }
-      b.clips.push_back(std::move(bc));
+      const ClusterSet& clusters = level.runtimeClusters[c];
+      Result<LodClip> built = buildLodClip(clip, clusters.jointCount() > 0 ? &clusters : nullptr, std::nullopt,
+                                           b.parents, options.blendFrames, options.precisionCm);
+      if (!built)
+        return Error("bundle: level '" + b.name + "': " + built.message());
+      b.clips.push_back(BundleClip{clip.name, std::move(built).value()});
     }
     if (const SkinnedMesh* mesh = level.mesh(); mesh && mesh->skinned()) {
       BundleMesh m;
